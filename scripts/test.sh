@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# The whole test suite, as CI runs it. Installs the Debian packages it needs when missing.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(libcgal-demo)
+missing=()
+for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+    sudo=""
+    [ "$(id -u)" -eq 0 ] || sudo="sudo"
+    echo "installing ${missing[*]}"
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+cargo fmt --all -- --check
+cargo clippy --all-targets -- -D warnings
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --quiet
+# Unit, property, integration and documentation tests; a missing mesh archive is a failure here.
+DVH_REQUIRE_CGAL_DATA=1 cargo test
+# The main job must keep working.
+cargo run --release --quiet --example demo -- --frames 4 >/dev/null
+echo "all tests passed"

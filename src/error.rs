@@ -1,0 +1,162 @@
+//! The errors dvh reports. Each names what was wrong: which triangle, vertex, axis or value.
+
+use std::fmt;
+
+/// Which of the two meshes of a query an error is about.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    /// The first mesh of the query (`a`).
+    A,
+    /// The second mesh of the query (`b`).
+    B,
+}
+
+/// Everything that can go wrong when building, refitting or querying.
+///
+/// A call that returns an error has changed nothing: meshes and result buffers are exactly as
+/// they were before the call.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Error {
+    /// The mesh has no triangles.
+    NoTriangles,
+    /// The position array's length is not a multiple of 3.
+    PositionsLength {
+        /// Length of the array, in `f64` values.
+        len: usize,
+    },
+    /// The triangle index array's length is not a multiple of 3.
+    TrianglesLength {
+        /// Length of the array, in indices.
+        len: usize,
+    },
+    /// More vertices than `u32` indices can address.
+    TooManyVertices {
+        /// Number of vertices given.
+        count: usize,
+    },
+    /// More triangles than `u32` indices can address.
+    TooManyTriangles {
+        /// Number of triangles given.
+        count: usize,
+    },
+    /// A triangle refers to a vertex that does not exist.
+    IndexOutOfRange {
+        /// The triangle.
+        triangle: usize,
+        /// Its corner, 0 to 2.
+        corner: usize,
+        /// The index it holds.
+        index: u32,
+        /// Number of vertices in the mesh.
+        vertex_count: usize,
+    },
+    /// A coordinate is NaN or infinite.
+    NonFiniteCoordinate {
+        /// The vertex.
+        vertex: usize,
+        /// Its axis, 0 (x) to 2 (z).
+        axis: usize,
+        /// The value found.
+        value: f64,
+    },
+    /// A refit was given a different number of vertices than the mesh has.
+    VertexCountMismatch {
+        /// Vertices in the mesh.
+        expected: usize,
+        /// Vertices given.
+        got: usize,
+    },
+    /// A pose entry is NaN or infinite.
+    NonFinitePose {
+        /// `"rotation"` or `"translation"`.
+        part: &'static str,
+        /// Index of the entry (row-major for the rotation).
+        index: usize,
+        /// The value found.
+        value: f64,
+    },
+    /// A pose's rotation is not orthonormal within [`crate::RIGIDITY_TOLERANCE`], or it is a
+    /// reflection.
+    NonRigidPose {
+        /// Largest entry of `|RᵀR - I|`.
+        deviation: f64,
+        /// Determinant of the rotation.
+        determinant: f64,
+    },
+    /// A pose would move a mesh's coordinates beyond the range where the query is sound
+    /// (transformed coordinates could overflow).
+    PoseOutOfRange {
+        /// The mesh whose pose it is.
+        side: Side,
+        /// Bound on the magnitude of its transformed coordinates.
+        bound: f64,
+    },
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Error::NoTriangles => write!(f, "the mesh has no triangles"),
+            Error::PositionsLength { len } => write!(
+                f,
+                "position array has {len} values, which is not a multiple of 3 (x, y, z per vertex)"
+            ),
+            Error::TrianglesLength { len } => write!(
+                f,
+                "triangle index array has {len} indices, which is not a multiple of 3"
+            ),
+            Error::TooManyVertices { count } => write!(
+                f,
+                "{count} vertices: at most {} can be addressed with u32 indices",
+                u32::MAX
+            ),
+            Error::TooManyTriangles { count } => write!(
+                f,
+                "{count} triangles: at most {} can be addressed with u32 indices",
+                u32::MAX
+            ),
+            Error::IndexOutOfRange {
+                triangle,
+                corner,
+                index,
+                vertex_count,
+            } => write!(
+                f,
+                "triangle {triangle}, corner {corner}: vertex index {index} is out of range (the mesh has {vertex_count} vertices)"
+            ),
+            Error::NonFiniteCoordinate {
+                vertex,
+                axis,
+                value,
+            } => write!(
+                f,
+                "vertex {vertex}: coordinate {} is {value}, not a finite number",
+                ["x", "y", "z"][axis]
+            ),
+            Error::VertexCountMismatch { expected, got } => {
+                write!(f, "refit given {got} vertices, but the mesh has {expected}")
+            }
+            Error::NonFinitePose { part, index, value } => {
+                write!(f, "pose {part}[{index}] is {value}, not a finite number")
+            }
+            Error::NonRigidPose {
+                deviation,
+                determinant,
+            } => write!(
+                f,
+                "pose rotation is not a rotation: max |R^T R - I| = {deviation:e} (tolerance {:e}), determinant {determinant}",
+                crate::RIGIDITY_TOLERANCE
+            ),
+            Error::PoseOutOfRange { side, bound } => write!(
+                f,
+                "pose of mesh {side:?} moves coordinates up to {bound:e}, beyond the supported magnitude {:e}",
+                crate::geometry::MAX_POSED_MAGNITUDE
+            ),
+        }
+    }
+}
+
+impl std::error::Error for Error {}
+
+/// `Result` with dvh's [`Error`].
+pub type Result<T> = std::result::Result<T, Error>;

@@ -1,0 +1,10 @@
+//! Geometry: exact predicates, the exact triangle test, rigid poses, conservative spheres.
+
+pub mod pose;
+pub mod predicates;
+pub(crate) mod sphere;
+pub mod tri_tri;
+
+/// Largest magnitude a posed mesh's transformed coordinates may reach. Beyond it, differences of
+/// world coordinates could overflow and the sphere tests would no longer be conservative.
+pub const MAX_POSED_MAGNITUDE: f64 = 1e300;

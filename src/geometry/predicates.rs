@@ -1,0 +1,258 @@
+//! Exact orientation predicates on `f64` coordinates.
+//!
+//! Every geometric decision of the triangle test is the sign of one of two determinants:
+//! `orient3d` (which side of the plane through `a, b, c` the point `d` lies on) and `orient2d`
+//! (the same in a coordinate plane). The signs are exact for the given doubles.
+//!
+//! Shewchuk's adaptive predicates (the `robust` crate) give the exact sign as long as no
+//! intermediate product overflows or underflows. That is guaranteed when every coordinate is zero
+//! or has a magnitude in [`SAFE_MIN`, `SAFE_MAX`] (about 1e-60 to 1e60): differences are then
+//! multiples of `2^-252` and at most `2^201`, so products of three stay far inside the normal
+//! range. Callers check that once per triangle pair and otherwise use [`BigExact`], which
+//! evaluates the same determinants with big integers (every finite double is an integer times a
+//! power of two). That path is slow but only ever taken for coordinates outside the range.
+
+use num_bigint::BigInt;
+use num_traits::Signed;
+use num_traits::Zero;
+
+/// A point in space.
+pub type Point = [f64; 3];
+
+/// Smallest non-zero magnitude for which the adaptive predicates are known to be exact: `2^-200`.
+pub const SAFE_MIN: f64 = f64::from_bits((1023 - 200) << 52);
+/// Largest magnitude for which the adaptive predicates are known to be exact: `2^200`.
+pub const SAFE_MAX: f64 = f64::from_bits((1023 + 200) << 52);
+
+/// Is `x` zero or of a magnitude inside [`SAFE_MIN`, `SAFE_MAX`]?
+#[inline]
+pub fn is_safe_coordinate(x: f64) -> bool {
+    let a = x.abs();
+    a == 0.0 || (SAFE_MIN..=SAFE_MAX).contains(&a)
+}
+
+/// Are all coordinates of `p` safe (see [`is_safe_coordinate`])?
+#[inline]
+pub fn is_safe_point(p: &Point) -> bool {
+    is_safe_coordinate(p[0]) && is_safe_coordinate(p[1]) && is_safe_coordinate(p[2])
+}
+
+/// A sign: -1, 0 or 1.
+pub type Sign = i8;
+
+#[inline]
+fn sign_of(v: f64) -> Sign {
+    if v > 0.0 {
+        1
+    } else if v < 0.0 {
+        -1
+    } else {
+        0
+    }
+}
+
+/// Orientation predicates, implemented twice: fast for safe coordinates, big-integer otherwise.
+pub trait Orient {
+    /// Sign of `det[a - d; b - d; c - d]`: positive when `d` lies below the plane through `a, b, c`
+    /// (seen from above, `a, b, c` turn counter-clockwise), zero when the four are coplanar.
+    fn orient3d(a: &Point, b: &Point, c: &Point, d: &Point) -> Sign;
+    /// Sign of `(a - c) x (b - c)`: positive when `a, b, c` turn counter-clockwise.
+    fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign;
+}
+
+/// Shewchuk's adaptive predicates; exact when every coordinate is safe.
+pub struct Adaptive;
+
+impl Orient for Adaptive {
+    #[inline]
+    fn orient3d(a: &Point, b: &Point, c: &Point, d: &Point) -> Sign {
+        let c3 = |p: &Point| robust::Coord3D {
+            x: p[0],
+            y: p[1],
+            z: p[2],
+        };
+        sign_of(robust::orient3d(c3(a), c3(b), c3(c), c3(d)))
+    }
+
+    #[inline]
+    fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
+        let c2 = |p: [f64; 2]| robust::Coord { x: p[0], y: p[1] };
+        sign_of(robust::orient2d(c2(a), c2(b), c2(c)))
+    }
+}
+
+/// The same determinants in exact integer arithmetic, for any finite coordinates.
+pub struct BigExact;
+
+/// `x = mantissa * 2^exponent` exactly, for finite `x`.
+fn decompose(x: f64) -> (i64, i32) {
+    let bits = x.to_bits();
+    let exponent_bits = ((bits >> 52) & 0x7ff) as i32;
+    let fraction = (bits & ((1u64 << 52) - 1)) as i64;
+    let (mantissa, exponent) = if exponent_bits == 0 {
+        (fraction, -1074)
+    } else {
+        (fraction | (1i64 << 52), exponent_bits - 1075)
+    };
+    if x.is_sign_negative() {
+        (-mantissa, exponent)
+    } else {
+        (mantissa, exponent)
+    }
+}
+
+/// The values scaled by one common power of two, as exact integers.
+fn to_integers<const N: usize>(values: [f64; N]) -> [BigInt; N] {
+    let parts = values.map(decompose);
+    let lowest = parts
+        .iter()
+        .filter(|(m, _)| *m != 0)
+        .map(|&(_, e)| e)
+        .min()
+        .unwrap_or(0);
+    parts.map(|(m, e)| BigInt::from(m) << ((e - lowest) as usize))
+}
+
+fn sign_of_big(v: &BigInt) -> Sign {
+    if v.is_zero() {
+        0
+    } else if v.is_positive() {
+        1
+    } else {
+        -1
+    }
+}
+
+impl Orient for BigExact {
+    fn orient3d(a: &Point, b: &Point, c: &Point, d: &Point) -> Sign {
+        let [ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz] = to_integers([
+            a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1], d[2],
+        ]);
+        let (adx, ady, adz) = (&ax - &dx, &ay - &dy, &az - &dz);
+        let (bdx, bdy, bdz) = (&bx - &dx, &by - &dy, &bz - &dz);
+        let (cdx, cdy, cdz) = (&cx - &dx, &cy - &dy, &cz - &dz);
+        let det = &adz * (&bdx * &cdy - &cdx * &bdy)
+            + &bdz * (&cdx * &ady - &adx * &cdy)
+            + &cdz * (&adx * &bdy - &bdx * &ady);
+        sign_of_big(&det)
+    }
+
+    fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
+        let [ax, ay, bx, by, cx, cy] = to_integers([a[0], a[1], b[0], b[1], c[0], c[1]]);
+        let det = (&ax - &cx) * (&by - &cy) - (&ay - &cy) * (&bx - &cx);
+        sign_of_big(&det)
+    }
+}
+
+/// Exact `orient3d` for any finite coordinates (see [`Orient::orient3d`]).
+pub fn orient3d(a: &Point, b: &Point, c: &Point, d: &Point) -> Sign {
+    if [a, b, c, d].into_iter().all(is_safe_point) {
+        Adaptive::orient3d(a, b, c, d)
+    } else {
+        BigExact::orient3d(a, b, c, d)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn decompose_is_exact() {
+        for x in [
+            0.0,
+            -0.0,
+            1.0,
+            -3.5,
+            f64::MIN_POSITIVE,
+            f64::MIN_POSITIVE / 7.0,
+            5e-324,
+            f64::MAX,
+            -f64::MAX,
+            0.1,
+        ] {
+            let (m, e) = decompose(x);
+            assert_eq!(m as f64 * 2f64.powi(e), x, "{x}");
+        }
+        assert_eq!(SAFE_MIN, 2f64.powi(-200));
+        assert_eq!(SAFE_MAX, 2f64.powi(200));
+    }
+
+    #[test]
+    fn orientation_conventions_agree() {
+        let a = [0.0, 0.0, 0.0];
+        let b = [1.0, 0.0, 0.0];
+        let c = [0.0, 1.0, 0.0];
+        let below = [0.0, 0.0, -1.0];
+        let above = [0.0, 0.0, 1.0];
+        assert_eq!(Adaptive::orient3d(&a, &b, &c, &below), 1);
+        assert_eq!(BigExact::orient3d(&a, &b, &c, &below), 1);
+        assert_eq!(Adaptive::orient3d(&a, &b, &c, &above), -1);
+        assert_eq!(BigExact::orient3d(&a, &b, &c, &above), -1);
+        assert_eq!(Adaptive::orient2d([0.0, 0.0], [1.0, 0.0], [0.0, 1.0]), 1);
+        assert_eq!(BigExact::orient2d([0.0, 0.0], [1.0, 0.0], [0.0, 1.0]), 1);
+    }
+
+    #[test]
+    fn extreme_coordinates_use_the_exact_path() {
+        // Scaled by 2^-1000 the adaptive predicate underflows to zero; the exact answer stays.
+        let s = 2f64.powi(-1000);
+        let a = [0.0, 0.0, 0.0];
+        let b = [s, 0.0, 0.0];
+        let c = [0.0, s, 0.0];
+        let d = [0.0, 0.0, -s];
+        assert_eq!(orient3d(&a, &b, &c, &d), 1);
+        let big = 2f64.powi(1000);
+        let b = [big, 0.0, 0.0];
+        let c = [0.0, big, 0.0];
+        let d = [0.0, 0.0, -big];
+        assert_eq!(orient3d(&a, &b, &c, &d), 1);
+        // Nearly coplanar at a huge offset: the answer depends on the last bit.
+        let o = 1e250;
+        let a = [o, o, o];
+        let b = [o + o * f64::EPSILON, o, o];
+        let c = [o, o + o * f64::EPSILON, o];
+        let d_on = [o, o, o];
+        assert_eq!(orient3d(&a, &b, &c, &d_on), 0);
+    }
+
+    fn coordinate() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            (-8i32..8).prop_map(f64::from),
+            -1e3f64..1e3,
+            (-1e3f64..1e3).prop_map(|x| x * 1e-12),
+        ]
+    }
+
+    fn point() -> impl Strategy<Value = Point> {
+        [coordinate(), coordinate(), coordinate()]
+    }
+
+    proptest! {
+        #[test]
+        fn adaptive_and_big_integer_agree(a in point(), b in point(), c in point(), d in point()) {
+            prop_assert_eq!(Adaptive::orient3d(&a, &b, &c, &d), BigExact::orient3d(&a, &b, &c, &d));
+            let p = |p: Point| [p[0], p[2]];
+            prop_assert_eq!(
+                Adaptive::orient2d(p(a), p(b), p(c)),
+                BigExact::orient2d(p(a), p(b), p(c))
+            );
+        }
+
+        #[test]
+        fn scaling_by_powers_of_two_keeps_the_sign(
+            a in point(), b in point(), c in point(), d in point(), k in prop_oneof![-950i32..-850, 850i32..950]
+        ) {
+            let s = 2f64.powi(k);
+            let scale = |p: Point| p.map(|x| x * s);
+            // Scaling can make tiny inputs subnormal, which is inexact: only compare when exact.
+            let exact = [a, b, c, d].iter().all(|p| p.iter().all(|&x| (x * s) / s == x));
+            prop_assume!(exact);
+            prop_assert_eq!(
+                orient3d(&scale(a), &scale(b), &scale(c), &scale(d)),
+                Adaptive::orient3d(&a, &b, &c, &d)
+            );
+        }
+    }
+}

@@ -1,0 +1,613 @@
+//! Exact intersection test for two closed triangles.
+//!
+//! # Contract
+//!
+//! [`triangles_intersect`] returns `true` exactly when the two closed triangles, taken as the
+//! point sets their `f64` vertices describe, share at least one point. Touching counts: a shared
+//! vertex, a vertex on the other's edge or face, an edge crossing an edge, and coplanar overlap
+//! all intersect. A triangle of zero area is still a point set, the segment (collinear vertices)
+//! or the point (three equal vertices) it covers, and is tested as such. The answer is exact for
+//! every finite input: it is decided only by signs of orientation determinants (see
+//! [`super::predicates`]), never by a tolerance, so it does not depend on the order of the
+//! triangles or of their vertices, and it is unchanged by transformations that are exact in
+//! floating point (scaling by powers of two, swapping axes, translations that keep the
+//! coordinates exact).
+//!
+//! # Method
+//!
+//! Two convex sets intersect iff some edge of one meets the other: the intersection of two
+//! non-coplanar triangles is a segment on the line where their planes meet, whose endpoints lie
+//! on edges; in the coplanar case the intersection polygon has its vertices on edges; a
+//! degenerate triangle is the union of its own edges. So after the usual plane-side rejection
+//! (all three vertices strictly on one side of the other's plane), the test asks whether an edge
+//! crosses or touches the other triangle: with three `orient3d` signs (the edge's line against
+//! the triangle's edges) when the edge crosses the plane, or in a coordinate plane onto which the
+//! triangle projects one-to-one when the edge lies in the plane.
+
+use super::predicates::{Adaptive, BigExact, Orient, Point, Sign, is_safe_point};
+
+/// A triangle as its three corner points.
+pub type Triangle = [Point; 3];
+
+const EDGES: [(usize, usize); 3] = [(0, 1), (1, 2), (2, 0)];
+
+/// Do the closed triangles `t1` and `t2` share at least one point? Exact for all finite input;
+/// see the [module documentation](self) for the full contract.
+pub fn triangles_intersect(t1: &Triangle, t2: &Triangle) -> bool {
+    if t1.iter().chain(t2.iter()).all(is_safe_point) {
+        intersect::<Adaptive>(t1, t2)
+    } else {
+        intersect::<BigExact>(t1, t2)
+    }
+}
+
+/// [`triangles_intersect`] for callers that know every coordinate is safe
+/// ([`super::predicates::is_safe_coordinate`]); exact only under that precondition.
+#[inline]
+pub(crate) fn triangles_intersect_safe(t1: &Triangle, t2: &Triangle) -> bool {
+    debug_assert!(t1.iter().chain(t2.iter()).all(is_safe_point));
+    intersect::<Adaptive>(t1, t2)
+}
+
+#[inline]
+fn strictly_one_side(s: [Sign; 3]) -> bool {
+    (s[0] > 0 && s[1] > 0 && s[2] > 0) || (s[0] < 0 && s[1] < 0 && s[2] < 0)
+}
+
+#[inline]
+fn all_zero(s: [Sign; 3]) -> bool {
+    s == [0, 0, 0]
+}
+
+pub(crate) fn intersect<O: Orient>(t1: &Triangle, t2: &Triangle) -> bool {
+    // s2[i]: side of t2[i] relative to the plane of t1 (all zero when t1 has no plane).
+    let s2 = t2.map(|p| O::orient3d(&t1[0], &t1[1], &t1[2], &p));
+    if strictly_one_side(s2) {
+        return false;
+    }
+    let s1 = t1.map(|p| O::orient3d(&t2[0], &t2[1], &t2[2], &p));
+    if strictly_one_side(s1) {
+        return false;
+    }
+    // A non-zero sign proves the triangle that defines the plane is not degenerate; only when all
+    // are zero (coplanar or degenerate) is the exact collinearity test needed.
+    let proper1 = !all_zero(s2) || !collinear::<O>(t1);
+    let proper2 = !all_zero(s1) || !collinear::<O>(t2);
+    match (proper1, proper2) {
+        (true, true) => {
+            edges_meet_triangle::<O>(t1, s1, t2) || edges_meet_triangle::<O>(t2, s2, t1)
+        }
+        // A degenerate triangle is the union of its edges.
+        (false, true) => edges_meet_triangle::<O>(t1, s1, t2),
+        (true, false) => edges_meet_triangle::<O>(t2, s2, t1),
+        (false, false) => EDGES.iter().any(|&(i, j)| {
+            EDGES
+                .iter()
+                .any(|&(k, l)| segments_meet_3d::<O>(&t1[i], &t1[j], &t2[k], &t2[l]))
+        }),
+    }
+}
+
+/// Does an edge of `edges` meet the closed, non-degenerate triangle `tri`? `signs[i]` is the side
+/// of `edges[i]` relative to the plane of `tri`.
+fn edges_meet_triangle<O: Orient>(edges: &Triangle, signs: [Sign; 3], tri: &Triangle) -> bool {
+    let mut axis = None;
+    EDGES.iter().any(|&(i, j)| {
+        let (sa, sb) = (signs[i], signs[j]);
+        if sa == 0 && sb == 0 {
+            let k = *axis.get_or_insert_with(|| projection_axis::<O>(tri));
+            segment_meets_triangle_2d::<O>(&edges[i], &edges[j], tri, k)
+        } else if sa * sb <= 0 {
+            // The segment crosses or touches the plane at exactly one point.
+            line_crosses_triangle::<O>(&edges[i], &edges[j], tri)
+        } else {
+            false
+        }
+    })
+}
+
+/// For a line `ab` that is not parallel to the plane of the non-degenerate triangle `tri`: does it
+/// meet the closed triangle? The three signs are the line's side of each edge, all scaled by the
+/// same non-zero factor, so the crossing point is inside or on the boundary iff none disagree.
+#[inline]
+fn line_crosses_triangle<O: Orient>(a: &Point, b: &Point, tri: &Triangle) -> bool {
+    let u = O::orient3d(a, b, &tri[0], &tri[1]);
+    let v = O::orient3d(a, b, &tri[1], &tri[2]);
+    if u * v < 0 {
+        return false;
+    }
+    let w = O::orient3d(a, b, &tri[2], &tri[0]);
+    (u >= 0 && v >= 0 && w >= 0) || (u <= 0 && v <= 0 && w <= 0)
+}
+
+/// The coordinates of `p` with axis `k` dropped. Dropping a coordinate is exact, and it is
+/// one-to-one on any plane that does not contain the direction of axis `k`.
+#[inline]
+fn project(p: &Point, k: usize) -> [f64; 2] {
+    match k {
+        0 => [p[1], p[2]],
+        1 => [p[2], p[0]],
+        _ => [p[0], p[1]],
+    }
+}
+
+/// Are the three points on one line (or equal)? Exact: the three components of the normal are
+/// the three projected orientations.
+fn collinear<O: Orient>(t: &Triangle) -> bool {
+    (0..3).all(|k| O::orient2d(project(&t[0], k), project(&t[1], k), project(&t[2], k)) == 0)
+}
+
+/// An axis whose projection keeps the non-degenerate triangle `tri` non-degenerate. The largest
+/// component of the floating-point normal is tried first; the exact test decides.
+fn projection_axis<O: Orient>(tri: &Triangle) -> usize {
+    let e1 = [
+        tri[1][0] - tri[0][0],
+        tri[1][1] - tri[0][1],
+        tri[1][2] - tri[0][2],
+    ];
+    let e2 = [
+        tri[2][0] - tri[0][0],
+        tri[2][1] - tri[0][1],
+        tri[2][2] - tri[0][2],
+    ];
+    let n = [
+        (e1[1] * e2[2] - e1[2] * e2[1]).abs(),
+        (e1[2] * e2[0] - e1[0] * e2[2]).abs(),
+        (e1[0] * e2[1] - e1[1] * e2[0]).abs(),
+    ];
+    let mut order = [0, 1, 2];
+    order.sort_by(|&a, &b| n[b].total_cmp(&n[a]));
+    order
+        .into_iter()
+        .find(|&k| {
+            O::orient2d(
+                project(&tri[0], k),
+                project(&tri[1], k),
+                project(&tri[2], k),
+            ) != 0
+        })
+        .expect("a non-degenerate triangle has a non-zero projected area on some axis")
+}
+
+/// Segment `ab` against the closed triangle `tri`, all in the plane of `tri`, compared in the
+/// projection that drops axis `k` (one-to-one on that plane).
+fn segment_meets_triangle_2d<O: Orient>(a: &Point, b: &Point, tri: &Triangle, k: usize) -> bool {
+    let (a, b) = (project(a, k), project(b, k));
+    let t = [
+        project(&tri[0], k),
+        project(&tri[1], k),
+        project(&tri[2], k),
+    ];
+    point_in_triangle_2d::<O>(a, &t)
+        || point_in_triangle_2d::<O>(b, &t)
+        || EDGES
+            .iter()
+            .any(|&(i, j)| segments_meet_2d::<O>(a, b, t[i], t[j]))
+}
+
+/// Is `x` inside or on the boundary of the non-degenerate triangle `t`?
+#[inline]
+fn point_in_triangle_2d<O: Orient>(x: [f64; 2], t: &[[f64; 2]; 3]) -> bool {
+    let d1 = O::orient2d(t[0], t[1], x);
+    let d2 = O::orient2d(t[1], t[2], x);
+    let d3 = O::orient2d(t[2], t[0], x);
+    (d1 >= 0 && d2 >= 0 && d3 >= 0) || (d1 <= 0 && d2 <= 0 && d3 <= 0)
+}
+
+/// For `p` on the line through `a` and `b` (or `a == b`): is it on the closed segment?
+#[inline]
+fn within_box(a: [f64; 2], b: [f64; 2], p: [f64; 2]) -> bool {
+    a[0].min(b[0]) <= p[0]
+        && p[0] <= a[0].max(b[0])
+        && a[1].min(b[1]) <= p[1]
+        && p[1] <= a[1].max(b[1])
+}
+
+/// Do the closed segments `ab` and `cd` share a point? Either may be a single point.
+fn segments_meet_2d<O: Orient>(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
+    let o1 = O::orient2d(a, b, c);
+    let o2 = O::orient2d(a, b, d);
+    let o3 = O::orient2d(c, d, a);
+    let o4 = O::orient2d(c, d, b);
+    if o1 * o2 < 0 && o3 * o4 < 0 {
+        return true;
+    }
+    (o1 == 0 && within_box(a, b, c))
+        || (o2 == 0 && within_box(a, b, d))
+        || (o3 == 0 && within_box(c, d, a))
+        || (o4 == 0 && within_box(c, d, b))
+}
+
+/// Do the closed segments `ab` and `cd` in space share a point? If the four points are coplanar,
+/// some coordinate projection is one-to-one on their plane (or line); the segments meet iff they
+/// meet in that projection, and meeting in space implies meeting in every projection, so asking
+/// all three projections needs no choice of axis.
+fn segments_meet_3d<O: Orient>(a: &Point, b: &Point, c: &Point, d: &Point) -> bool {
+    O::orient3d(a, b, c, d) == 0
+        && (0..3).all(|k| {
+            segments_meet_2d::<O>(project(a, k), project(b, k), project(c, k), project(d, k))
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn tri(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> Triangle {
+        [a, b, c]
+    }
+
+    /// Asserts the expected answer under every vertex order and argument order, and through both
+    /// predicate implementations.
+    fn check(t1: Triangle, t2: Triangle, expected: bool) {
+        let perms = [
+            [0, 1, 2],
+            [1, 2, 0],
+            [2, 0, 1],
+            [0, 2, 1],
+            [2, 1, 0],
+            [1, 0, 2],
+        ];
+        for p in perms {
+            for q in perms {
+                let a = [t1[p[0]], t1[p[1]], t1[p[2]]];
+                let b = [t2[q[0]], t2[q[1]], t2[q[2]]];
+                assert_eq!(triangles_intersect(&a, &b), expected, "{a:?} {b:?}");
+                assert_eq!(triangles_intersect(&b, &a), expected, "{b:?} {a:?}");
+                assert_eq!(intersect::<BigExact>(&a, &b), expected, "big {a:?} {b:?}");
+            }
+        }
+    }
+
+    const O: [f64; 3] = [0.0, 0.0, 0.0];
+    const X: [f64; 3] = [1.0, 0.0, 0.0];
+    const Y: [f64; 3] = [0.0, 1.0, 0.0];
+    const Z: [f64; 3] = [0.0, 0.0, 1.0];
+
+    #[test]
+    fn shared_vertex_touches() {
+        check(
+            tri(O, X, Y),
+            tri(O, [-1.0, 0.0, 0.5], [0.0, -1.0, 1.0]),
+            true,
+        );
+    }
+
+    #[test]
+    fn shared_edge_touches() {
+        check(tri(O, X, Y), tri(O, X, [0.0, -1.0, 0.5]), true);
+        check(tri(O, X, Y), tri(O, X, Z), true);
+    }
+
+    #[test]
+    fn coplanar_overlap_and_disjoint() {
+        check(
+            tri(O, X, Y),
+            tri([0.2, 0.2, 0.0], [2.0, 0.2, 0.0], [0.2, 2.0, 0.0]),
+            true,
+        );
+        // One inside the other.
+        check(
+            tri(O, [4.0, 0.0, 0.0], [0.0, 4.0, 0.0]),
+            tri([0.5, 0.5, 0.0], [1.0, 0.5, 0.0], [0.5, 1.0, 0.0]),
+            true,
+        );
+        // Star of David: edges cross, no vertex inside.
+        check(
+            tri([0.0, 2.0, 0.0], [-1.732, -1.0, 0.0], [1.732, -1.0, 0.0]),
+            tri([0.0, -2.0, 0.0], [1.732, 1.0, 0.0], [-1.732, 1.0, 0.0]),
+            true,
+        );
+        check(
+            tri(O, X, Y),
+            tri([0.6, 0.6, 0.0], [2.0, 0.6, 0.0], [0.6, 2.0, 0.0]),
+            false,
+        );
+        // Touching along the hypotenuse at a single point.
+        check(
+            tri(O, X, Y),
+            tri([0.5, 0.5, 0.0], [1.0, 1.0, 0.0], [0.5, 2.0, 0.0]),
+            true,
+        );
+        // Coplanar, parallel edges one ulp apart.
+        let e = f64::EPSILON;
+        check(
+            tri(O, X, Y),
+            tri([0.0, -e, 0.0], [1.0, -e, 0.0], [0.5, -1.0, 0.0]),
+            false,
+        );
+        check(
+            tri(O, X, Y),
+            tri([0.0, 0.0, 0.0], [1.0, -e, 0.0], [0.5, -1.0, 0.0]),
+            true,
+        );
+    }
+
+    #[test]
+    fn point_on_face() {
+        check(
+            tri(O, [2.0, 0.0, 0.0], [0.0, 2.0, 0.0]),
+            tri([0.5, 0.5, 0.0], [0.5, 0.5, 1.0], [1.0, 0.0, 1.0]),
+            true,
+        );
+        check(
+            tri(O, [2.0, 0.0, 0.0], [0.0, 2.0, 0.0]),
+            tri([0.5, 0.5, 1e-300], [0.5, 0.5, 1.0], [1.0, 0.0, 1.0]),
+            false,
+        );
+    }
+
+    #[test]
+    fn edge_through_edge() {
+        // Edge (-1,0.5,0)-(1,0.5,0)... of a vertical triangle crossing the edge x = 0 of the other.
+        check(
+            tri(O, [0.0, 2.0, 0.0], [0.0, 0.0, 2.0]),
+            tri([-1.0, 1.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, -1.0]),
+            true,
+        );
+        // Shifted by a tiny amount below: the edges miss.
+        check(
+            tri(O, [0.0, 2.0, 0.0], [0.0, 0.0, 2.0]),
+            tri([-1.0, 1.0, -1e-17], [1.0, 1.0, -1e-17], [0.0, 1.0, -1.0]),
+            false,
+        );
+    }
+
+    #[test]
+    fn piercing_and_separated() {
+        check(
+            tri(O, [2.0, 0.0, 0.0], [0.0, 2.0, 0.0]),
+            tri([0.5, 0.5, -1.0], [0.5, 0.5, 1.0], [3.0, 3.0, 0.5]),
+            true,
+        );
+        check(
+            tri(O, X, Y),
+            tri([0.0, 0.0, 0.1], [1.0, 0.0, 0.2], [0.0, 1.0, 0.3]),
+            false,
+        );
+        // The other's plane is crossed, but outside the triangle.
+        check(
+            tri(O, X, Y),
+            tri([2.0, 2.0, -1.0], [2.0, 2.0, 1.0], [3.0, 2.0, 0.0]),
+            false,
+        );
+    }
+
+    #[test]
+    fn segments_and_points() {
+        let seg = tri([0.0, 0.0, -1.0], [0.0, 0.0, 1.0], [0.0, 0.0, 0.5]);
+        check(
+            tri([-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [0.0, 1.0, 0.0]),
+            seg,
+            true,
+        );
+        check(
+            tri([1.0, -1.0, 0.0], [2.0, -1.0, 0.0], [1.0, 1.0, 0.0]),
+            seg,
+            false,
+        );
+        // Segment lying in the plane, crossing an edge.
+        check(
+            tri(O, X, Y),
+            tri([-1.0, 0.5, 0.0], [0.25, 0.5, 0.0], [-0.5, 0.5, 0.0]),
+            true,
+        );
+        check(
+            tri(O, X, Y),
+            tri([-1.0, 0.5, 0.0], [-0.25, 0.5, 0.0], [-0.5, 0.5, 0.0]),
+            false,
+        );
+        // Repeated indices: a point.
+        let p = [0.25, 0.25, 0.0];
+        check(tri(O, X, Y), tri(p, p, p), true);
+        let q = [0.25, 0.25, 1e-200];
+        check(tri(O, X, Y), tri(q, q, q), false);
+        check(tri(p, p, p), tri(p, p, p), true);
+        check(tri(p, p, p), tri(q, q, q), false);
+        // Segment against segment: crossing, touching at endpoints, parallel, skew.
+        let s1 = tri([-1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 0.0, 0.0]);
+        check(
+            s1,
+            tri([0.0, -1.0, 0.0], [0.0, 1.0, 0.0], [0.0, 1.0, 0.0]),
+            true,
+        );
+        check(
+            s1,
+            tri([1.0, 0.0, 0.0], [2.0, 1.0, 0.0], [2.0, 1.0, 0.0]),
+            true,
+        );
+        check(
+            s1,
+            tri([-1.0, 1.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]),
+            false,
+        );
+        check(
+            s1,
+            tri([0.0, -1.0, 1.0], [0.0, 1.0, 1.0], [0.0, 1.0, 1.0]),
+            false,
+        );
+        // Collinear overlapping and collinear disjoint.
+        check(
+            s1,
+            tri([0.5, 0.0, 0.0], [3.0, 0.0, 0.0], [2.0, 0.0, 0.0]),
+            true,
+        );
+        check(
+            s1,
+            tri([1.5, 0.0, 0.0], [3.0, 0.0, 0.0], [2.0, 0.0, 0.0]),
+            false,
+        );
+        // Point on a segment, point off a segment.
+        check(
+            s1,
+            tri([0.5, 0.0, 0.0], [0.5, 0.0, 0.0], [0.5, 0.0, 0.0]),
+            true,
+        );
+        check(
+            s1,
+            tri([0.5, 1e-300, 0.0], [0.5, 1e-300, 0.0], [0.5, 1e-300, 0.0]),
+            false,
+        );
+    }
+
+    #[test]
+    fn extreme_scales() {
+        for k in [-1000, -500, -200, 0, 200, 500, 1000] {
+            let s = 2f64.powi(k);
+            let sc = |t: Triangle| t.map(|p| p.map(|x| x * s));
+            check(
+                sc(tri(O, X, Y)),
+                sc(tri([0.25, 0.25, -1.0], [0.25, 0.25, 1.0], [1.0, 1.0, 0.0])),
+                true,
+            );
+            check(
+                sc(tri(O, X, Y)),
+                sc(tri([0.0, 0.0, 0.5], [1.0, 0.0, 0.5], [0.0, 1.0, 0.5])),
+                false,
+            );
+            check(
+                sc(tri(O, X, Y)),
+                sc(tri([0.5, 0.5, 0.0], [1.0, 1.0, 0.0], [0.5, 2.0, 0.0])),
+                true,
+            );
+        }
+        // Far from the origin: touching at a single point of a huge translate.
+        let t = 1e15;
+        let sh = |p: [f64; 3]| [p[0] + t, p[1] + t, p[2] + t];
+        check(
+            tri(sh(O), sh(X), sh(Y)),
+            tri(
+                sh([0.5, 0.5, 0.0]),
+                sh([0.5, 0.5, 1.0]),
+                sh([1.0, 1.0, 1.0]),
+            ),
+            true,
+        );
+    }
+
+    /// Independent oracle for integer coordinates: the triangles are disjoint iff the origin is not
+    /// in the convex hull of the nine differences `p - q`, iff the direction from the origin to the
+    /// closest point of that hull separates strictly. That direction is the origin's projection on
+    /// the affine hull of one, two or three of the differences, so trying all of them is complete.
+    fn oracle(t1: &[[i64; 3]; 3], t2: &[[i64; 3]; 3]) -> bool {
+        type V = [i128; 3];
+        let sub = |a: V, b: V| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+        let dot = |a: V, b: V| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let cross = |a: V, b: V| {
+            [
+                a[1] * b[2] - a[2] * b[1],
+                a[2] * b[0] - a[0] * b[2],
+                a[0] * b[1] - a[1] * b[0],
+            ]
+        };
+        let scale = |k: i128, a: V| a.map(|x| x * k);
+        let mut s: Vec<V> = Vec::new();
+        for p in t1 {
+            for q in t2 {
+                s.push([0, 1, 2].map(|i| (p[i] - q[i]) as i128));
+            }
+        }
+        let separates = |d: V| s.iter().all(|&x| dot(d, x) > 0);
+        let n = s.len();
+        for i in 0..n {
+            if separates(s[i]) {
+                return false;
+            }
+            for j in i + 1..n {
+                let e = sub(s[j], s[i]);
+                let d = sub(scale(dot(e, e), s[i]), scale(dot(s[i], e), e));
+                if separates(d) {
+                    return false;
+                }
+                for k in j + 1..n {
+                    let nrm = cross(e, sub(s[k], s[i]));
+                    if separates(scale(dot(nrm, s[i]), nrm)) {
+                        return false;
+                    }
+                }
+            }
+        }
+        true
+    }
+
+    fn small_int_triangle(r: i64) -> impl Strategy<Value = [[i64; 3]; 3]> {
+        [
+            [-r..=r, -r..=r, -r..=r],
+            [-r..=r, -r..=r, -r..=r],
+            [-r..=r, -r..=r, -r..=r],
+        ]
+    }
+
+    fn to_f(t: &[[i64; 3]; 3]) -> Triangle {
+        t.map(|p| p.map(|x| x as f64))
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(4000))]
+
+        /// Tiny coordinate range: many coplanar, touching and degenerate configurations.
+        #[test]
+        fn agrees_with_separating_direction_oracle_small(a in small_int_triangle(2), b in small_int_triangle(2)) {
+            prop_assert_eq!(triangles_intersect(&to_f(&a), &to_f(&b)), oracle(&a, &b), "{:?} {:?}", a, b);
+        }
+
+        #[test]
+        fn agrees_with_separating_direction_oracle(a in small_int_triangle(40), b in small_int_triangle(40)) {
+            prop_assert_eq!(triangles_intersect(&to_f(&a), &to_f(&b)), oracle(&a, &b), "{:?} {:?}", a, b);
+        }
+
+        /// Same with one triangle forced into the other's plane z = 0 (coplanar cases).
+        #[test]
+        fn agrees_with_oracle_coplanar(a in small_int_triangle(3), b in small_int_triangle(3)) {
+            let flat = |t: [[i64; 3]; 3]| t.map(|p| [p[0], p[1], 0]);
+            let (a, b) = (flat(a), flat(b));
+            prop_assert_eq!(triangles_intersect(&to_f(&a), &to_f(&b)), oracle(&a, &b), "{:?} {:?}", a, b);
+        }
+    }
+
+    fn real_triangle() -> impl Strategy<Value = Triangle> {
+        let c = || prop_oneof![-2.0f64..2.0, (-4i32..4).prop_map(|x| f64::from(x) * 0.5)];
+        [[c(), c(), c()], [c(), c(), c()], [c(), c(), c()]]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+
+        #[test]
+        fn symmetric_and_order_invariant(a in real_triangle(), b in real_triangle()) {
+            let r = triangles_intersect(&a, &b);
+            prop_assert_eq!(triangles_intersect(&b, &a), r);
+            prop_assert_eq!(triangles_intersect(&[a[1], a[2], a[0]], &[b[2], b[1], b[0]]), r);
+            prop_assert_eq!(intersect::<BigExact>(&a, &b), r);
+        }
+
+        #[test]
+        fn invariant_under_exact_transformations(
+            a in real_triangle(),
+            b in real_triangle(),
+            k in -60i32..60,
+            perm in 0usize..6,
+            shift in prop::array::uniform3(-8i32..8),
+        ) {
+            let r = triangles_intersect(&a, &b);
+            let axes = [[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]][perm];
+            let s = 2f64.powi(k);
+            let f = |t: &Triangle| t.map(|p| [p[axes[0]] * s, p[axes[1]] * s, p[axes[2]] * s]);
+            prop_assert_eq!(triangles_intersect(&f(&a), &f(&b)), r);
+            // A translation is only an exact transformation when no sum loses bits: check each
+            // sum with the exact rounding error of TwoSum before comparing.
+            let t = shift.map(f64::from);
+            let g = |tri: &Triangle| tri.map(|p| [p[0] + t[0], p[1] + t[1], p[2] + t[2]]);
+            let sum_is_exact = |a: f64, b: f64| {
+                let s = a + b;
+                let bb = s - a;
+                (a - (s - bb)) + (b - bb) == 0.0
+            };
+            let exact = [a, b].iter().all(|tri| tri.iter().all(|p| (0..3).all(|i| sum_is_exact(p[i], t[i]))));
+            if exact {
+                prop_assert_eq!(triangles_intersect(&g(&a), &g(&b)), r);
+            }
+        }
+    }
+}

@@ -1,0 +1,91 @@
+//! Query results: pairs, the reusable result buffer, counters.
+
+use super::workspace::Workspace;
+
+/// A pair of indices, one from each mesh: triangles, or nodes for the coarse modes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[repr(C)]
+pub struct Pair {
+    /// Index into the first mesh (`a`).
+    pub a: u32,
+    /// Index into the second mesh (`b`).
+    pub b: u32,
+}
+
+/// What the indices of a [`Pairs`] buffer refer to.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum PairKind {
+    /// Triangle indices ([`crate::QueryMode::Triangles`], [`crate::QueryMode::FirstHit`]).
+    #[default]
+    Triangles,
+    /// Node indices ([`crate::QueryMode::Leaves`], [`crate::QueryMode::Depth`]); expand them with
+    /// [`crate::Mesh::node_triangles`].
+    Nodes,
+}
+
+/// A caller-owned, reusable result buffer. It also keeps the scratch space a query needs, so that
+/// once it has grown to a scene's needs a query allocates nothing. Use one per thread.
+#[derive(Debug, Default)]
+pub struct Pairs {
+    pub(crate) items: Vec<Pair>,
+    pub(crate) kind: PairKind,
+    pub(crate) workspace: Workspace,
+}
+
+impl Pairs {
+    /// An empty buffer.
+    pub fn new() -> Pairs {
+        Pairs::default()
+    }
+
+    /// The pairs of the last successful query, sorted and without duplicates.
+    pub fn as_slice(&self) -> &[Pair] {
+        &self.items
+    }
+
+    /// Number of pairs.
+    pub fn len(&self) -> usize {
+        self.items.len()
+    }
+
+    /// No pairs?
+    pub fn is_empty(&self) -> bool {
+        self.items.is_empty()
+    }
+
+    /// What the indices refer to.
+    pub fn kind(&self) -> PairKind {
+        self.kind
+    }
+
+    /// Iterates over the pairs.
+    pub fn iter(&self) -> std::slice::Iter<'_, Pair> {
+        self.items.iter()
+    }
+}
+
+impl<'a> IntoIterator for &'a Pairs {
+    type Item = &'a Pair;
+    type IntoIter = std::slice::Iter<'a, Pair>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.items.iter()
+    }
+}
+
+/// Counters of one query: the terms of the paper's cost model `T = NV·CV + NP·CP + NU·CU`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct QueryStats {
+    /// Sphere pairs tested for overlap (`NV`).
+    pub bv_tests: u64,
+    /// Triangle pairs given to the exact test (`NP`).
+    pub triangle_tests: u64,
+    /// Triangle pairs of overlapping leaves, before the exact bounding-box filter that decides
+    /// which go to the exact test.
+    pub triangle_candidates: u64,
+    /// Overlapping pairs of terminal nodes (leaves, or nodes at the depth limit).
+    pub leaf_pairs: u64,
+    /// Pairs reported.
+    pub pairs: u64,
+    /// Nodes recomputed by the last refit of each mesh (`NU` of the frame).
+    pub nodes_refit: u64,
+}
