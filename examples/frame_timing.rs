@@ -2,7 +2,9 @@
 //! the frames) and the counters, for every build option. A quick look, not a benchmark: the
 //! criterion benchmarks and the cross-check are the measured claims.
 //!
-//! `cargo run --release --example frame_timing [mesh] [frames]` (default: armadillo, 60 frames).
+//! `cargo run --release --example frame_timing [mesh] [frames] [offset] [amplitude]` (defaults:
+//! armadillo, 60 frames, the second copy shifted by 0.45 of the mesh size, deformation amplitude
+//! 0.08 of the mesh size).
 //! Uses Debian's CGAL demo meshes when installed, an icosphere of similar size otherwise.
 
 use dvh::fixtures::{MeshData, Morph, cgal_mesh, icosphere};
@@ -33,9 +35,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     rest.normalize(1.0);
     // Two copies, the second shifted so that they interpenetrate over part of their surface.
     let mut rest_b: MeshData = rest.clone();
-    rest_b.translate([0.45, 0.1, 0.0]);
-    let morph_a = Morph::random(&rest, 4, 0.08, 1);
-    let morph_b = Morph::random(&rest_b, 4, 0.08, 2);
+    let offset: f64 = std::env::args()
+        .nth(3)
+        .map(|s| s.parse())
+        .transpose()?
+        .unwrap_or(0.45);
+    rest_b.translate([offset, 0.1, 0.0]);
+    let amplitude: f64 = std::env::args()
+        .nth(4)
+        .map(|s| s.parse())
+        .transpose()?
+        .unwrap_or(0.08);
+    let morph_a = Morph::random(&rest, 4, amplitude, 1);
+    let morph_b = Morph::random(&rest_b, 4, amplitude, 2);
     let positions: Vec<(Vec<f64>, Vec<f64>)> = (0..frames)
         .map(|f| {
             let t = f as f64 / frames as f64;
@@ -88,9 +100,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     bv.push(s.bv_tests as f64);
                     tri.push(s.triangle_tests as f64);
                     found.push(s.pairs as f64);
-                    if std::env::var_os("DVH_DEBUG").is_some() {
-                        eprintln!("{s:?}");
-                    }
                     let t = Instant::now();
                     collide(
                         &a,

@@ -35,7 +35,7 @@ fn scanned_meshes_deforming_into_each_other() {
         BuildOptions::default(),
         BuildOptions {
             tree: TreeKind::Binary,
-            radius: RadiusKind::Layered,
+            radius: RadiusKind::Wrapped,
             leftovers: LeftoverPolicy::ExtraRings,
         },
     ];

@@ -58,7 +58,18 @@ pub trait Orient {
     fn orient3d(a: &Point, b: &Point, c: &Point, d: &Point) -> Sign;
     /// Sign of `(a - c) x (b - c)`: positive when `a, b, c` turn counter-clockwise.
     fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign;
+    /// `orient3d(t[0], t[1], t[2], p)` for each of three points `p`.
+    fn plane_sides(t: &[Point; 3], points: &[Point; 3]) -> [Sign; 3] {
+        points.map(|p| Self::orient3d(&t[0], &t[1], &t[2], &p))
+    }
 }
+
+/// Shewchuk's error bound for the floating-point orientation determinant (`o3derrboundA`). It
+/// holds for any evaluation of the determinant as a sum, in order, of three rounded coordinate
+/// differences each times a rounded 2x2 minor of rounded differences, against the permanent of
+/// the same shape, when nothing overflows or underflows.
+const ORIENT3D_FILTER: f64 = (7.0 + 56.0 * HALF_ULP) * HALF_ULP;
+const HALF_ULP: f64 = f64::EPSILON / 2.0;
 
 /// Shewchuk's adaptive predicates; exact when every coordinate is safe.
 pub struct Adaptive;
@@ -72,6 +83,44 @@ impl Orient for Adaptive {
             z: p[2],
         };
         sign_of(robust::orient3d(c3(a), c3(b), c3(c), c3(d)))
+    }
+
+    /// The triangle's plane (edge vectors and the minors of the determinant) is computed once for
+    /// the three points, and each sign is taken from the floating-point determinant when it
+    /// exceeds Shewchuk's error bound; only uncertain signs go to the adaptive predicate.
+    #[inline]
+    fn plane_sides(t: &[Point; 3], points: &[Point; 3]) -> [Sign; 3] {
+        let a = &t[0];
+        let e1 = [t[1][0] - a[0], t[1][1] - a[1], t[1][2] - a[2]];
+        let e2 = [t[2][0] - a[0], t[2][1] - a[1], t[2][2] - a[2]];
+        let m = [
+            e1[1] * e2[2],
+            e1[2] * e2[1],
+            e1[2] * e2[0],
+            e1[0] * e2[2],
+            e1[0] * e2[1],
+            e1[1] * e2[0],
+        ];
+        let n = [m[0] - m[1], m[2] - m[3], m[4] - m[5]];
+        let k = [
+            m[0].abs() + m[1].abs(),
+            m[2].abs() + m[3].abs(),
+            m[4].abs() + m[5].abs(),
+        ];
+        points.map(|p| {
+            let f = [p[0] - a[0], p[1] - a[1], p[2] - a[2]];
+            // det[e1; e2; f] = -orient3d(t[0], t[1], t[2], p).
+            let det = f[0] * n[0] + f[1] * n[1] + f[2] * n[2];
+            let bound =
+                ORIENT3D_FILTER * (f[0].abs() * k[0] + f[1].abs() * k[1] + f[2].abs() * k[2]);
+            if det > bound {
+                -1
+            } else if -det > bound {
+                1
+            } else {
+                Self::orient3d(&t[0], &t[1], &t[2], &p)
+            }
+        })
     }
 
     #[inline]

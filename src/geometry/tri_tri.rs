@@ -61,13 +61,18 @@ fn all_zero(s: [Sign; 3]) -> bool {
 
 pub(crate) fn intersect<O: Orient>(t1: &Triangle, t2: &Triangle) -> bool {
     // s2[i]: side of t2[i] relative to the plane of t1 (all zero when t1 has no plane).
-    let s2 = t2.map(|p| O::orient3d(&t1[0], &t1[1], &t1[2], &p));
+    let s2 = O::plane_sides(t1, t2);
     if strictly_one_side(s2) {
         return false;
     }
-    let s1 = t1.map(|p| O::orient3d(&t2[0], &t2[1], &t2[2], &p));
+    let s1 = O::plane_sides(t2, t1);
     if strictly_one_side(s1) {
         return false;
+    }
+    if !all_zero(s1) && !all_zero(s2) {
+        // Both triangles proper (a degenerate one has no plane: all its signs would be zero) and
+        // not coplanar.
+        return crossing_intervals_meet::<O>(t1, s1, t2, s2);
     }
     // A non-zero sign proves the triangle that defines the plane is not degenerate; only when all
     // are zero (coplanar or degenerate) is the exact collinearity test needed.
@@ -86,6 +91,53 @@ pub(crate) fn intersect<O: Orient>(t1: &Triangle, t2: &Triangle) -> bool {
                 .any(|&(k, l)| segments_meet_3d::<O>(&t1[i], &t1[j], &t2[k], &t2[l]))
         }),
     }
+}
+
+/// The vertex alone on its side of the other triangle's plane, and which side that is. With
+/// signs `(+, +, 0)` the vertex on the plane is the one alone, and counts as on the side opposite
+/// the other two.
+fn apex(s: [Sign; 3]) -> (usize, Sign) {
+    for i in 0..3 {
+        let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+        if s[i] != 0 && s[j] * s[i] <= 0 && s[k] * s[i] <= 0 {
+            return (i, s[i]);
+        }
+    }
+    let i = s
+        .iter()
+        .position(|&x| x == 0)
+        .expect("signs not all of one side have a zero");
+    (i, -s[(i + 1) % 3])
+}
+
+/// Two proper, non-coplanar triangles, each meeting the other's plane: each crosses the line
+/// where the planes meet in an interval, and the triangles intersect iff the intervals overlap.
+///
+/// Each triangle is turned so that its first vertex is the one alone on its side of the other's
+/// plane, so the interval's ends lie on its first and last edges from that vertex; swapping the
+/// other two vertices of the *other* triangle flips the other plane, so that both lone vertices
+/// end up on the positive side. In that form the intervals are `[x1, y1]` and `[y2, x2]` along
+/// `n1 × n2`, where `x` ends lie on edges `p q` and `y` ends on edges `p r`, and comparing an end
+/// from each triangle is the sign of one orientation of the two edges' endpoints (zero when the
+/// ends coincide). The intervals overlap iff `x1 <= x2` and `y2 <= y1`: two more predicates.
+/// This is the idea of Guigue and Devillers (2003), rederived for closed triangles.
+fn crossing_intervals_meet<O: Orient>(
+    t1: &Triangle,
+    s1: [Sign; 3],
+    t2: &Triangle,
+    s2: [Sign; 3],
+) -> bool {
+    let (i1, side1) = apex(s1);
+    let (i2, side2) = apex(s2);
+    let (p1, mut q1, mut r1) = (&t1[i1], &t1[(i1 + 1) % 3], &t1[(i1 + 2) % 3]);
+    let (p2, mut q2, mut r2) = (&t2[i2], &t2[(i2 + 1) % 3], &t2[(i2 + 2) % 3]);
+    if side1 < 0 {
+        std::mem::swap(&mut q2, &mut r2);
+    }
+    if side2 < 0 {
+        std::mem::swap(&mut q1, &mut r1);
+    }
+    O::orient3d(p1, q1, p2, q2) <= 0 && O::orient3d(p1, r1, r2, p2) <= 0
 }
 
 /// Does an edge of `edges` meet the closed, non-degenerate triangle `tri`? `signs[i]` is the side
@@ -580,6 +632,28 @@ mod tests {
             prop_assert_eq!(triangles_intersect(&b, &a), r);
             prop_assert_eq!(triangles_intersect(&[a[1], a[2], a[0]], &[b[2], b[1], b[0]]), r);
             prop_assert_eq!(intersect::<BigExact>(&a, &b), r);
+        }
+
+        /// The interval comparison against the edge-by-edge method it replaces for proper,
+        /// non-coplanar pairs, on real coordinates (the oracle above needs integers).
+        #[test]
+        fn interval_method_agrees_with_edge_method(a in real_triangle(), offsets in real_triangle()) {
+            // b around a's first vertex, so that most pairs cross each other's planes.
+            let b = offsets.map(|o| [a[0][0] + o[0] * 0.5, a[0][1] + o[1] * 0.5, a[0][2] + o[2] * 0.5]);
+            let s2 = Adaptive::plane_sides(&a, &b);
+            let s1 = Adaptive::plane_sides(&b, &a);
+            if strictly_one_side(s1) || strictly_one_side(s2) || all_zero(s1) || all_zero(s2) {
+                return Ok(());
+            }
+            let by_edges = edges_meet_triangle::<Adaptive>(&a, s1, &b) || edges_meet_triangle::<Adaptive>(&b, s2, &a);
+            prop_assert_eq!(crossing_intervals_meet::<Adaptive>(&a, s1, &b, s2), by_edges);
+        }
+
+        #[test]
+        fn filtered_plane_sides_are_exact(a in real_triangle(), b in real_triangle(), k in -30i32..30) {
+            let s = 2f64.powi(k);
+            let (a, b) = (a.map(|p| p.map(|x| x * s)), b.map(|p| p.map(|x| x * s)));
+            prop_assert_eq!(Adaptive::plane_sides(&a, &b), b.map(|p| BigExact::orient3d(&a[0], &a[1], &a[2], &p)));
         }
 
         #[test]

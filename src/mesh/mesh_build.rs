@@ -1,7 +1,7 @@
 //! Building a [`Mesh`]: input checks, 1-rings, the top-down split, node centres, first fit.
 
 use super::input::{check_triangles, scan_positions, to_points};
-use super::mesh::{BuildOptions, Mesh, Node, RefitStats, Sphere, TreeKind};
+use super::mesh::{BuildOptions, Mesh, Node, RefitStats, TreeKind};
 use super::rings::{Rings, build_rings, distinct_corners};
 use crate::error::Result;
 use crate::geometry::predicates::Point;
@@ -39,6 +39,7 @@ impl Mesh {
         let centres: Vec<Point> = rings.centre.iter().map(|&v| points[v as usize]).collect();
         let (mut nodes, order) = split_top_down(&centres, options.tree);
         let layout = RingLayout::new(&rings, &order, &tris, vertex_count);
+        let ring_corners = layout.tris.iter().map(|&t| tris[t as usize]).collect();
         assign_centres(&mut nodes, &layout, &points);
 
         let levels = nodes
@@ -46,17 +47,16 @@ impl Mesh {
             .map(|n| n.depth as usize + 1)
             .max()
             .unwrap_or(1);
-        let node_count = nodes.len();
         let mut mesh = Mesh {
             positions: points,
             triangles: tris,
             options: *options,
             ring_centre: layout.centre,
             ring_tri_start: layout.tri_start,
+            ring_corners,
             ring_tris: layout.tris,
             ring_vert_start: layout.vert_start,
             ring_verts: layout.verts,
-            spheres: vec![Sphere::default(); node_count],
             nodes,
             max_abs: extent.max_abs,
             safe: extent.safe,
@@ -300,7 +300,7 @@ fn assign_centres(nodes: &mut [Node], layout: &RingLayout, points: &[Point]) {
     let mut below = Vec::new();
     for (i, node) in nodes.iter_mut().enumerate() {
         if node.is_leaf() {
-            node.centre = layout.centre[node.ring_start as usize];
+            node.centre_vertex = layout.centre[node.ring_start as usize];
             continue;
         }
         below.clear();
@@ -321,7 +321,7 @@ fn assign_centres(nodes: &mut [Node], layout: &RingLayout, points: &[Point]) {
                 mean[a] += p[a] * w;
             }
         }
-        node.centre = below
+        node.centre_vertex = below
             .iter()
             .copied()
             .min_by(|&u, &v| {

@@ -47,26 +47,27 @@ impl Mesh {
     /// Recomputes every sphere from the current positions, children before parents (children
     /// have higher indices).
     pub(crate) fn update_spheres(&mut self) -> RefitStats {
-        for (s, n) in self.spheres.iter_mut().zip(&self.nodes) {
-            s.centre = self.positions[n.centre as usize];
+        for n in self.nodes.iter_mut() {
+            n.centre = self.positions[n.centre_vertex as usize];
         }
         let mut stack = std::mem::take(&mut self.scratch);
         let mut evaluations = 0u64;
         for i in (0..self.nodes.len()).rev() {
             let node = self.nodes[i];
             let radius = if node.is_leaf() {
-                let c = self.spheres[i].centre;
-                round_up(
-                    self.ring_farthest_squared(&c, node.ring_start as usize, &mut evaluations)
-                        .sqrt(),
-                )
+                let far = self.ring_farthest_squared(
+                    &node.centre,
+                    node.ring_start as usize,
+                    &mut evaluations,
+                );
+                round_up(far.sqrt())
             } else {
                 match self.options.radius {
                     RadiusKind::Wrapped => self.wrapped_radius(i, &mut stack, &mut evaluations),
                     RadiusKind::Layered => self.layered_radius(i, &mut evaluations),
                 }
             };
-            self.spheres[i].radius = radius;
+            self.nodes[i].radius = radius;
         }
         self.scratch = stack;
         RefitStats {
@@ -81,20 +82,23 @@ impl Mesh {
         let verts = &self.ring_verts
             [self.ring_vert_start[r] as usize..self.ring_vert_start[r + 1] as usize];
         *evaluations += verts.len() as u64;
-        verts
-            .iter()
-            .map(|&v| distance_squared(c, &self.positions[v as usize]))
-            .fold(0.0f64, f64::max)
+        let mut far = 0.0f64;
+        for &v in verts {
+            let d = distance_squared(c, &self.positions[v as usize]);
+            // Not f64::max: its NaN rules cost a dependency chain; distances are never NaN.
+            far = if d > far { d } else { far };
+        }
+        far
     }
 
     fn layered_radius(&self, i: usize, evaluations: &mut u64) -> f64 {
-        let c = self.spheres[i].centre;
         let node = self.nodes[i];
+        let c = node.centre;
         *evaluations += node.child_count as u64;
         let reach = node
             .children()
             .map(|ch| {
-                let s = &self.spheres[ch as usize];
+                let s = &self.nodes[ch as usize];
                 distance_squared(&c, &s.centre).sqrt() + s.radius
             })
             .fold(0.0f64, f64::max);
@@ -109,19 +113,19 @@ impl Mesh {
     /// and a subtree is only skipped when its estimated reach is at most the best estimate, so
     /// the true farthest distance is within a few ulps of the result, which [`round_up`] covers.
     fn wrapped_radius(&self, i: usize, stack: &mut Vec<u32>, evaluations: &mut u64) -> f64 {
-        let c = self.spheres[i].centre;
+        let c = self.nodes[i].centre;
         let mut best = 0.0f64;
         stack.clear();
         stack.extend(self.nodes[i].children());
         while let Some(x) = stack.pop() {
-            let s = &self.spheres[x as usize];
-            let d = distance_squared(&c, &s.centre).sqrt();
+            let node = &self.nodes[x as usize];
+            // Measured: a square root per node is cheaper than the branches of comparing squares.
+            let d = distance_squared(&c, &node.centre).sqrt();
             *evaluations += 1;
             best = best.max(d);
-            if d + s.radius <= best {
+            if d + node.radius <= best {
                 continue;
             }
-            let node = &self.nodes[x as usize];
             if node.is_leaf() {
                 let far = self.ring_farthest_squared(&c, node.ring_start as usize, evaluations);
                 best = best.max(far.sqrt());

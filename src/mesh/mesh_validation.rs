@@ -44,11 +44,6 @@ impl Mesh {
             "empty hierarchy: {nr} rings, {nn} nodes"
         );
         ensure!(
-            self.spheres.len() == nn,
-            "{} spheres for {nn} nodes",
-            self.spheres.len()
-        );
-        ensure!(
             self.ring_tri_start.len() == nr + 1,
             "ring triangle offsets: {} for {nr} rings",
             self.ring_tri_start.len()
@@ -95,8 +90,18 @@ impl Mesh {
                 );
                 in_ring[v as usize] = r as u32;
             }
-            for &t in &self.ring_tris[ts as usize..te as usize] {
+            for (k, &t) in self
+                .ring_tris
+                .iter()
+                .enumerate()
+                .take(te as usize)
+                .skip(ts as usize)
+            {
                 ensure!((t as usize) < nt, "ring {r} triangle {t} out of range");
+                ensure!(
+                    self.ring_corners.get(k) == Some(&self.triangles[t as usize]),
+                    "ring {r}: stored corners of triangle {t} are stale"
+                );
                 covered[t as usize] += 1;
                 for v in distinct_corners(&self.triangles[t as usize]) {
                     ensure!(
@@ -136,16 +141,16 @@ impl Mesh {
                 n.ring_end
             );
             ensure!(
-                (n.centre as usize) < nv,
-                "node {i} centre {} out of range",
-                n.centre
+                (n.centre_vertex as usize) < nv,
+                "node {i} centre vertex {} out of range",
+                n.centre_vertex
             );
             ensure!(
-                self.spheres[i].centre == self.positions[n.centre as usize],
+                n.centre == self.positions[n.centre_vertex as usize],
                 "node {i} sphere centre is not at its vertex {}",
-                n.centre
+                n.centre_vertex
             );
-            let radius = self.spheres[i].radius;
+            let radius = n.radius;
             ensure!(radius >= 0.0, "node {i} radius {radius} is negative or NaN");
             if n.is_leaf() {
                 leaves_seen += 1;
@@ -155,7 +160,7 @@ impl Mesh {
                     n.ring_end - n.ring_start
                 );
                 ensure!(
-                    n.centre == self.ring_centre[n.ring_start as usize],
+                    n.centre_vertex == self.ring_centre[n.ring_start as usize],
                     "leaf {i} not centred on its ring's centre"
                 );
             } else {
@@ -198,13 +203,13 @@ impl Mesh {
         // Containment: every vertex of every triangle below a node is inside its sphere; inner
         // centres are vertices below the node.
         for (i, n) in self.nodes.iter().enumerate() {
-            let s = &self.spheres[i];
+            let s = n;
             let mut centre_below = false;
             for r in n.ring_start as usize..n.ring_end as usize {
                 let verts = &self.ring_verts
                     [self.ring_vert_start[r] as usize..self.ring_vert_start[r + 1] as usize];
                 for &v in std::iter::once(&self.ring_centre[r]).chain(verts) {
-                    centre_below |= v == n.centre;
+                    centre_below |= v == n.centre_vertex;
                     let d = distance_squared(&s.centre, &self.positions[v as usize]).sqrt();
                     ensure!(
                         d <= s.radius,
@@ -216,7 +221,7 @@ impl Mesh {
             ensure!(
                 centre_below,
                 "node {i} centre vertex {} is not below it",
-                n.centre
+                n.centre_vertex
             );
         }
 

@@ -2,7 +2,7 @@
 
 use super::options::{QueryMode, QueryOptions};
 use super::pairs::{Pair, PairKind, Pairs, QueryStats};
-use super::workspace::{Gathered, GatheredRing, VertexCache, Workspace};
+use super::workspace::{Gathered, GatheredRing, Stamped, Workspace};
 use crate::error::{Error, Result, Side};
 use crate::geometry::MAX_POSED_MAGNITUDE;
 use crate::geometry::pose::Pose;
@@ -48,11 +48,15 @@ pub fn collide(
     } = out;
     let Workspace {
         stack,
-        cache_a,
-        cache_b,
+        world_a,
+        world_b,
+        boxes_a,
+        boxes_b,
         ring_a,
         ring_b,
     } = workspace;
+    boxes_a.begin(a.ring_count());
+    boxes_b.begin(b.ring_count());
     ring_a.ring = u32::MAX;
     ring_b.ring = u32::MAX;
     items.clear();
@@ -70,6 +74,8 @@ pub fn collide(
         stats: QueryStats::default(),
         out: items,
         stack,
+        boxes_a,
+        boxes_b,
         ring_a,
         ring_b,
     };
@@ -78,7 +84,7 @@ pub fn collide(
     match (pose_a.zip(widen_a), pose_b.zip(widen_b)) {
         (None, None) => traverse(&mut local_a(), &mut local_b(), a, b, &mut ctx),
         (Some((pa, wa)), None) => traverse(
-            &mut posed(a, pa, wa, cache_a),
+            &mut posed(a, pa, wa, world_a),
             &mut local_b(),
             a,
             b,
@@ -86,14 +92,14 @@ pub fn collide(
         ),
         (None, Some((pb, wb))) => traverse(
             &mut local_a(),
-            &mut posed(b, pb, wb, cache_b),
+            &mut posed(b, pb, wb, world_b),
             a,
             b,
             &mut ctx,
         ),
         (Some((pa, wa)), Some((pb, wb))) => {
-            let mut fa = posed(a, pa, wa, cache_a);
-            let mut fb = posed(b, pb, wb, cache_b);
+            let mut fa = posed(a, pa, wa, world_a);
+            let mut fb = posed(b, pb, wb, world_b);
             traverse(&mut fa, &mut fb, a, b, &mut ctx)
         }
     }
@@ -109,7 +115,7 @@ fn posed<'m, 'w>(
     mesh: &'m Mesh,
     pose: &'m Pose,
     (stretch, pad): (f64, f64),
-    cache: &'w mut VertexCache,
+    cache: &'w mut Stamped<Point>,
 ) -> Posed<'m, 'w> {
     cache.begin(mesh.vertex_count());
     Posed {
@@ -155,12 +161,12 @@ impl Frame for Local<'_> {
 
     #[inline(always)]
     fn centre(&mut self, node: u32) -> Point {
-        self.mesh.spheres[node as usize].centre
+        self.mesh.nodes[node as usize].centre
     }
 
     #[inline(always)]
     fn radius(&self, node: u32) -> f64 {
-        self.mesh.spheres[node as usize].radius
+        self.mesh.nodes[node as usize].radius
     }
 }
 
@@ -168,7 +174,7 @@ impl Frame for Local<'_> {
 struct Posed<'m, 'w> {
     mesh: &'m Mesh,
     pose: &'m Pose,
-    cache: &'w mut VertexCache,
+    cache: &'w mut Stamped<Point>,
     stretch: f64,
     pad: f64,
 }
@@ -176,22 +182,19 @@ struct Posed<'m, 'w> {
 impl Frame for Posed<'_, '_> {
     #[inline(always)]
     fn vertex(&mut self, v: u32) -> Point {
-        let i = v as usize;
-        if self.cache.stamp[i] != self.cache.current {
-            self.cache.world[i] = self.pose.transform_point(&self.mesh.positions[i]);
-            self.cache.stamp[i] = self.cache.current;
-        }
-        self.cache.world[i]
+        let (pose, positions) = (self.pose, &self.mesh.positions);
+        self.cache
+            .get_or(v as usize, || pose.transform_point(&positions[v as usize]))
     }
 
     #[inline(always)]
     fn centre(&mut self, node: u32) -> Point {
-        self.vertex(self.mesh.nodes[node as usize].centre)
+        self.vertex(self.mesh.nodes[node as usize].centre_vertex)
     }
 
     #[inline(always)]
     fn radius(&self, node: u32) -> f64 {
-        self.mesh.spheres[node as usize].radius * self.stretch + self.pad
+        self.mesh.nodes[node as usize].radius * self.stretch + self.pad
     }
 }
 
@@ -203,22 +206,24 @@ struct Ctx<'w> {
     stats: QueryStats,
     out: &'w mut Vec<Pair>,
     stack: &'w mut Vec<(u32, u32)>,
+    boxes_a: &'w mut Stamped<[Point; 2]>,
+    boxes_b: &'w mut Stamped<[Point; 2]>,
     ring_a: &'w mut GatheredRing,
     ring_b: &'w mut GatheredRing,
 }
 
-/// Depth-first over node pairs. Overlapping pairs descend the node with the larger sphere (a
-/// node that cannot descend never is); on equal radii both descend, so that the traversal with
-/// `a` and `b` swapped visits the mirrored pairs and the coarse modes are symmetric.
+/// Depth-first over overlapping node pairs; a child pair is tested before it is pushed.
+/// Overlapping pairs descend the node with the larger sphere (a node that cannot descend never
+/// is); on equal radii both descend, so that the traversal with `a` and `b` swapped visits the
+/// mirrored pairs and the coarse modes are symmetric.
 fn traverse<A: Frame, B: Frame>(fa: &mut A, fb: &mut B, ma: &Mesh, mb: &Mesh, ctx: &mut Ctx) {
     ctx.stack.clear();
+    ctx.stats.bv_tests += 1;
+    if !overlap(&fa.centre(0), fa.radius(0), &fb.centre(0), fb.radius(0)) {
+        return;
+    }
     ctx.stack.push((0, 0));
     while let Some((na, nb)) = ctx.stack.pop() {
-        ctx.stats.bv_tests += 1;
-        let (ra, rb) = (fa.radius(na), fb.radius(nb));
-        if !overlap(&fa.centre(na), ra, &fb.centre(nb), rb) {
-            continue;
-        }
         let node_a = &ma.nodes[na as usize];
         let node_b = &mb.nodes[nb as usize];
         let end_a = node_a.is_leaf() || node_a.depth >= ctx.max_depth;
@@ -254,13 +259,34 @@ fn traverse<A: Frame, B: Frame>(fa: &mut A, fb: &mut B, ma: &Mesh, mb: &Mesh, ct
                     }
                 }
             }
-        } else if end_a || (!end_b && rb > ra) {
-            ctx.stack.extend(node_b.children().map(|ch| (na, ch)));
+            continue;
+        }
+        let (ra, rb) = (fa.radius(na), fb.radius(nb));
+        if end_a || (!end_b && rb > ra) {
+            let ca = fa.centre(na);
+            for ch in node_b.children() {
+                ctx.stats.bv_tests += 1;
+                if overlap(&ca, ra, &fb.centre(ch), fb.radius(ch)) {
+                    ctx.stack.push((na, ch));
+                }
+            }
         } else if end_b || ra > rb {
-            ctx.stack.extend(node_a.children().map(|ch| (ch, nb)));
+            let cb = fb.centre(nb);
+            for ch in node_a.children() {
+                ctx.stats.bv_tests += 1;
+                if overlap(&fa.centre(ch), fa.radius(ch), &cb, rb) {
+                    ctx.stack.push((ch, nb));
+                }
+            }
         } else {
-            for ca in node_a.children() {
-                ctx.stack.extend(node_b.children().map(|cb| (ca, cb)));
+            for x in node_a.children() {
+                let (cx, rx) = (fa.centre(x), fa.radius(x));
+                for y in node_b.children() {
+                    ctx.stats.bv_tests += 1;
+                    if overlap(&cx, rx, &fb.centre(y), fb.radius(y)) {
+                        ctx.stack.push((x, y));
+                    }
+                }
             }
         }
     }
@@ -282,10 +308,11 @@ fn gather<F: Frame>(
     into.lo = [f64::INFINITY; 3];
     into.hi = [f64::NEG_INFINITY; 3];
     let r = r as usize;
-    let tris =
-        &mesh.ring_tris[mesh.ring_tri_start[r] as usize..mesh.ring_tri_start[r + 1] as usize];
-    for &t in tris {
-        let [i, j, k] = mesh.triangles[t as usize];
+    let range = mesh.ring_tri_start[r] as usize..mesh.ring_tri_start[r + 1] as usize;
+    for (&t, &[i, j, k]) in mesh.ring_tris[range.clone()]
+        .iter()
+        .zip(&mesh.ring_corners[range])
+    {
         let corners = [frame.vertex(i), frame.vertex(j), frame.vertex(k)];
         let mut lo = corners[0];
         let mut hi = corners[0];
@@ -308,6 +335,31 @@ fn gather<F: Frame>(
             safe,
         });
     }
+}
+
+/// The box of ring `r`'s vertices in the frame, computed on first use in the query. Exact: the
+/// extremes of the coordinates the triangle test will see.
+fn ring_box<F: Frame>(
+    frame: &mut F,
+    mesh: &Mesh,
+    r: u32,
+    boxes: &mut Stamped<[Point; 2]>,
+) -> [Point; 2] {
+    boxes.get_or(r as usize, || {
+        let r = r as usize;
+        let c = frame.vertex(mesh.ring_centre[r]);
+        let (mut lo, mut hi) = (c, c);
+        for &v in
+            &mesh.ring_verts[mesh.ring_vert_start[r] as usize..mesh.ring_vert_start[r + 1] as usize]
+        {
+            let p = frame.vertex(v);
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        [lo, hi]
+    })
 }
 
 #[inline(always)]
@@ -339,10 +391,20 @@ fn ring_pair<A: Frame, B: Frame>(
     ctx: &mut Ctx,
     first_hit: bool,
 ) -> bool {
+    let size =
+        |m: &Mesh, r: u32| (m.ring_tri_start[r as usize + 1] - m.ring_tri_start[r as usize]) as u64;
+    ctx.stats.triangle_candidates += size(ma, ra) * size(mb, rb);
+    // Most overlapping leaf spheres hold rings whose boxes are apart (about 70% on scanned
+    // meshes): ring boxes, computed once per ring and query, settle them before any triangle is
+    // gathered.
+    let [la, ha] = ring_box(fa, ma, ra, ctx.boxes_a);
+    let [lb, hb] = ring_box(fb, mb, rb, ctx.boxes_b);
+    if boxes_apart(&la, &ha, &lb, &hb) {
+        return false;
+    }
     gather(fa, ma, ra, ctx.ring_a, ctx.check_domain);
     gather(fb, mb, rb, ctx.ring_b, ctx.check_domain);
     let (ga, gb) = (&mut *ctx.ring_a, &mut *ctx.ring_b);
-    ctx.stats.triangle_candidates += (ga.tris.len() * gb.tris.len()) as u64;
     if boxes_apart(&ga.lo, &ga.hi, &gb.lo, &gb.hi) {
         return false;
     }

@@ -3,28 +3,39 @@
 use crate::geometry::predicates::Point;
 use crate::geometry::tri_tri::Triangle;
 
-/// World positions of a posed mesh's vertices, computed when first needed in a query. A vertex
-/// is current when its stamp equals the query's.
+/// Values computed when first needed in a query (world positions of a posed mesh's vertices,
+/// boxes of rings): an entry is current when its stamp equals the query's, so starting a query
+/// invalidates everything without touching the entries.
 #[derive(Debug, Default)]
-pub(crate) struct VertexCache {
-    pub world: Vec<Point>,
+pub(crate) struct Stamped<T> {
+    pub values: Vec<T>,
     pub stamp: Vec<u32>,
     pub current: u32,
 }
 
-impl VertexCache {
-    /// Starts a query over `vertex_count` vertices: grows the arrays if needed and invalidates
-    /// every cached position.
-    pub fn begin(&mut self, vertex_count: usize) {
-        if self.world.len() < vertex_count {
-            self.world.resize(vertex_count, [0.0; 3]);
-            self.stamp.resize(vertex_count, 0);
+impl<T: Copy + Default> Stamped<T> {
+    /// Starts a query over `count` entries: grows the arrays if needed and invalidates every
+    /// entry.
+    pub fn begin(&mut self, count: usize) {
+        if self.values.len() < count {
+            self.values.resize(count, T::default());
+            self.stamp.resize(count, 0);
         }
         if self.current == u32::MAX {
             self.stamp.fill(0);
             self.current = 0;
         }
         self.current += 1;
+    }
+
+    /// Entry `i`, computed by `make` unless already current.
+    #[inline(always)]
+    pub fn get_or(&mut self, i: usize, make: impl FnOnce() -> T) -> T {
+        if self.stamp[i] != self.current {
+            self.values[i] = make();
+            self.stamp[i] = self.current;
+        }
+        self.values[i]
     }
 }
 
@@ -56,8 +67,12 @@ pub(crate) struct GatheredRing {
 #[derive(Debug, Default)]
 pub(crate) struct Workspace {
     pub stack: Vec<(u32, u32)>,
-    pub cache_a: VertexCache,
-    pub cache_b: VertexCache,
+    /// World positions of a posed mesh's vertices.
+    pub world_a: Stamped<Point>,
+    pub world_b: Stamped<Point>,
+    /// Boxes of rings' vertices in the query frame.
+    pub boxes_a: Stamped<[Point; 2]>,
+    pub boxes_b: Stamped<[Point; 2]>,
     pub ring_a: GatheredRing,
     pub ring_b: GatheredRing,
 }
