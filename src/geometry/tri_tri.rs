@@ -15,14 +15,17 @@
 //!
 //! # Method
 //!
-//! Two convex sets intersect iff some edge of one meets the other: the intersection of two
-//! non-coplanar triangles is a segment on the line where their planes meet, whose endpoints lie
-//! on edges; in the coplanar case the intersection polygon has its vertices on edges; a
-//! degenerate triangle is the union of its own edges. So after the usual plane-side rejection
-//! (all three vertices strictly on one side of the other's plane), the test asks whether an edge
-//! crosses or touches the other triangle: with three `orient3d` signs (the edge's line against
-//! the triangle's edges) when the edge crosses the plane, or in a coordinate plane onto which the
-//! triangle projects one-to-one when the edge lies in the plane.
+//! First the usual rejection: all three vertices of one triangle strictly on one side of the
+//! other's plane. Then:
+//! - Two proper (non-degenerate), non-coplanar triangles each cross the line where the planes
+//!   meet in an interval, and intersect iff the intervals overlap; after the triangles are turned
+//!   into a canonical form, that takes two more orientation signs (the interval comparison of
+//!   Guigue and Devillers).
+//! - Otherwise (coplanar, or a triangle degenerate) two convex sets intersect iff some edge of one
+//!   meets the other: in the coplanar case the intersection polygon has its vertices on edges, and
+//!   a degenerate triangle is the union of its own edges. An edge that crosses the other's plane
+//!   is tested with three signs (its line against the other's edges); one that lies in the plane
+//!   is tested in a coordinate plane onto which the triangle projects one-to-one.
 
 use super::predicates::{Adaptive, BigExact, Orient, Point, Sign, is_safe_point};
 
