@@ -8,10 +8,7 @@
 //! Uses Debian's CGAL demo meshes when installed, an icosphere of similar size otherwise.
 
 use dvh::fixtures::{MeshData, Morph, cgal_mesh, icosphere};
-use dvh::{
-    BuildOptions, LeftoverPolicy, Mesh, Pairs, QueryMode, QueryOptions, RadiusKind, TreeKind,
-    collide,
-};
+use dvh::{BuildOptions, Mesh, Pairs, QueryMode, QueryOptions, collide};
 use std::time::Instant;
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -74,58 +71,50 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "tri tests",
         "pairs"
     );
-    for tree in [TreeKind::Octree, TreeKind::Binary] {
-        for radius in [RadiusKind::Wrapped, RadiusKind::Layered] {
-            for leftovers in [LeftoverPolicy::JoinAdjacent, LeftoverPolicy::ExtraRings] {
-                let options = BuildOptions {
-                    tree,
-                    radius,
-                    leftovers,
-                };
-                let t0 = Instant::now();
-                let mut a = Mesh::new(&rest.positions, &rest.triangles, &options)?;
-                let mut b = Mesh::new(&rest_b.positions, &rest_b.triangles, &options)?;
-                let build = t0.elapsed().as_secs_f64() * 500.0;
-                let mut pairs = Pairs::new();
-                let (mut refit, mut exact, mut leaves) = (Vec::new(), Vec::new(), Vec::new());
-                let (mut bv, mut tri, mut found) = (Vec::new(), Vec::new(), Vec::new());
-                for (pa, pb) in &positions {
-                    let t = Instant::now();
-                    a.refit(pa)?;
-                    b.refit(pb)?;
-                    refit.push(t.elapsed().as_secs_f64() * 1e3);
-                    let t = Instant::now();
-                    let s = collide(&a, None, &b, None, &QueryOptions::default(), &mut pairs)?;
-                    exact.push(t.elapsed().as_secs_f64() * 1e3);
-                    bv.push(s.bv_tests as f64);
-                    tri.push(s.triangle_tests as f64);
-                    found.push(s.pairs as f64);
-                    let t = Instant::now();
-                    collide(
-                        &a,
-                        None,
-                        &b,
-                        None,
-                        &QueryOptions::with_mode(QueryMode::Leaves),
-                        &mut pairs,
-                    )?;
-                    leaves.push(t.elapsed().as_secs_f64() * 1e3);
-                }
-                println!(
-                    "{:<8} {:<8} {:<13} {:>8.1} {:>9.3} {:>9.3} {:>9.3} {:>10.0} {:>9.0} {:>7.0}",
-                    format!("{tree:?}"),
-                    format!("{radius:?}"),
-                    format!("{leftovers:?}"),
-                    build,
-                    median(refit),
-                    median(exact),
-                    median(leaves),
-                    median(bv),
-                    median(tri),
-                    median(found)
-                );
-            }
+    for options in BuildOptions::all() {
+        let (tree, radius, leftovers) = (options.tree, options.radius, options.leftovers);
+        let t0 = Instant::now();
+        let mut a = Mesh::new(&rest.positions, &rest.triangles, &options)?;
+        let mut b = Mesh::new(&rest_b.positions, &rest_b.triangles, &options)?;
+        let build = t0.elapsed().as_secs_f64() * 500.0;
+        let mut pairs = Pairs::new();
+        let (mut refit, mut exact, mut leaves) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut bv, mut tri, mut found) = (Vec::new(), Vec::new(), Vec::new());
+        for (pa, pb) in &positions {
+            let t = Instant::now();
+            a.refit(pa)?;
+            b.refit(pb)?;
+            refit.push(t.elapsed().as_secs_f64() * 1e3);
+            let t = Instant::now();
+            let s = collide(&a, None, &b, None, &QueryOptions::default(), &mut pairs)?;
+            exact.push(t.elapsed().as_secs_f64() * 1e3);
+            bv.push(s.bv_tests as f64);
+            tri.push(s.triangle_tests as f64);
+            found.push(s.pairs as f64);
+            let t = Instant::now();
+            collide(
+                &a,
+                None,
+                &b,
+                None,
+                &QueryOptions::with_mode(QueryMode::Leaves),
+                &mut pairs,
+            )?;
+            leaves.push(t.elapsed().as_secs_f64() * 1e3);
         }
+        println!(
+            "{:<8} {:<8} {:<13} {:>8.1} {:>9.3} {:>9.3} {:>9.3} {:>10.0} {:>9.0} {:>7.0}",
+            format!("{tree:?}"),
+            format!("{radius:?}"),
+            format!("{leftovers:?}"),
+            build,
+            median(refit),
+            median(exact),
+            median(leaves),
+            median(bv),
+            median(tri),
+            median(found)
+        );
     }
     Ok(())
 }

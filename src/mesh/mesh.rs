@@ -42,6 +42,27 @@ pub struct BuildOptions {
     pub leftovers: LeftoverPolicy,
 }
 
+impl BuildOptions {
+    /// Every combination of the options, for measuring them against each other.
+    pub fn all() -> impl Iterator<Item = BuildOptions> {
+        [TreeKind::Octree, TreeKind::Binary]
+            .into_iter()
+            .flat_map(|tree| {
+                [RadiusKind::Layered, RadiusKind::Wrapped]
+                    .into_iter()
+                    .flat_map(move |radius| {
+                        [LeftoverPolicy::JoinAdjacent, LeftoverPolicy::ExtraRings]
+                            .into_iter()
+                            .map(move |leftovers| BuildOptions {
+                                tree,
+                                radius,
+                                leftovers,
+                            })
+                    })
+            })
+    }
+}
+
 /// A node: its sphere and its place in the tree, in one cache line because the traversal reads
 /// both on every visit. Children of a node are contiguous and numbered after it; the rings below
 /// a node are the contiguous range `ring_start..ring_end` (rings are stored in leaf order), so are

@@ -336,23 +336,6 @@ fn assign_centres(nodes: &mut [Node], layout: &RingLayout, points: &[Point]) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{LeftoverPolicy, RadiusKind};
-
-    fn all_options() -> Vec<BuildOptions> {
-        let mut v = Vec::new();
-        for tree in [TreeKind::Octree, TreeKind::Binary] {
-            for radius in [RadiusKind::Wrapped, RadiusKind::Layered] {
-                for leftovers in [LeftoverPolicy::JoinAdjacent, LeftoverPolicy::ExtraRings] {
-                    v.push(BuildOptions {
-                        tree,
-                        radius,
-                        leftovers,
-                    });
-                }
-            }
-        }
-        v
-    }
 
     /// A strip of triangles `(i, i + 1, i + 2)` over the given points.
     fn strip(points: &[Point]) -> (Vec<f64>, Vec<u32>) {
@@ -369,7 +352,7 @@ mod tests {
             .map(|i| [2f64.powf(-(i as f64) / 8.0), (i % 2) as f64 * 1e-3, 0.0])
             .collect();
         let (p, t) = strip(&points);
-        for options in all_options() {
+        for options in BuildOptions::all() {
             let mesh = Mesh::new(&p, &t, &options).unwrap();
             mesh.validate().unwrap();
             let s = mesh.tree_stats();
@@ -387,7 +370,7 @@ mod tests {
     fn coincident_vertices_and_single_triangles() {
         let points = vec![[0.25, -1.0, 3.0]; 600];
         let (p, t) = strip(&points);
-        for options in all_options() {
+        for options in BuildOptions::all() {
             let mesh = Mesh::new(&p, &t, &options).unwrap();
             mesh.validate().unwrap();
             assert!(mesh.tree_stats().levels < 40);
@@ -416,7 +399,7 @@ mod tests {
                 })
                 .collect();
             let (p, t) = strip(&points);
-            for options in all_options() {
+            for options in BuildOptions::all() {
                 let mut mesh = Mesh::new(&p, &t, &options).unwrap();
                 mesh.validate().unwrap();
                 let moved: Vec<f64> = p.iter().map(|x| -x).collect();

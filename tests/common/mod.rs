@@ -4,27 +4,14 @@
 
 use dvh::fixtures::{MeshData, Morph, Rng, grid, icosphere, soup, torus};
 use dvh::{
-    BuildOptions, LeftoverPolicy, Mesh, Pair, PairKind, Pairs, Pose, QueryMode, QueryOptions,
-    RadiusKind, TreeKind, brute_force, collide,
+    BuildOptions, Mesh, Pair, PairKind, Pairs, Pose, QueryMode, QueryOptions, brute_force, collide,
 };
 use nalgebra::{Isometry3, Vector3};
 use std::collections::HashSet;
 
 /// Every combination of build options.
 pub fn all_build_options() -> Vec<BuildOptions> {
-    let mut v = Vec::new();
-    for tree in [TreeKind::Octree, TreeKind::Binary] {
-        for radius in [RadiusKind::Wrapped, RadiusKind::Layered] {
-            for leftovers in [LeftoverPolicy::JoinAdjacent, LeftoverPolicy::ExtraRings] {
-                v.push(BuildOptions {
-                    tree,
-                    radius,
-                    leftovers,
-                });
-            }
-        }
-    }
-    v
+    BuildOptions::all().collect()
 }
 
 /// A random mesh of one of the kinds the tests cover, about unit size, centred at the origin.
