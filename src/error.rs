@@ -83,6 +83,12 @@ pub enum Error {
         /// Determinant of the rotation.
         determinant: f64,
     },
+    /// Memory ran out: the allocation of this many bytes failed. A mesh build checks up front
+    /// that its working memory can be had; a query's result grows fallibly.
+    OutOfMemory {
+        /// Size of the allocation that failed (or of the build's estimated working memory).
+        bytes: usize,
+    },
     /// A pose would move a mesh's coordinates beyond the range where the query is sound
     /// (transformed coordinates could overflow).
     PoseOutOfRange {
@@ -147,6 +153,9 @@ impl fmt::Display for Error {
                 "pose rotation is not a rotation: max |R^T R - I| = {deviation:e} (tolerance {:e}), determinant {determinant}",
                 crate::RIGIDITY_TOLERANCE
             ),
+            Error::OutOfMemory { bytes } => {
+                write!(f, "out of memory: could not allocate {bytes} bytes")
+            }
             Error::PoseOutOfRange { side, bound } => write!(
                 f,
                 "pose of mesh {side:?} moves coordinates up to {bound:e}, beyond the supported magnitude {:e}",

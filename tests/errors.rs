@@ -173,3 +173,59 @@ fn non_rigid_poses_are_refused() {
         "{e}"
     );
 }
+
+#[test]
+fn other_layouts_give_the_same_mesh() {
+    use dvh::fixtures::torus;
+    let t = torus(0.5, 0.2, 12, 8);
+    // Interleaved f32 position + normal, as engines keep vertices.
+    let interleaved: Vec<f32> = t
+        .positions
+        .chunks(3)
+        .flat_map(|p| [p[0] as f32, p[1] as f32, p[2] as f32, 0.0, 0.0, 1.0])
+        .collect();
+    let read = |i: usize| [0, 1, 2].map(|k| f64::from(interleaved[i * 6 + k]));
+    let flat: Vec<f64> = (0..t.vertex_count()).flat_map(read).collect();
+    let a = Mesh::new(&flat, &t.triangles, &BuildOptions::default()).unwrap();
+    let mut b = Mesh::new_with(
+        t.vertex_count(),
+        read,
+        &t.triangles,
+        &BuildOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(format!("{a:?}"), format!("{b:?}"));
+    let before = format!("{b:?}");
+    let e = b
+        .refit_with(t.vertex_count(), |i| {
+            if i == 5 {
+                [0.0, f64::NAN, 0.0]
+            } else {
+                read(i)
+            }
+        })
+        .unwrap_err();
+    assert!(matches!(
+        e,
+        Error::NonFiniteCoordinate {
+            vertex: 5,
+            axis: 1,
+            ..
+        }
+    ));
+    assert_eq!(
+        b.refit_with(3, read).unwrap_err(),
+        Error::VertexCountMismatch {
+            expected: t.vertex_count(),
+            got: 3
+        }
+    );
+    assert_eq!(format!("{b:?}"), before);
+    let mut c = a.clone();
+    c.refit(&flat.iter().map(|x| x * 0.5).collect::<Vec<_>>())
+        .unwrap();
+    b.refit_with(t.vertex_count(), |i| read(i).map(|x| x * 0.5))
+        .unwrap();
+    assert_eq!(format!("{b:?}"), format!("{c:?}"));
+    b.validate().unwrap();
+}

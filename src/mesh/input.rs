@@ -56,6 +56,33 @@ pub(crate) fn scan_positions(positions: &[f64]) -> Result<Extent> {
     })
 }
 
+/// [`scan_positions`] for points read one by one.
+pub(crate) fn scan_points(count: usize, position: impl Fn(usize) -> Point) -> Result<Extent> {
+    let mut largest = 0.0f64;
+    let mut smallest_nonzero = f64::INFINITY;
+    for i in 0..count {
+        let p = position(i);
+        for (axis, &v) in p.iter().enumerate() {
+            if !v.is_finite() {
+                return Err(Error::NonFiniteCoordinate {
+                    vertex: i,
+                    axis,
+                    value: v,
+                });
+            }
+            let a = v.abs();
+            largest = largest.max(a);
+            if a != 0.0 {
+                smallest_nonzero = smallest_nonzero.min(a);
+            }
+        }
+    }
+    Ok(Extent {
+        max_abs: largest,
+        safe: largest <= SAFE_MAX && smallest_nonzero >= SAFE_MIN,
+    })
+}
+
 /// Checks a flat triangle index array against `vertex_count`.
 pub(crate) fn check_triangles(triangles: &[u32], vertex_count: usize) -> Result<()> {
     if !triangles.len().is_multiple_of(3) {

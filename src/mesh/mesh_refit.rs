@@ -1,6 +1,6 @@
 //! Refitting a [`Mesh`] to new vertex positions: radii only, no allocation.
 
-use super::input::scan_positions;
+use super::input::{scan_points, scan_positions};
 use super::mesh::{Mesh, RadiusKind, RefitStats};
 use crate::error::{Error, Result};
 use crate::geometry::predicates::Point;
@@ -32,6 +32,31 @@ impl Mesh {
         let extent = scan_positions(positions)?;
         for (dst, src) in self.positions.iter_mut().zip(positions.chunks_exact(3)) {
             *dst = [src[0], src[1], src[2]];
+        }
+        self.max_abs = extent.max_abs;
+        self.safe = extent.safe;
+        self.last_refit = self.update_spheres();
+        Ok(self.last_refit)
+    }
+
+    /// [`Mesh::refit`] with each vertex's coordinates given by `position(i)` for `i` in
+    /// `0..vertex_count`, for positions stored in another layout (interleaved, `f32`, ...). Each
+    /// vertex is read twice: once to check every value, once to store it, so a failure leaves the
+    /// mesh untouched and nothing is allocated.
+    pub fn refit_with(
+        &mut self,
+        vertex_count: usize,
+        position: impl Fn(usize) -> Point,
+    ) -> Result<RefitStats> {
+        if vertex_count != self.positions.len() {
+            return Err(Error::VertexCountMismatch {
+                expected: self.positions.len(),
+                got: vertex_count,
+            });
+        }
+        let extent = scan_points(vertex_count, &position)?;
+        for (i, dst) in self.positions.iter_mut().enumerate() {
+            *dst = position(i);
         }
         self.max_abs = extent.max_abs;
         self.safe = extent.safe;

@@ -24,7 +24,8 @@ use crate::mesh::Mesh;
 /// transformation so that none is dropped.
 ///
 /// Errors: [`Error::PoseOutOfRange`] when a pose could move coordinates beyond
-/// [`MAX_POSED_MAGNITUDE`]. On error `out` is unchanged.
+/// [`MAX_POSED_MAGNITUDE`]; [`Error::OutOfMemory`] when the result cannot grow (set
+/// [`QueryOptions::max_pairs`] to bound it). On error `out` still holds the previous result.
 ///
 /// Cost: proportional to the sphere pairs visited plus the triangle pairs tested; allocates
 /// nothing once `out` has grown to the scene's needs.
@@ -43,6 +44,7 @@ pub fn collide(
 
     let Pairs {
         items,
+        spare,
         kind,
         workspace,
     } = out;
@@ -59,12 +61,17 @@ pub fn collide(
     boxes_b.begin(b.ring_count());
     ring_a.ring = u32::MAX;
     ring_b.ring = u32::MAX;
-    items.clear();
-    *kind = match options.mode {
-        QueryMode::Triangles | QueryMode::FirstHit => PairKind::Triangles,
-        QueryMode::Leaves | QueryMode::Depth(_) => PairKind::Nodes,
+    spare.clear();
+    let limit = match options.mode {
+        QueryMode::FirstHit => 1,
+        _ => usize::MAX,
     };
     let mut ctx = Ctx {
+        sink: Sink {
+            out: spare,
+            limit: options.max_pairs.map_or(limit, |m| m.min(limit)),
+            stop: None,
+        },
         mode: options.mode,
         max_depth: match options.mode {
             QueryMode::Depth(d) => d,
@@ -72,7 +79,6 @@ pub fn collide(
         },
         check_domain: !(a.safe && b.safe) || pose_a.is_some() || pose_b.is_some(),
         stats: QueryStats::default(),
-        out: items,
         stack,
         boxes_a,
         boxes_b,
@@ -104,9 +110,19 @@ pub fn collide(
         }
     }
     let mut stats = ctx.stats;
-    ctx.out.sort_unstable();
-    ctx.out.dedup();
-    stats.pairs = ctx.out.len() as u64;
+    match ctx.sink.stop {
+        Some(Stop::OutOfMemory { bytes }) => return Err(Error::OutOfMemory { bytes }),
+        Some(Stop::Limit) => stats.truncated = options.mode != QueryMode::FirstHit,
+        None => {}
+    }
+    spare.sort_unstable();
+    spare.dedup();
+    std::mem::swap(items, spare);
+    *kind = match options.mode {
+        QueryMode::Triangles | QueryMode::FirstHit => PairKind::Triangles,
+        QueryMode::Leaves | QueryMode::Depth(_) => PairKind::Nodes,
+    };
+    stats.pairs = items.len() as u64;
     stats.nodes_refit = a.last_refit.nodes_refit + b.last_refit.nodes_refit;
     Ok(stats)
 }
@@ -198,18 +214,57 @@ impl Frame for Posed<'_, '_> {
     }
 }
 
+/// Why a traversal stopped early.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Stop {
+    /// As many pairs as asked for.
+    Limit,
+    /// The result could not grow.
+    OutOfMemory { bytes: usize },
+}
+
+/// Where pairs go.
+struct Sink<'w> {
+    out: &'w mut Vec<Pair>,
+    /// Pairs to find before stopping.
+    limit: usize,
+    stop: Option<Stop>,
+}
+
 struct Ctx<'w> {
+    sink: Sink<'w>,
     mode: QueryMode,
     max_depth: u32,
     /// Must each triangle pair check that its coordinates suit the fast predicates?
     check_domain: bool,
     stats: QueryStats,
-    out: &'w mut Vec<Pair>,
     stack: &'w mut Vec<(u32, u32)>,
     boxes_a: &'w mut Stamped<[Point; 2]>,
     boxes_b: &'w mut Stamped<[Point; 2]>,
     ring_a: &'w mut GatheredRing,
     ring_b: &'w mut GatheredRing,
+}
+
+impl Sink<'_> {
+    /// Records a pair; returns whether the traversal must stop. The result grows fallibly, so
+    /// that a pathological input (say every triangle at one point) ends in an error, not an abort.
+    #[inline]
+    fn report(&mut self, pair: Pair) -> bool {
+        if self.out.len() == self.out.capacity() {
+            let extra = self.out.capacity().max(256);
+            if self.out.try_reserve(extra).is_err() {
+                let bytes = (self.out.capacity() + extra) * std::mem::size_of::<Pair>();
+                self.stop = Some(Stop::OutOfMemory { bytes });
+                return true;
+            }
+        }
+        self.out.push(pair);
+        if self.out.len() >= self.limit {
+            self.stop = Some(Stop::Limit);
+            return true;
+        }
+        false
+    }
 }
 
 /// Depth-first over overlapping node pairs; a child pair is tested before it is pushed.
@@ -219,6 +274,10 @@ struct Ctx<'w> {
 fn traverse<A: Frame, B: Frame>(fa: &mut A, fb: &mut B, ma: &Mesh, mb: &Mesh, ctx: &mut Ctx) {
     ctx.stack.clear();
     ctx.stats.bv_tests += 1;
+    if ctx.sink.limit == 0 {
+        ctx.sink.stop = Some(Stop::Limit);
+        return;
+    }
     if !overlap(&fa.centre(0), fa.radius(0), &fb.centre(0), fb.radius(0)) {
         return;
     }
@@ -230,34 +289,14 @@ fn traverse<A: Frame, B: Frame>(fa: &mut A, fb: &mut B, ma: &Mesh, mb: &Mesh, ct
         let end_b = node_b.is_leaf() || node_b.depth >= ctx.max_depth;
         if end_a && end_b {
             ctx.stats.leaf_pairs += 1;
-            match ctx.mode {
-                QueryMode::Leaves | QueryMode::Depth(_) => ctx.out.push(Pair { a: na, b: nb }),
-                QueryMode::Triangles => {
-                    ring_pair(
-                        fa,
-                        fb,
-                        ma,
-                        mb,
-                        node_a.ring_start,
-                        node_b.ring_start,
-                        ctx,
-                        false,
-                    );
+            let stop = match ctx.mode {
+                QueryMode::Leaves | QueryMode::Depth(_) => ctx.sink.report(Pair { a: na, b: nb }),
+                QueryMode::Triangles | QueryMode::FirstHit => {
+                    ring_pair(fa, fb, ma, mb, node_a.ring_start, node_b.ring_start, ctx)
                 }
-                QueryMode::FirstHit => {
-                    if ring_pair(
-                        fa,
-                        fb,
-                        ma,
-                        mb,
-                        node_a.ring_start,
-                        node_b.ring_start,
-                        ctx,
-                        true,
-                    ) {
-                        return;
-                    }
-                }
+            };
+            if stop {
+                return;
             }
             continue;
         }
@@ -379,8 +418,7 @@ fn select(ring: &mut GatheredRing, lo: &Point, hi: &Point) {
 
 /// Triangles of ring `ra` against those of ring `rb`. Boxes of exact coordinates are an exact
 /// filter (first each triangle against the other ring's box, then pair by pair); the exact test
-/// decides the rest. Returns whether to stop (first hit found).
-#[allow(clippy::too_many_arguments)]
+/// decides the rest. Returns whether to stop.
 fn ring_pair<A: Frame, B: Frame>(
     fa: &mut A,
     fb: &mut B,
@@ -389,7 +427,6 @@ fn ring_pair<A: Frame, B: Frame>(
     ra: u32,
     rb: u32,
     ctx: &mut Ctx,
-    first_hit: bool,
 ) -> bool {
     let size =
         |m: &Mesh, r: u32| (m.ring_tri_start[r as usize + 1] - m.ring_tri_start[r as usize]) as u64;
@@ -423,14 +460,13 @@ fn ring_pair<A: Frame, B: Frame>(
             } else {
                 triangles_intersect(&ta.corners, &tb.corners)
             };
-            if hit {
-                ctx.out.push(Pair {
+            if hit
+                && ctx.sink.report(Pair {
                     a: ta.index,
                     b: tb.index,
-                });
-                if first_hit {
-                    return true;
-                }
+                })
+            {
+                return true;
             }
         }
     }

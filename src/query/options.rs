@@ -23,11 +23,18 @@ pub enum QueryMode {
 pub struct QueryOptions {
     /// What the query reports.
     pub mode: QueryMode,
+    /// Stop once this many pairs are found (`None`: no limit). The pairs reported are then some
+    /// of the pairs, still sorted, and [`crate::QueryStats::truncated`] says so. A bound on the
+    /// work and memory of a query whatever the input, as contact-generation APIs usually offer.
+    pub max_pairs: Option<usize>,
 }
 
 impl QueryOptions {
-    /// Options with the given mode.
+    /// Options with the given mode and no pair limit.
     pub fn with_mode(mode: QueryMode) -> QueryOptions {
-        QueryOptions { mode }
+        QueryOptions {
+            mode,
+            max_pairs: None,
+        }
     }
 }

@@ -28,6 +28,9 @@ pub enum PairKind {
 #[derive(Debug, Default)]
 pub struct Pairs {
     pub(crate) items: Vec<Pair>,
+    /// Where a query writes; swapped with `items` when it succeeds, so a failed query leaves the
+    /// previous result in place.
+    pub(crate) spare: Vec<Pair>,
     pub(crate) kind: PairKind,
     pub(crate) workspace: Workspace,
 }
@@ -88,4 +91,6 @@ pub struct QueryStats {
     pub pairs: u64,
     /// Nodes recomputed by the last refit of each mesh (`NU` of the frame).
     pub nodes_refit: u64,
+    /// Did [`crate::QueryOptions::max_pairs`] stop the query before every pair was found?
+    pub truncated: bool,
 }

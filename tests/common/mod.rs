@@ -186,6 +186,28 @@ pub fn check_all_modes(a: &Body, b: &Body, depth: u32, pairs: &mut Pairs) -> Vec
         "exact mode is not symmetric"
     );
 
+    // A pair limit: some of the pairs, sorted, flagged; a limit above the count changes nothing.
+    let k = expected.len().div_ceil(2);
+    let limited = QueryOptions {
+        max_pairs: Some(k),
+        ..QueryOptions::default()
+    };
+    let stats = collide(&a.mesh, pa, &b.mesh, pb, &limited, pairs).expect("query");
+    assert_eq!(pairs.len(), k);
+    assert!(stats.truncated);
+    assert!(pairs.as_slice().windows(2).all(|w| w[0] < w[1]));
+    assert!(
+        pairs.iter().all(|p| expected.binary_search(p).is_ok()),
+        "a limited query reported a pair that does not intersect"
+    );
+    let roomy = QueryOptions {
+        max_pairs: Some(expected.len() + 1),
+        ..QueryOptions::default()
+    };
+    let stats = collide(&a.mesh, pa, &b.mesh, pb, &roomy, pairs).expect("query");
+    assert_eq!(pairs.as_slice(), &expected[..]);
+    assert!(!stats.truncated);
+
     collide(
         &a.mesh,
         pa,
