@@ -3,7 +3,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-packages=(libcgal-demo)
+packages=(libcgal-demo valgrind pkg-config)
 missing=()
 for p in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -21,6 +21,8 @@ cargo clippy --all-targets -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --quiet
 # Unit, property, integration and documentation tests; a missing mesh archive is a failure here.
 DVH_REQUIRE_CGAL_DATA=1 cargo test
+# The C ABI: C tests under sanitizers and valgrind, install, pkg-config, Python ctypes.
+ctests/run.sh
 # The main job must keep working.
 cargo run --release --quiet --example demo -- --frames 4 >/dev/null
 echo "all tests passed"

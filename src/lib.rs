@@ -27,6 +27,7 @@
 #![warn(missing_docs)]
 
 mod error;
+pub mod ffi;
 pub mod fixtures;
 pub mod geometry;
 mod mesh;

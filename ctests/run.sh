@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# Builds and runs the C tests against an installed copy of the library (which also tests the
+# install and its pkg-config file): under AddressSanitizer + UndefinedBehaviorSanitizer, once
+# under valgrind memcheck (zero errors, zero leaks), the out-of-memory test unsanitised, the
+# header as C99 and as C++, the README's C example, a static link, and the Python ctypes test.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+prefix="$work/prefix"
+./scripts/install.sh "$prefix" >/dev/null
+export PKG_CONFIG_PATH="$prefix/lib/pkgconfig"
+cflags=$(pkg-config --cflags dvh)
+libs="$(pkg-config --libs dvh) -Wl,-rpath,$prefix/lib"
+warn=(-Wall -Wextra -Wpedantic -Werror)
+san=(-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer)
+
+echo "every function the header declares is exported and exercised by test_api.c"
+declared=$(grep -oE '\bdvh_[a-z0-9_]+\(' include/dvh.h | tr -d '(' | sort -u)
+exported=$(nm -D --defined-only "$prefix/lib/libdvh.so" | awk '$2 == "T" && $3 ~ /^dvh_/ {print $3}' | sort -u)
+diff <(echo "$declared") <(echo "$exported")
+for f in $declared; do grep -q "\b$f(" ctests/test_api.c || { echo "test_api.c never calls $f"; exit 1; }; done
+
+echo "header: C99, C11, C++11, C++17"
+printf '#include <dvh.h>\nint main(void) { return dvh_version() == 0; }\n' > "$work/header.c"
+for std in c99 c11; do gcc -std=$std "${warn[@]}" $cflags "$work/header.c" -o "$work/header_$std" $libs; done
+cp "$work/header.c" "$work/header.cpp"
+for std in c++11 c++17; do g++ -std=$std "${warn[@]}" $cflags "$work/header.cpp" -o "$work/header_$std" $libs; done
+"$work/header_c99"
+
+echo "C tests under ASan + UBSan"
+for t in test_api test_threads; do
+    gcc -std=c99 -g "${warn[@]}" "${san[@]}" $cflags ctests/$t.c -o "$work/${t}_san" $libs -lpthread -lm
+    ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 "$work/${t}_san"
+done
+
+echo "C tests under valgrind memcheck"
+for t in test_api test_threads; do
+    gcc -std=c99 -g -O1 "${warn[@]}" $cflags ctests/$t.c -o "$work/$t" $libs -lpthread -lm
+    valgrind --quiet --error-exitcode=99 --leak-check=full --show-leak-kinds=definite,indirect,possible \
+        --errors-for-leak-kinds=definite,indirect,possible "$work/$t"
+done
+
+echo "out-of-memory test"
+gcc -std=c99 -g -O1 "${warn[@]}" $cflags ctests/test_oom.c -o "$work/test_oom" $libs
+"$work/test_oom"
+
+echo "static link"
+static_libs=$(pkg-config --static --libs dvh | sed 's/-ldvh\b//')
+gcc -std=c99 -O1 "${warn[@]}" $cflags ctests/test_api.c -o "$work/test_api_static" "$prefix/lib/libdvh.a" $static_libs
+"$work/test_api_static" >/dev/null
+
+echo "README C example"
+awk '/^```c$/{on=1; next} /^```$/{on=0} on' README.md > "$work/readme.c"
+test -s "$work/readme.c"
+gcc -std=c99 "${warn[@]}" $cflags "$work/readme.c" -o "$work/readme" $libs
+"$work/readme"
+
+echo "Python ctypes"
+DVH_LIBRARY="$prefix/lib/libdvh.so" python3 ctests/test_ctypes.py
+echo "C ABI tests passed"

@@ -1,0 +1,467 @@
+/*
+ * Every function of dvh.h and every error path: NULL pointers, bad sizes and strides, misaligned
+ * arrays, NaN and infinity, out-of-range indices and options, non-rigid and out-of-range poses,
+ * f32 positions with a stride, reuse of a DvhPairs; and every query mode checked against an
+ * independent brute-force oracle on meshes with integer coordinates.
+ */
+#include <math.h>
+
+#include "common.h"
+
+static int flat(int i, int j) { (void)i; (void)j; return 0; }
+static int wave(int i, int j) { return ((i * 3 + j * 5) % 4) - 1; }
+static int ridge(int i, int j) { return (i % 3 == 0) ? 2 : (j % 2); }
+
+static DvhMesh *create(const Mesh *m, const DvhBuildOptions *o) {
+    DvhMesh *out = NULL;
+    CHECK_STATUS(dvh_mesh_create(m->pos, m->vertex_count, m->tris, m->triangle_count, o, &out), DVH_STATUS_OK, NULL);
+    CHECK(out != NULL);
+    if (out != NULL) CHECK_STATUS(dvh_mesh_validate(out), DVH_STATUS_OK, NULL);
+    return out;
+}
+
+static int same_pairs(const DvhPairs *p, const DvhPair *expected, size_t n) {
+    size_t len = dvh_pairs_len(p), i;
+    const DvhPair *data = dvh_pairs_data(p);
+    if (len != n) return 0;
+    if (n == 0) return data == NULL;
+    for (i = 0; i < n; i++)
+        if (data[i].a != expected[i].a || data[i].b != expected[i].b) return 0;
+    return 1;
+}
+
+static int contains(const DvhPair *v, size_t n, DvhPair x) {
+    size_t i;
+    for (i = 0; i < n; i++)
+        if (v[i].a == x.a && v[i].b == x.b) return 1;
+    return 0;
+}
+
+/* Every expected triangle pair lies below one of the node pairs reported in `p`. */
+static int covers(const DvhMesh *a, const DvhMesh *b, const DvhPairs *p, const DvhPair *expected, size_t n) {
+    size_t e, k;
+    const DvhPair *nodes = dvh_pairs_data(p);
+    for (e = 0; e < n; e++) {
+        int found = 0;
+        for (k = 0; k < dvh_pairs_len(p) && !found; k++) {
+            const uint32_t *ta, *tb;
+            size_t na, nb, i, j;
+            if (dvh_mesh_node_triangles(a, nodes[k].a, &ta, &na) != DVH_STATUS_OK) return 0;
+            if (dvh_mesh_node_triangles(b, nodes[k].b, &tb, &nb) != DVH_STATUS_OK) return 0;
+            for (i = 0; i < na && !found; i++)
+                if (ta[i] == expected[e].a)
+                    for (j = 0; j < nb; j++)
+                        if (tb[j] == expected[e].b) { found = 1; break; }
+        }
+        if (!found) return 0;
+    }
+    return 1;
+}
+
+/* All query modes on one scene, against the oracle. */
+static void check_scene(const Mesh *ma, const IPose *ipa, const Mesh *mb, const IPose *ipb, const DvhBuildOptions *o,
+                        DvhPairs *pairs) {
+    DvhMesh *a = create(ma, o), *b = create(mb, o);
+    DvhPose pa, pb;
+    DvhPair *expected;
+    size_t n = brute_force(ma, ipa, mb, ipb, &expected);
+    DvhQueryOptions q = dvh_query_options_default();
+    DvhQueryStats stats;
+    uint32_t depth;
+    if (ipa != NULL) pa = ipose_to_dvh(ipa);
+    if (ipb != NULL) pb = ipose_to_dvh(ipb);
+
+    CHECK_STATUS(dvh_collide(a, ipa ? &pa : NULL, b, ipb ? &pb : NULL, NULL, pairs, &stats), DVH_STATUS_OK, NULL);
+    CHECK(dvh_pairs_kind(pairs) == DVH_PAIR_KIND_TRIANGLES);
+    CHECK(same_pairs(pairs, expected, n));
+    CHECK(stats.pairs == n && !stats.truncated && stats.triangle_tests >= n && stats.bv_tests >= 1);
+
+    q.mode = DVH_QUERY_MODE_FIRST_HIT;
+    CHECK_STATUS(dvh_collide(a, ipa ? &pa : NULL, b, ipb ? &pb : NULL, &q, pairs, NULL), DVH_STATUS_OK, NULL);
+    CHECK(dvh_pairs_len(pairs) == (n > 0 ? 1u : 0u));
+    if (n > 0) CHECK(contains(expected, n, dvh_pairs_data(pairs)[0]));
+
+    q.mode = DVH_QUERY_MODE_TRIANGLES;
+    q.max_pairs = (n + 1) / 2;
+    if (q.max_pairs > 0) {
+        size_t i;
+        CHECK_STATUS(dvh_collide(a, ipa ? &pa : NULL, b, ipb ? &pb : NULL, &q, pairs, &stats), DVH_STATUS_OK, NULL);
+        CHECK(dvh_pairs_len(pairs) == q.max_pairs && stats.truncated);
+        for (i = 0; i < dvh_pairs_len(pairs); i++) CHECK(contains(expected, n, dvh_pairs_data(pairs)[i]));
+    }
+    q.max_pairs = 0;
+
+    q.mode = DVH_QUERY_MODE_LEAVES;
+    CHECK_STATUS(dvh_collide(a, ipa ? &pa : NULL, b, ipb ? &pb : NULL, &q, pairs, NULL), DVH_STATUS_OK, NULL);
+    CHECK(dvh_pairs_kind(pairs) == DVH_PAIR_KIND_NODES);
+    CHECK(covers(a, b, pairs, expected, n));
+    for (depth = 0; depth < 4; depth++) {
+        q.mode = DVH_QUERY_MODE_DEPTH;
+        q.max_depth = depth;
+        CHECK_STATUS(dvh_collide(a, ipa ? &pa : NULL, b, ipb ? &pb : NULL, &q, pairs, NULL), DVH_STATUS_OK, NULL);
+        CHECK(covers(a, b, pairs, expected, n));
+    }
+    free(expected);
+    dvh_mesh_free(a);
+    dvh_mesh_free(b);
+}
+
+static void test_versions_and_names(void) {
+    const char *v = dvh_version();
+    unsigned s;
+    CHECK(v != NULL && v[0] >= '0' && v[0] <= '9' && strchr(v, '.') != NULL);
+    CHECK(strcmp(dvh_status_name(DVH_STATUS_OK), "DVH_STATUS_OK") == 0);
+    CHECK(strcmp(dvh_status_name(DVH_STATUS_NULL_ARGUMENT), "DVH_STATUS_NULL_ARGUMENT") == 0);
+    CHECK(strcmp(dvh_status_name(DVH_STATUS_INVARIANT_BROKEN), "DVH_STATUS_INVARIANT_BROKEN") == 0);
+    CHECK(strcmp(dvh_status_name(4242), "DVH_STATUS_UNKNOWN") == 0);
+    for (s = 0; s <= DVH_STATUS_INVARIANT_BROKEN; s++) CHECK(strcmp(dvh_status_name(s), "DVH_STATUS_UNKNOWN") != 0);
+}
+
+static void test_defaults(void) {
+    DvhBuildOptions b = dvh_build_options_default();
+    DvhQueryOptions q = dvh_query_options_default();
+    CHECK(b.tree == DVH_TREE_KIND_OCTREE && b.radius == DVH_RADIUS_KIND_LAYERED &&
+          b.leftovers == DVH_LEFTOVER_POLICY_JOIN_ADJACENT);
+    CHECK(q.mode == DVH_QUERY_MODE_TRIANGLES && q.max_pairs == 0);
+}
+
+static void test_last_error_message(void) {
+    char small[8];
+    char big[256];
+    size_t len;
+    DvhMesh *m = (DvhMesh *)&len; /* a sentinel: must not be overwritten */
+    CHECK(dvh_mesh_create(NULL, 3, NULL, 1, NULL, &m) == DVH_STATUS_NULL_ARGUMENT);
+    CHECK(m == (DvhMesh *)&len);
+    len = dvh_last_error_message(NULL, 0);
+    CHECK(len == strlen("argument `positions` is NULL"));
+    CHECK(dvh_last_error_message(small, sizeof small) == len);
+    CHECK(strcmp(small, "argumen") == 0);
+    CHECK(dvh_last_error_message(big, sizeof big) == len && strcmp(big, "argument `positions` is NULL") == 0);
+    CHECK(dvh_last_error_message(big, 1) == len && big[0] == '\0');
+    /* A successful call clears it. */
+    {
+        double t[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+        bool hit = false;
+        CHECK(dvh_triangles_intersect(t, t, &hit) == DVH_STATUS_OK && hit);
+        CHECK(dvh_last_error_message(NULL, 0) == 0);
+    }
+}
+
+static void test_create_errors(void) {
+    Mesh m = mesh_terrain(3, 0, 0, flat);
+    DvhMesh *sentinel = (DvhMesh *)&m, *out = sentinel;
+    DvhBuildOptions o = dvh_build_options_default();
+    uint32_t bad[6] = {0, 1, 2, 2, 1, 999};
+    double *nan_pos = malloc(m.vertex_count * 3 * sizeof(double));
+    char *raw = malloc(m.vertex_count * 3 * sizeof(double) + 8);
+    float f32[16] = {0};
+
+    CHECK_STATUS(dvh_mesh_create(NULL, m.vertex_count, m.tris, m.triangle_count, NULL, &out), DVH_STATUS_NULL_ARGUMENT, "`positions`");
+    CHECK_STATUS(dvh_mesh_create(m.pos, m.vertex_count, NULL, m.triangle_count, NULL, &out), DVH_STATUS_NULL_ARGUMENT, "`triangles`");
+    CHECK_STATUS(dvh_mesh_create(m.pos, m.vertex_count, m.tris, m.triangle_count, NULL, NULL), DVH_STATUS_NULL_ARGUMENT, "`mesh_out`");
+    CHECK_STATUS(dvh_mesh_create(m.pos, m.vertex_count, m.tris, 0, NULL, &out), DVH_STATUS_INVALID_ARGUMENT, "no triangles");
+    CHECK_STATUS(dvh_mesh_create(m.pos, m.vertex_count, bad, 2, NULL, &out), DVH_STATUS_INDEX_OUT_OF_RANGE,
+                 "triangle 1, corner 2: vertex index 999");
+    /* Counts beyond what u32 indices address are refused before anything is read. */
+    CHECK_STATUS(dvh_mesh_create(m.pos, (size_t)1 << 40, m.tris, m.triangle_count, NULL, &out), DVH_STATUS_INVALID_ARGUMENT,
+                 "vertex_count = 1099511627776");
+    CHECK_STATUS(dvh_mesh_create(m.pos, m.vertex_count, m.tris, (size_t)1 << 33, NULL, &out), DVH_STATUS_INVALID_ARGUMENT,
+                 "triangle_count = 8589934592");
+    CHECK_STATUS(dvh_mesh_create_f32(f32, 12, (size_t)1 << 40, m.tris, 1, NULL, &out), DVH_STATUS_INVALID_ARGUMENT,
+                 "vertex_count = 1099511627776");
+    memcpy(nan_pos, m.pos, m.vertex_count * 3 * sizeof(double));
+    nan_pos[3 * 5 + 2] = NAN;
+    CHECK_STATUS(dvh_mesh_create(nan_pos, m.vertex_count, m.tris, m.triangle_count, NULL, &out), DVH_STATUS_NON_FINITE_COORDINATE,
+                 "vertex 5: coordinate z is NaN");
+    nan_pos[3 * 5 + 2] = -INFINITY;
+    CHECK_STATUS(dvh_mesh_create(nan_pos, m.vertex_count, m.tris, m.triangle_count, NULL, &out), DVH_STATUS_NON_FINITE_COORDINATE,
+                 "-inf");
+    /* A misaligned double array. */
+    memcpy(raw + 1, m.pos, m.vertex_count * 3 * sizeof(double));
+    CHECK_STATUS(dvh_mesh_create((const double *)(const void *)(raw + 1), m.vertex_count, m.tris, m.triangle_count, NULL, &out),
+                 DVH_STATUS_INVALID_ARGUMENT, "aligned");
+    o.tree = 7;
+    CHECK_STATUS(dvh_mesh_create(m.pos, m.vertex_count, m.tris, m.triangle_count, &o, &out), DVH_STATUS_INVALID_ARGUMENT,
+                 "options->tree = 7");
+    o = dvh_build_options_default();
+    o.radius = 2;
+    CHECK_STATUS(dvh_mesh_create(m.pos, m.vertex_count, m.tris, m.triangle_count, &o, &out), DVH_STATUS_INVALID_ARGUMENT,
+                 "options->radius = 2");
+    o = dvh_build_options_default();
+    o.leftovers = 99;
+    CHECK_STATUS(dvh_mesh_create(m.pos, m.vertex_count, m.tris, m.triangle_count, &o, &out), DVH_STATUS_INVALID_ARGUMENT,
+                 "options->leftovers = 99");
+    /* f32 creation errors. */
+    CHECK_STATUS(dvh_mesh_create_f32(NULL, 12, 3, m.tris, 1, NULL, &out), DVH_STATUS_NULL_ARGUMENT, "`positions`");
+    CHECK_STATUS(dvh_mesh_create_f32(f32, 8, 3, m.tris, 1, NULL, &out), DVH_STATUS_INVALID_ARGUMENT, "stride_bytes = 8");
+    CHECK_STATUS(dvh_mesh_create_f32(f32, 12, 3, m.tris, 1, NULL, NULL), DVH_STATUS_NULL_ARGUMENT, "`mesh_out`");
+    CHECK_STATUS(dvh_mesh_create_f32(f32, (size_t)1 << 62, 1000, m.tris, 1, NULL, &out), DVH_STATUS_INVALID_ARGUMENT,
+                 "do not fit");
+    f32[4] = INFINITY;
+    CHECK_STATUS(dvh_mesh_create_f32(f32, 12, 3, m.tris, 1, NULL, &out), DVH_STATUS_NON_FINITE_COORDINATE,
+                 "vertex 1: coordinate y is inf");
+    CHECK(out == sentinel);
+    free(nan_pos);
+    free(raw);
+    mesh_free(&m);
+}
+
+static void test_accessors(void) {
+    Mesh m = mesh_terrain(6, 0, 0, wave);
+    DvhMesh *mesh = create(&m, NULL);
+    DvhTreeStats ts;
+    DvhRefitStats rs;
+    const uint32_t *tris;
+    size_t count, node_count;
+    CHECK(dvh_mesh_vertex_count(mesh) == m.vertex_count);
+    CHECK(dvh_mesh_triangle_count(mesh) == m.triangle_count);
+    node_count = dvh_mesh_node_count(mesh);
+    CHECK(node_count >= 1);
+    CHECK(dvh_mesh_vertex_count(NULL) == 0 && dvh_mesh_triangle_count(NULL) == 0 && dvh_mesh_node_count(NULL) == 0);
+    CHECK_STATUS(dvh_mesh_tree_stats(mesh, &ts), DVH_STATUS_OK, NULL);
+    CHECK(ts.triangles == m.triangle_count && ts.rings + ts.inner_nodes == node_count && ts.levels >= 1);
+    CHECK_STATUS(dvh_mesh_tree_stats(NULL, &ts), DVH_STATUS_NULL_ARGUMENT, "`mesh`");
+    CHECK_STATUS(dvh_mesh_tree_stats(mesh, NULL), DVH_STATUS_NULL_ARGUMENT, "`stats_out`");
+    CHECK_STATUS(dvh_mesh_last_refit_stats(mesh, &rs), DVH_STATUS_OK, NULL);
+    CHECK(rs.nodes_refit == node_count && rs.distance_evaluations > 0);
+    CHECK_STATUS(dvh_mesh_last_refit_stats(NULL, &rs), DVH_STATUS_NULL_ARGUMENT, "`mesh`");
+    CHECK_STATUS(dvh_mesh_last_refit_stats(mesh, NULL), DVH_STATUS_NULL_ARGUMENT, "`stats_out`");
+    /* The root holds every triangle once. */
+    CHECK_STATUS(dvh_mesh_node_triangles(mesh, 0, &tris, &count), DVH_STATUS_OK, NULL);
+    CHECK(count == m.triangle_count);
+    {
+        size_t i;
+        unsigned char *seen = calloc(m.triangle_count, 1);
+        for (i = 0; i < count; i++) {
+            CHECK(tris[i] < m.triangle_count && !seen[tris[i]]);
+            seen[tris[i]] = 1;
+        }
+        free(seen);
+    }
+    CHECK_STATUS(dvh_mesh_node_triangles(mesh, (uint32_t)node_count, &tris, &count), DVH_STATUS_INVALID_ARGUMENT, "out of range");
+    CHECK_STATUS(dvh_mesh_node_triangles(NULL, 0, &tris, &count), DVH_STATUS_NULL_ARGUMENT, "`mesh`");
+    CHECK_STATUS(dvh_mesh_node_triangles(mesh, 0, NULL, &count), DVH_STATUS_NULL_ARGUMENT, "`triangles_out`");
+    CHECK_STATUS(dvh_mesh_node_triangles(mesh, 0, &tris, NULL), DVH_STATUS_NULL_ARGUMENT, "`count_out`");
+    CHECK_STATUS(dvh_mesh_validate(NULL), DVH_STATUS_NULL_ARGUMENT, "`mesh`");
+    dvh_mesh_free(mesh);
+    dvh_mesh_free(NULL);
+    mesh_free(&m);
+}
+
+/* Interleaved f32 vertices (position, normal, uv: 32 bytes), deliberately misaligned. */
+static void test_f32_stride_and_refit(void) {
+    Mesh ma = mesh_terrain(5, 0, 0, ridge), mb = mesh_terrain(5, 2, 1, wave);
+    size_t stride = 32, i;
+    unsigned char *storage = malloc(ma.vertex_count * stride + 3);
+    unsigned char *base = storage + 2;
+    DvhMesh *a64 = create(&ma, NULL), *b = create(&mb, NULL), *a32 = NULL;
+    DvhPairs *p64 = dvh_pairs_new(), *p32 = dvh_pairs_new();
+    double *moved = malloc(ma.vertex_count * 3 * sizeof(double));
+    DvhRefitStats rs;
+
+    for (i = 0; i < ma.vertex_count; i++) {
+        float v[8];
+        v[0] = (float)ma.pos[3 * i];
+        v[1] = (float)ma.pos[3 * i + 1];
+        v[2] = (float)ma.pos[3 * i + 2];
+        v[3] = 0.0f; v[4] = 0.0f; v[5] = 1.0f; v[6] = 0.5f; v[7] = 0.25f;
+        memcpy(base + i * stride, v, sizeof v);
+    }
+    CHECK_STATUS(dvh_mesh_create_f32((const float *)(const void *)base, stride, ma.vertex_count, ma.tris, ma.triangle_count, NULL, &a32),
+                 DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_collide(a64, NULL, b, NULL, NULL, p64, NULL), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_collide(a32, NULL, b, NULL, NULL, p32, NULL), DVH_STATUS_OK, NULL);
+    CHECK(dvh_pairs_len(p64) > 0 && same_pairs(p32, dvh_pairs_data(p64), dvh_pairs_len(p64)));
+
+    /* Move every vertex up by 1 in both layouts: the same answer again. */
+    for (i = 0; i < ma.vertex_count; i++) {
+        float z = (float)(ma.pos[3 * i + 2] + 1.0);
+        memcpy(base + i * stride + 8, &z, sizeof z);
+        moved[3 * i] = ma.pos[3 * i];
+        moved[3 * i + 1] = ma.pos[3 * i + 1];
+        moved[3 * i + 2] = ma.pos[3 * i + 2] + 1.0;
+    }
+    CHECK_STATUS(dvh_mesh_refit(a64, moved, ma.vertex_count), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_mesh_refit_f32(a32, (const float *)(const void *)base, stride, ma.vertex_count), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_mesh_validate(a32), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_mesh_last_refit_stats(a32, &rs), DVH_STATUS_OK, NULL);
+    CHECK(rs.nodes_refit == dvh_mesh_node_count(a32));
+    CHECK_STATUS(dvh_collide(a64, NULL, b, NULL, NULL, p64, NULL), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_collide(a32, NULL, b, NULL, NULL, p32, NULL), DVH_STATUS_OK, NULL);
+    CHECK(same_pairs(p32, dvh_pairs_data(p64), dvh_pairs_len(p64)));
+
+    /* Refit errors leave the mesh exactly as it was: same answer afterwards. */
+    {
+        size_t before = dvh_pairs_len(p32);
+        float bad = NAN;
+        moved[3 * 4 + 1] = INFINITY;
+        CHECK_STATUS(dvh_mesh_refit(a64, moved, ma.vertex_count), DVH_STATUS_NON_FINITE_COORDINATE, "vertex 4: coordinate y is inf");
+        CHECK_STATUS(dvh_mesh_refit(a64, moved, ma.vertex_count - 1), DVH_STATUS_INVALID_ARGUMENT, "vertex_count");
+        CHECK_STATUS(dvh_mesh_refit(NULL, moved, ma.vertex_count), DVH_STATUS_NULL_ARGUMENT, "`mesh`");
+        CHECK_STATUS(dvh_mesh_refit(a64, NULL, ma.vertex_count), DVH_STATUS_NULL_ARGUMENT, "`positions`");
+        memcpy(base + 7 * stride, &bad, sizeof bad);
+        CHECK_STATUS(dvh_mesh_refit_f32(a32, (const float *)(const void *)base, stride, ma.vertex_count),
+                     DVH_STATUS_NON_FINITE_COORDINATE, "vertex 7: coordinate x is NaN");
+        CHECK_STATUS(dvh_mesh_refit_f32(a32, (const float *)(const void *)base, 4, ma.vertex_count), DVH_STATUS_INVALID_ARGUMENT,
+                     "stride_bytes = 4");
+        CHECK_STATUS(dvh_mesh_refit_f32(a32, NULL, stride, ma.vertex_count), DVH_STATUS_NULL_ARGUMENT, "`positions`");
+        CHECK_STATUS(dvh_mesh_refit_f32(a32, (const float *)(const void *)base, stride, 3), DVH_STATUS_INVALID_ARGUMENT,
+                     "vertex_count = 3");
+        CHECK_STATUS(dvh_mesh_validate(a64), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_mesh_validate(a32), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_collide(a64, NULL, b, NULL, NULL, p64, NULL), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_collide(a32, NULL, b, NULL, NULL, p32, NULL), DVH_STATUS_OK, NULL);
+        CHECK(dvh_pairs_len(p32) == before && same_pairs(p32, dvh_pairs_data(p64), dvh_pairs_len(p64)));
+    }
+    dvh_pairs_free(p64);
+    dvh_pairs_free(p32);
+    dvh_mesh_free(a64);
+    dvh_mesh_free(a32);
+    dvh_mesh_free(b);
+    free(storage);
+    free(moved);
+    mesh_free(&ma);
+    mesh_free(&mb);
+}
+
+static void test_collide_errors(void) {
+    Mesh ma = mesh_terrain(4, 0, 0, wave), mb = mesh_terrain(4, 1, 1, ridge);
+    DvhMesh *a = create(&ma, NULL), *b = create(&mb, NULL);
+    DvhPairs *pairs = dvh_pairs_new();
+    DvhQueryOptions q = dvh_query_options_default();
+    DvhQueryStats stats, sentinel;
+    IPose ip = ipose_make(0, 0, 0, 0);
+    DvhPose pose = ipose_to_dvh(&ip), bad;
+    DvhPair *before;
+    size_t n, i;
+
+    CHECK(pairs != NULL);
+    CHECK(dvh_pairs_len(pairs) == 0 && dvh_pairs_data(pairs) == NULL && dvh_pairs_kind(pairs) == DVH_PAIR_KIND_TRIANGLES);
+    CHECK(dvh_pairs_len(NULL) == 0 && dvh_pairs_data(NULL) == NULL && dvh_pairs_kind(NULL) == DVH_PAIR_KIND_TRIANGLES);
+    CHECK_STATUS(dvh_collide(a, NULL, b, &pose, NULL, pairs, &stats), DVH_STATUS_OK, NULL);
+    n = dvh_pairs_len(pairs);
+    CHECK(n > 0);
+    before = malloc(n * sizeof *before);
+    memcpy(before, dvh_pairs_data(pairs), n * sizeof *before);
+    memset(&sentinel, 0xab, sizeof sentinel);
+    stats = sentinel;
+
+    CHECK_STATUS(dvh_collide(NULL, NULL, b, NULL, NULL, pairs, &stats), DVH_STATUS_NULL_ARGUMENT, "`a`");
+    CHECK_STATUS(dvh_collide(a, NULL, NULL, NULL, NULL, pairs, &stats), DVH_STATUS_NULL_ARGUMENT, "`b`");
+    CHECK_STATUS(dvh_collide(a, NULL, b, NULL, NULL, NULL, &stats), DVH_STATUS_NULL_ARGUMENT, "`pairs_out`");
+    q.mode = 4;
+    CHECK_STATUS(dvh_collide(a, NULL, b, NULL, &q, pairs, &stats), DVH_STATUS_INVALID_ARGUMENT, "options->mode = 4");
+    bad = pose;
+    bad.rotation[0] = 1.1;
+    CHECK_STATUS(dvh_collide(a, &bad, b, NULL, NULL, pairs, &stats), DVH_STATUS_NON_RIGID_POSE, "pose_a: pose rotation is not a rotation");
+    bad = pose;
+    bad.rotation[4] = -bad.rotation[4];
+    bad.rotation[3] = -bad.rotation[3];
+    bad.rotation[5] = -bad.rotation[5]; /* a reflection */
+    CHECK_STATUS(dvh_collide(a, NULL, b, &bad, NULL, pairs, &stats), DVH_STATUS_NON_RIGID_POSE, "pose_b");
+    bad = pose;
+    bad.translation[2] = NAN;
+    CHECK_STATUS(dvh_collide(a, NULL, b, &bad, NULL, pairs, &stats), DVH_STATUS_NON_FINITE_COORDINATE, "pose_b: pose translation[2] is NaN");
+    bad = pose;
+    bad.translation[0] = 1e305;
+    CHECK_STATUS(dvh_collide(a, &bad, b, NULL, NULL, pairs, &stats), DVH_STATUS_POSE_OUT_OF_RANGE, "pose of mesh A");
+    /* Nothing changed. */
+    CHECK(memcmp(&stats, &sentinel, sizeof stats) == 0);
+    CHECK(same_pairs(pairs, before, n));
+
+    /* Reuse: a query that finds nothing empties the buffer; another fills it again. */
+    {
+        IPose far = ipose_make(0, 100, 0, 0);
+        DvhPose pfar = ipose_to_dvh(&far);
+        CHECK_STATUS(dvh_collide(a, NULL, b, &pfar, NULL, pairs, &stats), DVH_STATUS_OK, NULL);
+        CHECK(dvh_pairs_len(pairs) == 0 && dvh_pairs_data(pairs) == NULL && stats.pairs == 0);
+        for (i = 0; i < 3; i++) {
+            CHECK_STATUS(dvh_collide(a, NULL, b, &pose, NULL, pairs, &stats), DVH_STATUS_OK, NULL);
+            CHECK(same_pairs(pairs, before, n));
+        }
+    }
+    /* A limit of 1 in the default mode. */
+    q = dvh_query_options_default();
+    q.max_pairs = 1;
+    CHECK_STATUS(dvh_collide(a, NULL, b, &pose, &q, pairs, &stats), DVH_STATUS_OK, NULL);
+    CHECK(dvh_pairs_len(pairs) == 1 && stats.truncated);
+
+    free(before);
+    dvh_pairs_free(pairs);
+    dvh_pairs_free(NULL);
+    dvh_mesh_free(a);
+    dvh_mesh_free(b);
+    mesh_free(&ma);
+    mesh_free(&mb);
+}
+
+static void test_triangle_test(void) {
+    double t1[9] = {0}, t2[9] = {0};
+    bool hit = false, sentinel = true;
+    int k, c, agree = 1;
+    CHECK_STATUS(dvh_triangles_intersect(NULL, t2, &hit), DVH_STATUS_NULL_ARGUMENT, "`t1`");
+    CHECK_STATUS(dvh_triangles_intersect(t1, NULL, &hit), DVH_STATUS_NULL_ARGUMENT, "`t2`");
+    CHECK_STATUS(dvh_triangles_intersect(t1, t2, NULL), DVH_STATUS_NULL_ARGUMENT, "`result_out`");
+    t2[7] = NAN;
+    CHECK_STATUS(dvh_triangles_intersect(t1, t2, &sentinel), DVH_STATUS_NON_FINITE_COORDINATE, "t2[7] is NaN");
+    CHECK(sentinel == true);
+    lcg_state = 99;
+    for (k = 0; k < 3000; k++) {
+        int64_t a[3][3], b[3][3];
+        for (c = 0; c < 9; c++) {
+            a[c / 3][c % 3] = lcg_below(5) - 2;
+            b[c / 3][c % 3] = lcg_below(5) - 2;
+            t1[c] = (double)a[c / 3][c % 3];
+            t2[c] = (double)b[c / 3][c % 3];
+        }
+        if (dvh_triangles_intersect(t1, t2, &hit) != DVH_STATUS_OK || hit != (oracle_intersect(a, b) != 0)) agree = 0;
+    }
+    CHECK(agree);
+}
+
+static void test_against_oracle(void) {
+    DvhPairs *pairs = dvh_pairs_new();
+    Mesh t1 = mesh_terrain(6, 0, 0, wave), t2 = mesh_terrain(5, 1, 2, ridge), t3 = mesh_terrain(4, 2, 2, flat);
+    Mesh s1, s2;
+    DvhBuildOptions o;
+    unsigned tree, radius, left;
+    int k;
+    lcg_state = 7;
+    s1 = mesh_soup(80, -4, 8);
+    s2 = mesh_soup(60, -3, 7);
+    for (tree = 0; tree < 2; tree++)
+        for (radius = 0; radius < 2; radius++)
+            for (left = 0; left < 2; left++) {
+                o.tree = tree;
+                o.radius = radius;
+                o.leftovers = left;
+                check_scene(&t1, NULL, &t2, NULL, &o, pairs);
+                check_scene(&t1, NULL, &t3, NULL, &o, pairs); /* coplanar contact */
+                check_scene(&s1, NULL, &s2, NULL, &o, pairs);
+                for (k = 0; k < 24; k += 5) {
+                    IPose pa = ipose_make(k, 1, -1, 0), pb = ipose_make(23 - k, 2, 1, 1);
+                    check_scene(&t1, &pa, &s2, &pb, &o, pairs);
+                    check_scene(&s1, NULL, &t2, &pb, &o, pairs);
+                }
+                check_scene(&t2, NULL, &t2, NULL, &o, pairs); /* a mesh against an exact copy */
+            }
+    dvh_pairs_free(pairs);
+    mesh_free(&t1);
+    mesh_free(&t2);
+    mesh_free(&t3);
+    mesh_free(&s1);
+    mesh_free(&s2);
+}
+
+int main(void) {
+    test_versions_and_names();
+    test_defaults();
+    test_last_error_message();
+    test_create_errors();
+    test_accessors();
+    test_f32_stride_and_refit();
+    test_collide_errors();
+    test_triangle_test();
+    test_against_oracle();
+    return finish("test_api");
+}

@@ -1,0 +1,177 @@
+"""Calls dvh from Python through ctypes, with nothing but the header's contract: builds two
+meshes, collides them, reads the pairs and counters, refits, and checks error paths.
+
+The library path comes from DVH_LIBRARY (default: target/release/libdvh.so)."""
+
+import ctypes
+import math
+import os
+import sys
+
+lib = ctypes.CDLL(os.environ.get("DVH_LIBRARY", os.path.join(os.path.dirname(__file__), "..", "target", "release", "libdvh.so")))
+
+DvhStatus = ctypes.c_uint32
+DVH_STATUS_OK, DVH_STATUS_NULL_ARGUMENT, DVH_STATUS_INDEX_OUT_OF_RANGE, DVH_STATUS_NON_RIGID_POSE = 0, 1, 4, 5
+DVH_QUERY_MODE_LEAVES = 2
+DVH_PAIR_KIND_NODES = 1
+
+
+class DvhPair(ctypes.Structure):
+    _fields_ = [("a", ctypes.c_uint32), ("b", ctypes.c_uint32)]
+
+
+class DvhPose(ctypes.Structure):
+    _fields_ = [("rotation", ctypes.c_double * 9), ("translation", ctypes.c_double * 3)]
+
+
+class DvhQueryOptions(ctypes.Structure):
+    _fields_ = [("mode", ctypes.c_uint32), ("max_depth", ctypes.c_uint32), ("max_pairs", ctypes.c_uint64)]
+
+
+class DvhQueryStats(ctypes.Structure):
+    _fields_ = [
+        ("bv_tests", ctypes.c_uint64),
+        ("triangle_tests", ctypes.c_uint64),
+        ("triangle_candidates", ctypes.c_uint64),
+        ("leaf_pairs", ctypes.c_uint64),
+        ("pairs", ctypes.c_uint64),
+        ("nodes_refit", ctypes.c_uint64),
+        ("truncated", ctypes.c_bool),
+    ]
+
+
+MeshPtr = ctypes.c_void_p
+PairsPtr = ctypes.c_void_p
+lib.dvh_version.restype = ctypes.c_char_p
+lib.dvh_status_name.restype = ctypes.c_char_p
+lib.dvh_status_name.argtypes = [DvhStatus]
+lib.dvh_last_error_message.restype = ctypes.c_size_t
+lib.dvh_last_error_message.argtypes = [ctypes.c_char_p, ctypes.c_size_t]
+lib.dvh_mesh_create.restype = DvhStatus
+lib.dvh_mesh_create.argtypes = [
+    ctypes.POINTER(ctypes.c_double), ctypes.c_size_t, ctypes.POINTER(ctypes.c_uint32), ctypes.c_size_t,
+    ctypes.c_void_p, ctypes.POINTER(MeshPtr),
+]
+lib.dvh_mesh_refit.restype = DvhStatus
+lib.dvh_mesh_refit.argtypes = [MeshPtr, ctypes.POINTER(ctypes.c_double), ctypes.c_size_t]
+lib.dvh_mesh_free.argtypes = [MeshPtr]
+lib.dvh_mesh_node_triangles.restype = DvhStatus
+lib.dvh_mesh_node_triangles.argtypes = [MeshPtr, ctypes.c_uint32, ctypes.POINTER(ctypes.POINTER(ctypes.c_uint32)), ctypes.POINTER(ctypes.c_size_t)]
+lib.dvh_pairs_new.restype = PairsPtr
+lib.dvh_pairs_len.restype = ctypes.c_size_t
+lib.dvh_pairs_len.argtypes = [PairsPtr]
+lib.dvh_pairs_data.restype = ctypes.POINTER(DvhPair)
+lib.dvh_pairs_data.argtypes = [PairsPtr]
+lib.dvh_pairs_kind.restype = ctypes.c_uint32
+lib.dvh_pairs_kind.argtypes = [PairsPtr]
+lib.dvh_pairs_free.argtypes = [PairsPtr]
+lib.dvh_collide.restype = DvhStatus
+lib.dvh_collide.argtypes = [
+    MeshPtr, ctypes.POINTER(DvhPose), MeshPtr, ctypes.POINTER(DvhPose), ctypes.POINTER(DvhQueryOptions), PairsPtr,
+    ctypes.POINTER(DvhQueryStats),
+]
+
+
+def last_error():
+    n = lib.dvh_last_error_message(None, 0)
+    buf = ctypes.create_string_buffer(n + 1)
+    lib.dvh_last_error_message(buf, n + 1)
+    return buf.value.decode()
+
+
+def grid(n, z):
+    """An n x n square sheet at height z, two triangles per cell."""
+    pos = [c for j in range(n + 1) for i in range(n + 1) for c in (float(i), float(j), z)]
+    tris = []
+    for j in range(n):
+        for i in range(n):
+            a = j * (n + 1) + i
+            tris += [a, a + 1, a + n + 2, a, a + n + 2, a + n + 1]
+    return pos, tris
+
+
+def create(pos, tris):
+    mesh = MeshPtr()
+    status = lib.dvh_mesh_create((ctypes.c_double * len(pos))(*pos), len(pos) // 3, (ctypes.c_uint32 * len(tris))(*tris), len(tris) // 3, None, ctypes.byref(mesh))
+    return status, mesh
+
+
+def pairs_of(pairs):
+    data = lib.dvh_pairs_data(pairs)
+    return [(data[i].a, data[i].b) for i in range(lib.dvh_pairs_len(pairs))]
+
+
+def main():
+    failures = []
+
+    def check(cond, what):
+        if not cond:
+            failures.append(what)
+
+    check(lib.dvh_version().decode().count(".") == 2, "version")
+    # A flat sheet and a tent standing through it along x = 2: its ridge edge runs from (2, 1, -1) up to (2, 3, 1).
+    sheet_pos, sheet_tris = grid(4, 0.0)
+    tent_pos = [2.0, 1.0, -1.0, 2.0, 3.0, 1.0, 1.0, 2.0, 1.0, 3.0, 2.0, 1.0]
+    tent_tris = [0, 1, 2, 0, 3, 1]
+    status, sheet = create(sheet_pos, sheet_tris)
+    check(status == DVH_STATUS_OK, "sheet created")
+    status, tent = create(tent_pos, tent_tris)
+    check(status == DVH_STATUS_OK, "tent created")
+
+    pairs = lib.dvh_pairs_new()
+    stats = DvhQueryStats()
+    status = lib.dvh_collide(sheet, None, tent, None, None, pairs, ctypes.byref(stats))
+    found = pairs_of(pairs)
+    check(status == DVH_STATUS_OK and len(found) > 0 and stats.pairs == len(found), "collide finds pairs")
+    check(found == sorted(set(found)), "pairs sorted and distinct")
+    check({b for _, b in found} == {0, 1}, "both tent triangles cross the sheet")
+
+    # The tent moved 10 up by a pose: nothing.
+    pose = DvhPose((ctypes.c_double * 9)(1, 0, 0, 0, 1, 0, 0, 0, 1), (ctypes.c_double * 3)(0, 0, 10))
+    status = lib.dvh_collide(sheet, None, tent, ctypes.byref(pose), None, pairs, None)
+    check(status == DVH_STATUS_OK and lib.dvh_pairs_len(pairs) == 0, "posed away: no pairs")
+
+    # Leaves mode reports nodes that cover the exact pairs.
+    lib.dvh_collide(sheet, None, tent, None, None, pairs, None)
+    exact = pairs_of(pairs)
+    options = DvhQueryOptions(DVH_QUERY_MODE_LEAVES, 0, 0)
+    check(lib.dvh_collide(sheet, None, tent, None, ctypes.byref(options), pairs, None) == DVH_STATUS_OK, "leaves mode")
+    check(lib.dvh_pairs_kind(pairs) == DVH_PAIR_KIND_NODES, "leaves mode reports nodes")
+    covered = set()
+    for na, nb in pairs_of(pairs):
+        ta, ca, tb, cb = ctypes.POINTER(ctypes.c_uint32)(), ctypes.c_size_t(), ctypes.POINTER(ctypes.c_uint32)(), ctypes.c_size_t()
+        lib.dvh_mesh_node_triangles(sheet, na, ctypes.byref(ta), ctypes.byref(ca))
+        lib.dvh_mesh_node_triangles(tent, nb, ctypes.byref(tb), ctypes.byref(cb))
+        covered |= {(ta[i], tb[j]) for i in range(ca.value) for j in range(cb.value)}
+    check(set(exact) <= covered, "leaves cover the exact pairs")
+
+    # Refit: the tent lifted out of the sheet, then an error that changes nothing.
+    lifted = [c + (3.0 if k % 3 == 2 else 0.0) for k, c in enumerate(tent_pos)]
+    check(lib.dvh_mesh_refit(tent, (ctypes.c_double * 12)(*lifted), 4) == DVH_STATUS_OK, "refit")
+    lib.dvh_collide(sheet, None, tent, None, None, pairs, None)
+    check(lib.dvh_pairs_len(pairs) == 0, "lifted tent misses the sheet")
+    lifted[4] = math.nan
+    check(lib.dvh_mesh_refit(tent, (ctypes.c_double * 12)(*lifted), 4) != DVH_STATUS_OK, "NaN refit refused")
+    check("vertex 1: coordinate y is NaN" in last_error(), "NaN refit message: " + last_error())
+
+    # Error paths: an index out of range, a NULL, a non-rigid pose.
+    status, bad = create(tent_pos, [0, 1, 7])
+    check(status == DVH_STATUS_INDEX_OUT_OF_RANGE and not bad.value, "index out of range refused")
+    check(last_error() == "triangle 0, corner 2: vertex index 7 is out of range (the mesh has 4 vertices)", "index message: " + last_error())
+    check(lib.dvh_collide(None, None, tent, None, None, pairs, None) == DVH_STATUS_NULL_ARGUMENT, "NULL mesh refused")
+    check(lib.dvh_status_name(DVH_STATUS_NULL_ARGUMENT) == b"DVH_STATUS_NULL_ARGUMENT", "status name")
+    squash = DvhPose((ctypes.c_double * 9)(1, 0, 0, 0, 1, 0, 0, 0, 0.5), (ctypes.c_double * 3)(0, 0, 0))
+    check(lib.dvh_collide(sheet, ctypes.byref(squash), tent, None, None, pairs, None) == DVH_STATUS_NON_RIGID_POSE, "scaled pose refused")
+
+    lib.dvh_pairs_free(pairs)
+    lib.dvh_mesh_free(sheet)
+    lib.dvh_mesh_free(tent)
+    if failures:
+        print("test_ctypes: failed:", *failures, sep="\n  ")
+        return 1
+    print("test_ctypes: all checks passed")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Builds the release library and installs it the way C users expect:
+#   PREFIX/lib/libdvh.so.X.Y.Z with the links libdvh.so.SOVERSION and libdvh.so, PREFIX/lib/libdvh.a,
+#   PREFIX/include/dvh.h, PREFIX/lib/pkgconfig/dvh.pc.
+# Usage: scripts/install.sh [PREFIX]   (default /usr/local; DESTDIR is honoured for staging)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+prefix="${1:-/usr/local}"
+dest="${DESTDIR:-}"
+version=$(sed -n 's/^version = "\(.*\)"/\1/p' Cargo.toml | head -n 1)
+major=${version%%.*}
+rest=${version#*.}
+minor=${rest%%.*}
+if [ "$major" = "0" ]; then soversion="0.$minor"; else soversion="$major"; fi
+
+cargo build --release --quiet
+# The system libraries a static link needs, as rustc reports them.
+static_libs=$(cargo rustc --release --quiet --lib --crate-type staticlib -- --print native-static-libs 2>&1 \
+    | sed -n 's/.*native-static-libs: //p' | tail -n 1)
+
+libdir="$dest$prefix/lib"
+install -d "$libdir/pkgconfig" "$dest$prefix/include"
+install -m 0755 target/release/libdvh.so "$libdir/libdvh.so.$version"
+ln -sf "libdvh.so.$version" "$libdir/libdvh.so.$soversion"
+ln -sf "libdvh.so.$soversion" "$libdir/libdvh.so"
+install -m 0644 target/release/libdvh.a "$libdir/libdvh.a"
+install -m 0644 include/dvh.h "$dest$prefix/include/dvh.h"
+cat > "$libdir/pkgconfig/dvh.pc" <<PC
+prefix=$prefix
+libdir=\${prefix}/lib
+includedir=\${prefix}/include
+
+Name: dvh
+Description: Collision detection between deformable triangle meshes (DVH sphere hierarchy)
+Version: $version
+Libs: -L\${libdir} -ldvh
+Libs.private: $static_libs
+Cflags: -I\${includedir}
+PC
+echo "installed dvh $version into $dest$prefix"

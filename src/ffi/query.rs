@@ -1,0 +1,250 @@
+//! Queries through the C ABI: result buffers, collide, the exact triangle test.
+
+use super::boundary::{Failure, guard, guard_value, set_last_error, slice_from, try_box};
+use super::types::*;
+use crate::{PairKind, Pairs, Pose, QueryMode, QueryOptions, collide, triangles_intersect};
+
+/// The default query options: every intersecting triangle pair, no pair limit.
+///
+/// Thread safety: any thread, any time.
+#[unsafe(no_mangle)]
+pub extern "C" fn dvh_query_options_default() -> DvhQueryOptions {
+    DvhQueryOptions {
+        mode: DVH_QUERY_MODE_TRIANGLES,
+        max_depth: 0,
+        max_pairs: 0,
+    }
+}
+
+fn query_options(o: &DvhQueryOptions) -> Result<QueryOptions, Failure> {
+    let mode = match o.mode {
+        DVH_QUERY_MODE_TRIANGLES => QueryMode::Triangles,
+        DVH_QUERY_MODE_FIRST_HIT => QueryMode::FirstHit,
+        DVH_QUERY_MODE_LEAVES => QueryMode::Leaves,
+        DVH_QUERY_MODE_DEPTH => QueryMode::Depth(o.max_depth),
+        v => {
+            return Err(Failure::invalid(format!(
+                "options->mode = {v} is not a DVH_QUERY_MODE_* value (0 to 3)"
+            )));
+        }
+    };
+    let max_pairs = (o.max_pairs != 0).then(|| usize::try_from(o.max_pairs).unwrap_or(usize::MAX));
+    Ok(QueryOptions { mode, max_pairs })
+}
+
+fn pose(p: &DvhPose, name: &str) -> Result<Pose, Failure> {
+    let r = &p.rotation;
+    Pose::new(
+        [[r[0], r[1], r[2]], [r[3], r[4], r[5]], [r[6], r[7], r[8]]],
+        p.translation,
+    )
+    .map_err(|e| Failure::about(name, e))
+}
+
+/// A new, empty result buffer, or NULL when memory ran out. Owned by the caller, released with
+/// `dvh_pairs_free`. It keeps the scratch space of the queries that use it, so that once it has
+/// grown to a scene's needs queries allocate nothing.
+///
+/// Thread safety: any thread; a buffer must be used by one thread at a time.
+#[unsafe(no_mangle)]
+pub extern "C" fn dvh_pairs_new() -> *mut DvhPairs {
+    guard_value(std::ptr::null_mut(), || {
+        match try_box(DvhPairs {
+            pairs: Pairs::new(),
+        }) {
+            Ok(p) => p,
+            Err(f) => {
+                set_last_error(&f.message);
+                std::ptr::null_mut()
+            }
+        }
+    })
+}
+
+/// # Safety
+/// `pairs` is NULL or a live buffer not written by another thread during the call.
+unsafe fn pairs_ref<'a>(pairs: *const DvhPairs) -> Option<&'a Pairs> {
+    // SAFETY: per the contract.
+    unsafe { pairs.as_ref() }.map(|p| &p.pairs)
+}
+
+/// Number of pairs of the last successful query into `pairs` (0 for NULL or a new buffer).
+///
+/// Thread safety: not alongside a query writing the same buffer.
+///
+/// # Safety
+/// `pairs` is NULL or a live buffer.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_pairs_len(pairs: *const DvhPairs) -> usize {
+    // SAFETY: per the contract.
+    guard_value(0, || unsafe { pairs_ref(pairs) }.map_or(0, Pairs::len))
+}
+
+/// The pairs of the last successful query into `pairs`: `dvh_pairs_len(pairs)` entries, sorted
+/// by `a` then `b`, without duplicates. NULL when there are none. Owned by the buffer; valid until
+/// the next `dvh_collide` into it or `dvh_pairs_free`.
+///
+/// Thread safety: as `dvh_pairs_len`.
+///
+/// # Safety
+/// `pairs` is NULL or a live buffer.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_pairs_data(pairs: *const DvhPairs) -> *const DvhPair {
+    guard_value(std::ptr::null(), || {
+        // SAFETY: per the contract.
+        match unsafe { pairs_ref(pairs) } {
+            Some(p) if !p.is_empty() => p.as_slice().as_ptr().cast::<DvhPair>(),
+            _ => std::ptr::null(),
+        }
+    })
+}
+
+/// What the indices in `pairs` refer to: `DVH_PAIR_KIND_TRIANGLES` or `DVH_PAIR_KIND_NODES`
+/// (triangles for NULL or a new buffer).
+///
+/// Thread safety: as `dvh_pairs_len`.
+///
+/// # Safety
+/// `pairs` is NULL or a live buffer.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_pairs_kind(pairs: *const DvhPairs) -> DvhPairKind {
+    guard_value(DVH_PAIR_KIND_TRIANGLES, || {
+        // SAFETY: per the contract.
+        match unsafe { pairs_ref(pairs) }.map(Pairs::kind) {
+            Some(PairKind::Nodes) => DVH_PAIR_KIND_NODES,
+            _ => DVH_PAIR_KIND_TRIANGLES,
+        }
+    })
+}
+
+/// Releases a result buffer. NULL is a no-op.
+///
+/// Thread safety: needs exclusive access; the buffer must not be used afterwards.
+///
+/// # Safety
+/// `pairs` is NULL or a live buffer from `dvh_pairs_new`, not freed before.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_pairs_free(pairs: *mut DvhPairs) {
+    guard_value((), || {
+        if !pairs.is_null() {
+            // SAFETY: allocated by `try_box`, owned by the caller, released once (contract).
+            drop(unsafe { Box::from_raw(pairs) });
+        }
+    })
+}
+
+/// Finds what intersects between mesh `a` placed by `pose_a` and mesh `b` placed by `pose_b`
+/// (NULL: identity, the mesh's coordinates are world coordinates), as `options` asks (NULL: the
+/// defaults, every intersecting triangle pair).
+///
+/// On success the results replace the contents of `pairs_out`: pairs `(index in a, index in b)`,
+/// sorted, without duplicates, triangles or nodes as `dvh_pairs_kind` says; and the counters are
+/// written to `*stats_out` unless it is NULL. Triangles are tested exactly at the world
+/// coordinates `R * p + t` computed in double precision (as `((R0 x + R1 y) + R2 z) + t`), and
+/// touching counts as intersecting. On failure neither `pairs_out` nor `*stats_out` changes.
+///
+/// Errors: NULL_ARGUMENT (`a`, `b`, `pairs_out`); INVALID_ARGUMENT (options out of range);
+/// NON_FINITE_COORDINATE and NON_RIGID_POSE (a pose); POSE_OUT_OF_RANGE; OUT_OF_MEMORY (the
+/// result could not grow: set `max_pairs`); INTERNAL_PANIC.
+///
+/// Thread safety: `a` and `b` are only read: any number of threads may query the same meshes at
+/// once, each with its own `pairs_out`. No refit of `a` or `b` may run meanwhile.
+///
+/// # Safety
+/// `a` and `b` are NULL or live meshes; `pose_a`, `pose_b`, `options` are NULL or readable;
+/// `pairs_out` is NULL or a live buffer used by no other thread; `stats_out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_collide(
+    a: *const DvhMesh,
+    pose_a: *const DvhPose,
+    b: *const DvhMesh,
+    pose_b: *const DvhPose,
+    options: *const DvhQueryOptions,
+    pairs_out: *mut DvhPairs,
+    stats_out: *mut DvhQueryStats,
+) -> DvhStatus {
+    guard(|| {
+        // SAFETY: NULL or live, read-only during the call (contract).
+        let (ma, mb) = unsafe { (a.as_ref(), b.as_ref()) };
+        let ma = ma.ok_or_else(|| Failure::null("a"))?;
+        let mb = mb.ok_or_else(|| Failure::null("b"))?;
+        // SAFETY: NULL or a live buffer used by this thread only (contract).
+        let out = unsafe { pairs_out.as_mut() }.ok_or_else(|| Failure::null("pairs_out"))?;
+        for (m, name) in [(ma, "a"), (mb, "b")] {
+            if m.poisoned {
+                return Err(Failure::new(
+                    DVH_STATUS_INTERNAL_PANIC,
+                    format!(
+                        "mesh `{name}` is unusable: an internal panic interrupted an earlier refit"
+                    ),
+                ));
+            }
+        }
+        // SAFETY: NULL or readable (contract).
+        let (pa, pb, o) = unsafe { (pose_a.as_ref(), pose_b.as_ref(), options.as_ref()) };
+        let pa = pa.map(|p| pose(p, "pose_a")).transpose()?;
+        let pb = pb.map(|p| pose(p, "pose_b")).transpose()?;
+        let o = o.map(query_options).transpose()?.unwrap_or_default();
+        let s = collide(
+            &ma.mesh,
+            pa.as_ref(),
+            &mb.mesh,
+            pb.as_ref(),
+            &o,
+            &mut out.pairs,
+        )?;
+        if !stats_out.is_null() {
+            // SAFETY: non-NULL and writable (contract).
+            unsafe {
+                stats_out.write(DvhQueryStats {
+                    bv_tests: s.bv_tests,
+                    triangle_tests: s.triangle_tests,
+                    triangle_candidates: s.triangle_candidates,
+                    leaf_pairs: s.leaf_pairs,
+                    pairs: s.pairs,
+                    nodes_refit: s.nodes_refit,
+                    truncated: s.truncated,
+                })
+            };
+        }
+        Ok(())
+    })
+}
+
+/// The exact triangle test the queries use: do the closed triangles `t1` and `t2` (9 doubles
+/// each: three corners, `x, y, z`) share a point? Touching counts; zero-area triangles are the
+/// segments or points they cover; the answer is exact for every finite input. The answer goes to
+/// `*result_out` (1 or 0).
+///
+/// Errors: NULL_ARGUMENT; INVALID_ARGUMENT (misaligned); NON_FINITE_COORDINATE.
+/// Thread safety: any thread, any time.
+///
+/// # Safety
+/// `t1` and `t2` point to 9 readable doubles each; `result_out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_triangles_intersect(
+    t1: *const f64,
+    t2: *const f64,
+    result_out: *mut bool,
+) -> DvhStatus {
+    guard(|| {
+        if result_out.is_null() {
+            return Err(Failure::null("result_out"));
+        }
+        // SAFETY: 9 readable doubles each (contract); NULL and alignment checked inside.
+        let (s1, s2) = unsafe { (slice_from(t1, 9, "t1")?, slice_from(t2, 9, "t2")?) };
+        for (s, name) in [(s1, "t1"), (s2, "t2")] {
+            if let Some(i) = s.iter().position(|v| !v.is_finite()) {
+                return Err(Failure::new(
+                    DVH_STATUS_NON_FINITE_COORDINATE,
+                    format!("{name}[{i}] is {}, not a finite number", s[i]),
+                ));
+            }
+        }
+        let tri = |s: &[f64]| [0, 1, 2].map(|c| [s[3 * c], s[3 * c + 1], s[3 * c + 2]]);
+        let hit = triangles_intersect(&tri(s1), &tri(s2));
+        // SAFETY: non-NULL (checked) and writable (contract).
+        unsafe { result_out.write(hit) };
+        Ok(())
+    })
+}

@@ -1,0 +1,189 @@
+//! The C ABI's types and constants.
+//!
+//! Enumerations cross the boundary as fixed-width integers with named constants, never as Rust
+//! enums: a C caller can pass any integer, and an out-of-range value read as a Rust enum would be
+//! undefined behaviour. Every such value is checked and reported as an invalid argument.
+
+use crate::Pair;
+
+/// Result of every fallible call: `DVH_STATUS_OK` (0) or one of the `DVH_STATUS_*` codes.
+/// `dvh_last_error_message` gives the details of a failure.
+pub type DvhStatus = u32;
+
+/// The call succeeded.
+pub const DVH_STATUS_OK: DvhStatus = 0;
+/// A required pointer argument was NULL.
+pub const DVH_STATUS_NULL_ARGUMENT: DvhStatus = 1;
+/// An argument is out of range or inconsistent: a size, a stride, an option value, a
+/// misaligned pointer, a mesh without triangles, a vertex count that differs from the mesh's.
+pub const DVH_STATUS_INVALID_ARGUMENT: DvhStatus = 2;
+/// A coordinate (or pose entry) is NaN or infinite.
+pub const DVH_STATUS_NON_FINITE_COORDINATE: DvhStatus = 3;
+/// A triangle refers to a vertex index not below the vertex count.
+pub const DVH_STATUS_INDEX_OUT_OF_RANGE: DvhStatus = 4;
+/// A pose's rotation is not orthonormal (within 1e-5) or is a reflection.
+pub const DVH_STATUS_NON_RIGID_POSE: DvhStatus = 5;
+/// Memory ran out; nothing was changed.
+pub const DVH_STATUS_OUT_OF_MEMORY: DvhStatus = 6;
+/// A bug in dvh: an internal panic was caught at the boundary. A mesh that was being refit when
+/// it happened refuses further use with this code.
+pub const DVH_STATUS_INTERNAL_PANIC: DvhStatus = 7;
+/// A pose would move a mesh's coordinates beyond 1e300 in magnitude.
+pub const DVH_STATUS_POSE_OUT_OF_RANGE: DvhStatus = 8;
+/// `dvh_mesh_validate` found a broken invariant: a bug in dvh.
+pub const DVH_STATUS_INVARIANT_BROKEN: DvhStatus = 9;
+
+/// How the hierarchy above the 1-rings is split: a `DVH_TREE_KIND_*` value.
+pub type DvhTreeKind = u32;
+/// Up to 8 children per node (midpoint cut on all three axes): shallow trees. The default.
+pub const DVH_TREE_KIND_OCTREE: DvhTreeKind = 0;
+/// 2 children per node (midpoint cut of the longest axis): deeper trees.
+pub const DVH_TREE_KIND_BINARY: DvhTreeKind = 1;
+
+/// How node radii are recomputed at each refit: a `DVH_RADIUS_KIND_*` value.
+pub type DvhRadiusKind = u32;
+/// `max(|c - c_child| + r_child)` over the children: cheap refit. The default.
+pub const DVH_RADIUS_KIND_LAYERED: DvhRadiusKind = 0;
+/// The farthest vertex below the node: tighter spheres, dearer refit.
+pub const DVH_RADIUS_KIND_WRAPPED: DvhRadiusKind = 1;
+
+/// How triangles touching no 1-ring centre are put into leaves: a `DVH_LEFTOVER_POLICY_*` value.
+pub type DvhLeftoverPolicy = u32;
+/// Each joins the adjacent ring with the nearest centre: fewer leaves. The default.
+pub const DVH_LEFTOVER_POLICY_JOIN_ADJACENT: DvhLeftoverPolicy = 0;
+/// Extra rings hold them: more leaves, tighter spheres.
+pub const DVH_LEFTOVER_POLICY_EXTRA_RINGS: DvhLeftoverPolicy = 1;
+
+/// What a query reports: a `DVH_QUERY_MODE_*` value.
+pub type DvhQueryMode = u32;
+/// Every intersecting triangle pair, by the exact test. The default.
+pub const DVH_QUERY_MODE_TRIANGLES: DvhQueryMode = 0;
+/// The first intersecting triangle pair found, or none.
+pub const DVH_QUERY_MODE_FIRST_HIT: DvhQueryMode = 1;
+/// Pairs of leaf nodes (1-rings) whose spheres overlap; no triangle tests.
+pub const DVH_QUERY_MODE_LEAVES: DvhQueryMode = 2;
+/// Pairs of nodes whose spheres overlap, descending no deeper than `max_depth`.
+pub const DVH_QUERY_MODE_DEPTH: DvhQueryMode = 3;
+
+/// What the indices of a result refer to: a `DVH_PAIR_KIND_*` value.
+pub type DvhPairKind = u32;
+/// Triangle indices (modes `TRIANGLES` and `FIRST_HIT`).
+pub const DVH_PAIR_KIND_TRIANGLES: DvhPairKind = 0;
+/// Node indices (modes `LEAVES` and `DEPTH`); expand with `dvh_mesh_node_triangles`.
+pub const DVH_PAIR_KIND_NODES: DvhPairKind = 1;
+
+/// Options for `dvh_mesh_create`; start from `dvh_build_options_default()`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DvhBuildOptions {
+    /// A `DVH_TREE_KIND_*` value.
+    pub tree: DvhTreeKind,
+    /// A `DVH_RADIUS_KIND_*` value.
+    pub radius: DvhRadiusKind,
+    /// A `DVH_LEFTOVER_POLICY_*` value.
+    pub leftovers: DvhLeftoverPolicy,
+}
+
+/// Options for `dvh_collide`; start from `dvh_query_options_default()`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DvhQueryOptions {
+    /// A `DVH_QUERY_MODE_*` value.
+    pub mode: DvhQueryMode,
+    /// Deepest level descended in `DVH_QUERY_MODE_DEPTH` (the root is level 0); ignored by the
+    /// other modes.
+    pub max_depth: u32,
+    /// Stop after this many pairs (0: no limit); `DvhQueryStats.truncated` then says so.
+    pub max_pairs: u64,
+}
+
+/// Counters of one query: the terms of the paper's cost model `T = NV*CV + NP*CP + NU*CU`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DvhQueryStats {
+    /// Sphere pairs tested for overlap (`NV`).
+    pub bv_tests: u64,
+    /// Triangle pairs given to the exact test (`NP`).
+    pub triangle_tests: u64,
+    /// Triangle pairs of overlapping leaves, before the exact box filter.
+    pub triangle_candidates: u64,
+    /// Overlapping pairs of terminal nodes (leaves, or nodes at the depth limit).
+    pub leaf_pairs: u64,
+    /// Pairs reported.
+    pub pairs: u64,
+    /// Nodes recomputed by the last refit of each mesh (`NU`).
+    pub nodes_refit: u64,
+    /// Did `max_pairs` stop the query?
+    pub truncated: bool,
+}
+
+/// Counters of the last refit of a mesh (or of its build).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DvhRefitStats {
+    /// Nodes whose radius was recomputed (`NU`).
+    pub nodes_refit: u64,
+    /// Vertex-to-centre distances evaluated.
+    pub distance_evaluations: u64,
+}
+
+/// Shape of a mesh's hierarchy.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DvhTreeStats {
+    /// Triangles in the mesh.
+    pub triangles: usize,
+    /// 1-rings, that is leaves.
+    pub rings: usize,
+    /// Inner nodes.
+    pub inner_nodes: usize,
+    /// Depth of the deepest leaf plus one.
+    pub levels: usize,
+    /// Most triangles in one ring.
+    pub max_ring_triangles: usize,
+}
+
+/// A rigid placement of a mesh: `world = R * p + t`, with `rotation` row-major. The rotation must
+/// be orthonormal within 1e-5 with determinant +1.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DvhPose {
+    /// `R`, row-major: `rotation[3 * i + j]` is row `i`, column `j`.
+    pub rotation: [f64; 9],
+    /// `t`.
+    pub translation: [f64; 3],
+}
+
+/// One result: an index into mesh `a` and one into mesh `b` (triangles or nodes, see
+/// `dvh_pairs_kind`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DvhPair {
+    /// Index in mesh `a`.
+    pub a: u32,
+    /// Index in mesh `b`.
+    pub b: u32,
+}
+
+// `dvh_pairs_data` hands out the library's own `Pair` array as `DvhPair`: same fields, same
+// order, both `repr(C)`.
+const _: () = {
+    assert!(std::mem::size_of::<DvhPair>() == std::mem::size_of::<Pair>());
+    assert!(std::mem::align_of::<DvhPair>() == std::mem::align_of::<Pair>());
+    assert!(std::mem::offset_of!(DvhPair, a) == std::mem::offset_of!(Pair, a));
+    assert!(std::mem::offset_of!(DvhPair, b) == std::mem::offset_of!(Pair, b));
+};
+
+/// A mesh with its hierarchy: topology, current positions, 1-rings, spheres. Opaque; created by
+/// `dvh_mesh_create`, released by `dvh_mesh_free`.
+pub struct DvhMesh {
+    pub(crate) mesh: crate::Mesh,
+    /// Set while a refit runs; left set if it panicked, so the half-updated mesh is refused.
+    pub(crate) poisoned: bool,
+}
+
+/// A reusable result buffer with the scratch space queries need. Opaque; created by
+/// `dvh_pairs_new`, released by `dvh_pairs_free`. Use one per thread.
+pub struct DvhPairs {
+    pub(crate) pairs: crate::Pairs,
+}
