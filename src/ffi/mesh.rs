@@ -10,11 +10,12 @@ use crate::{BuildOptions, LeftoverPolicy, Mesh, RadiusKind, TreeKind};
 /// Thread safety: any thread, any time.
 #[unsafe(no_mangle)]
 pub extern "C" fn dvh_build_options_default() -> DvhBuildOptions {
-    DvhBuildOptions {
+    const DEFAULT: DvhBuildOptions = DvhBuildOptions {
         tree: DVH_TREE_KIND_OCTREE,
         radius: DVH_RADIUS_KIND_LAYERED,
         leftovers: DVH_LEFTOVER_POLICY_JOIN_ADJACENT,
-    }
+    };
+    guard_value(DEFAULT, || DEFAULT)
 }
 
 fn build_options(o: &DvhBuildOptions) -> Result<BuildOptions, Failure> {

@@ -26,7 +26,13 @@ use std::ffi::{CStr, c_char};
 /// Thread safety: any thread, any time.
 #[unsafe(no_mangle)]
 pub extern "C" fn dvh_status_name(status: DvhStatus) -> *const c_char {
-    let name: &'static CStr = match status {
+    guard_value(c"DVH_STATUS_UNKNOWN".as_ptr(), || {
+        status_name(status).as_ptr()
+    })
+}
+
+fn status_name(status: DvhStatus) -> &'static CStr {
+    match status {
         DVH_STATUS_OK => c"DVH_STATUS_OK",
         DVH_STATUS_NULL_ARGUMENT => c"DVH_STATUS_NULL_ARGUMENT",
         DVH_STATUS_INVALID_ARGUMENT => c"DVH_STATUS_INVALID_ARGUMENT",
@@ -38,8 +44,7 @@ pub extern "C" fn dvh_status_name(status: DvhStatus) -> *const c_char {
         DVH_STATUS_POSE_OUT_OF_RANGE => c"DVH_STATUS_POSE_OUT_OF_RANGE",
         DVH_STATUS_INVARIANT_BROKEN => c"DVH_STATUS_INVARIANT_BROKEN",
         _ => c"DVH_STATUS_UNKNOWN",
-    };
-    name.as_ptr()
+    }
 }
 
 /// Copies the message of the last failed call on the calling thread (which index, which value,
@@ -80,5 +85,5 @@ pub extern "C" fn dvh_version() -> *const c_char {
             Ok(v) => v,
             Err(_) => panic!("the package version contains a NUL byte"),
         };
-    VERSION.as_ptr()
+    guard_value(VERSION.as_ptr(), || VERSION.as_ptr())
 }

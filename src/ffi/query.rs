@@ -9,11 +9,12 @@ use crate::{PairKind, Pairs, Pose, QueryMode, QueryOptions, collide, triangles_i
 /// Thread safety: any thread, any time.
 #[unsafe(no_mangle)]
 pub extern "C" fn dvh_query_options_default() -> DvhQueryOptions {
-    DvhQueryOptions {
+    const DEFAULT: DvhQueryOptions = DvhQueryOptions {
         mode: DVH_QUERY_MODE_TRIANGLES,
         max_depth: 0,
         max_pairs: 0,
-    }
+    };
+    guard_value(DEFAULT, || DEFAULT)
 }
 
 fn query_options(o: &DvhQueryOptions) -> Result<QueryOptions, Failure> {
