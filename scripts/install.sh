@@ -13,6 +13,7 @@ rest=${version#*.}
 minor=${rest%%.*}
 if [ "$major" = "0" ]; then soversion="0.$minor"; else soversion="$major"; fi
 
+target="${CARGO_TARGET_DIR:-target}"
 cargo build --release --quiet
 # The system libraries a static link needs, as rustc reports them.
 static_libs=$(cargo rustc --release --quiet --lib --crate-type staticlib -- --print native-static-libs 2>&1 \
@@ -20,10 +21,10 @@ static_libs=$(cargo rustc --release --quiet --lib --crate-type staticlib -- --pr
 
 libdir="$dest$prefix/lib"
 install -d "$libdir/pkgconfig" "$dest$prefix/include"
-install -m 0755 target/release/libdvh.so "$libdir/libdvh.so.$version"
+install -m 0755 "$target/release/libdvh.so" "$libdir/libdvh.so.$version"
 ln -sf "libdvh.so.$version" "$libdir/libdvh.so.$soversion"
 ln -sf "libdvh.so.$soversion" "$libdir/libdvh.so"
-install -m 0644 target/release/libdvh.a "$libdir/libdvh.a"
+install -m 0644 "$target/release/libdvh.a" "$libdir/libdvh.a"
 install -m 0644 include/dvh.h "$dest$prefix/include/dvh.h"
 cat > "$libdir/pkgconfig/dvh.pc" <<PC
 prefix=$prefix
