@@ -75,8 +75,33 @@ const HALF_ULP: f64 = f64::EPSILON / 2.0;
 pub struct Adaptive;
 
 impl Orient for Adaptive {
+    /// Shewchuk's first, floating-point stage is evaluated here (the same expression and bound as
+    /// the `robust` crate's) so that what it leaves uncertain can be triaged before the adaptive
+    /// stages: an exactly zero determinant, the common case of triangles that share a vertex,
+    /// otherwise runs those stages to the end. Coincident points, or a permanent of zero (every
+    /// product has an exactly zero factor), give zero at once.
     #[inline]
     fn orient3d(a: &Point, b: &Point, c: &Point, d: &Point) -> Sign {
+        let (adx, ady, adz) = (a[0] - d[0], a[1] - d[1], a[2] - d[2]);
+        let (bdx, bdy, bdz) = (b[0] - d[0], b[1] - d[1], b[2] - d[2]);
+        let (cdx, cdy, cdz) = (c[0] - d[0], c[1] - d[1], c[2] - d[2]);
+        let (bdxcdy, cdxbdy) = (bdx * cdy, cdx * bdy);
+        let (cdxady, adxcdy) = (cdx * ady, adx * cdy);
+        let (adxbdy, bdxady) = (adx * bdy, bdx * ady);
+        let det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
+        let permanent = (bdxcdy.abs() + cdxbdy.abs()) * adz.abs()
+            + (cdxady.abs() + adxcdy.abs()) * bdz.abs()
+            + (adxbdy.abs() + bdxady.abs()) * cdz.abs();
+        let bound = ORIENT3D_FILTER * permanent;
+        if det > bound {
+            return 1;
+        }
+        if -det > bound {
+            return -1;
+        }
+        if permanent == 0.0 || a == b || a == c || b == c {
+            return 0;
+        }
         let c3 = |p: &Point| robust::Coord3D {
             x: p[0],
             y: p[1],
@@ -125,6 +150,10 @@ impl Orient for Adaptive {
 
     #[inline]
     fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
+        // `robust` settles c == a and c == b in its first stage but not a == b.
+        if a == b {
+            return 0;
+        }
         let c2 = |p: [f64; 2]| robust::Coord { x: p[0], y: p[1] };
         sign_of(robust::orient2d(c2(a), c2(b), c2(c)))
     }

@@ -21,11 +21,13 @@
 //!   meet in an interval, and intersect iff the intervals overlap; after the triangles are turned
 //!   into a canonical form, that takes two more orientation signs (the interval comparison of
 //!   Guigue and Devillers).
-//! - Otherwise (coplanar, or a triangle degenerate) two convex sets intersect iff some edge of one
-//!   meets the other: in the coplanar case the intersection polygon has its vertices on edges, and
-//!   a degenerate triangle is the union of its own edges. An edge that crosses the other's plane
-//!   is tested with three signs (its line against the other's edges); one that lies in the plane
-//!   is tested in a coordinate plane onto which the triangle projects one-to-one.
+//! - Two proper coplanar triangles are compared in a coordinate plane onto which they project
+//!   one-to-one: they are disjoint iff the line through some edge leaves the other triangle
+//!   strictly outside.
+//! - With a degenerate triangle, two convex sets intersect iff some edge of one meets the other
+//!   (a degenerate triangle is the union of its own edges). An edge that crosses the other's
+//!   plane is tested with three signs (its line against the other's edges); one that lies in the
+//!   plane is tested in a coordinate plane onto which the triangle projects one-to-one.
 
 use super::predicates::{Adaptive, BigExact, Orient, Point, Sign, is_safe_point};
 
@@ -82,9 +84,7 @@ pub(crate) fn intersect<O: Orient>(t1: &Triangle, t2: &Triangle) -> bool {
     let proper1 = !all_zero(s2) || !collinear::<O>(t1);
     let proper2 = !all_zero(s1) || !collinear::<O>(t2);
     match (proper1, proper2) {
-        (true, true) => {
-            edges_meet_triangle::<O>(t1, s1, t2) || edges_meet_triangle::<O>(t2, s2, t1)
-        }
+        (true, true) => coplanar_triangles_meet::<O>(t1, t2),
         // A degenerate triangle is the union of its edges.
         (false, true) => edges_meet_triangle::<O>(t1, s1, t2),
         (true, false) => edges_meet_triangle::<O>(t2, s2, t1),
@@ -141,6 +141,29 @@ fn crossing_intervals_meet<O: Orient>(
         std::mem::swap(&mut q1, &mut r1);
     }
     O::orient3d(p1, q1, p2, q2) <= 0 && O::orient3d(p1, r1, r2, p2) <= 0
+}
+
+/// Two proper triangles in one plane, compared in a projection one-to-one on that plane. Closed
+/// convex polygons are disjoint iff a line through an edge of one has the whole other polygon
+/// strictly on its outer side (the separating-axis theorem in the plane: the separating direction
+/// can be taken normal to an edge, and the edge's own line then separates).
+fn coplanar_triangles_meet<O: Orient>(t1: &Triangle, t2: &Triangle) -> bool {
+    let k = projection_axis::<O>(t1);
+    let a = [project(&t1[0], k), project(&t1[1], k), project(&t1[2], k)];
+    let b = [project(&t2[0], k), project(&t2[1], k), project(&t2[2], k)];
+    !(separated_by_an_edge::<O>(&a, &b) || separated_by_an_edge::<O>(&b, &a))
+}
+
+/// Is all of `other` strictly outside one of the edge lines of the non-degenerate `t`?
+fn separated_by_an_edge<O: Orient>(t: &[[f64; 2]; 3], other: &[[f64; 2]; 3]) -> bool {
+    let inside = O::orient2d(t[0], t[1], t[2]);
+    debug_assert_ne!(
+        inside, 0,
+        "a proper triangle stays proper in a one-to-one projection"
+    );
+    EDGES
+        .iter()
+        .any(|&(i, j)| other.iter().all(|&p| O::orient2d(t[i], t[j], p) == -inside))
 }
 
 /// Does an edge of `edges` meet the closed, non-degenerate triangle `tri`? `signs[i]` is the side
@@ -650,6 +673,24 @@ mod tests {
             }
             let by_edges = edges_meet_triangle::<Adaptive>(&a, s1, &b) || edges_meet_triangle::<Adaptive>(&b, s2, &a);
             prop_assert_eq!(crossing_intervals_meet::<Adaptive>(&a, s1, &b, s2), by_edges);
+        }
+
+        /// The coplanar test against the edge-by-edge method, on real coordinates in z = 0 and
+        /// in a tilted plane through the origin (exactly coplanar: z = x + y with small integers).
+        #[test]
+        fn coplanar_method_agrees_with_edge_method(a in real_triangle(), b in real_triangle(), tilt in any::<bool>()) {
+            let flat = |t: Triangle| t.map(|p| {
+                let (x, y) = ((p[0] * 4.0).round(), (p[1] * 4.0).round());
+                if tilt { [x, y, x + y] } else { [p[0], p[1], 0.0] }
+            });
+            let (a, b) = (flat(a), flat(b));
+            if collinear::<Adaptive>(&a) || collinear::<Adaptive>(&b) {
+                return Ok(());
+            }
+            let zero = [0, 0, 0];
+            let by_edges = edges_meet_triangle::<Adaptive>(&a, zero, &b) || edges_meet_triangle::<Adaptive>(&b, zero, &a);
+            prop_assert_eq!(coplanar_triangles_meet::<Adaptive>(&a, &b), by_edges);
+            prop_assert_eq!(triangles_intersect(&a, &b), by_edges);
         }
 
         #[test]

@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Builds and runs the dvh / FCL / CGAL cross-check. Installs the Debian packages it needs when
+# they are missing, installs dvh into the build directory, unpacks the CGAL demo meshes into a
+# cache, and runs the harness.
+#
+#   cross_check/run.sh           short version (small meshes, 3 frames, every scene kind)
+#   cross_check/run.sh --full    paper sizes, 200 frames
+#   extra arguments go to the harness: --frames N, --scene NAME
+#
+# Results: cross_check/build/results/{frames.csv,summary.json} and the printed summary.
+set -euo pipefail
+cd "$(dirname "$0")"
+root=$(cd .. && pwd)
+
+packages=(libfcl-dev libccd-dev libcgal-dev libcgal-demo libgmp-dev libmpfr-dev libeigen3-dev cmake g++ pkg-config)
+missing=()
+for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+    sudo=""
+    [ "$(id -u)" -eq 0 ] || sudo="sudo"
+    echo "installing ${missing[*]}"
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+build="$PWD/build"
+mkdir -p "$build/results"
+"$root/scripts/install.sh" "$build/prefix" >/dev/null
+export PKG_CONFIG_PATH="$build/prefix/lib/pkgconfig"
+
+meshes="${DVH_CACHE_DIR:-$build/meshes}"
+mkdir -p "$meshes"
+archive="${DVH_CGAL_DATA:-/usr/share/doc/libcgal-demo/data.tar.gz}"
+for name in elephant mannequin-devil armadillo lion refined_elephant bunny00; do
+    if [ ! -f "$meshes/$name.off" ]; then
+        tar -xzf "$archive" -C "$meshes" --strip-components=2 "data/meshes/$name.off"
+    fi
+done
+
+cmake -S . -B "$build/cmake" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$build/cmake" -j 2 >/dev/null
+"$build/cmake/dvh_cross_check" --data "$meshes" --out "$build/results" "$@"

@@ -1,0 +1,196 @@
+#include "scenes.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+namespace xc {
+
+namespace {
+
+constexpr double kTau = 6.283185307179586;
+
+MeshData cgal_mesh(const SceneOptions& o, const std::string& name, size_t min_triangles, double size) {
+    MeshData m = subdivided_to(load_off(o.data_dir + "/" + name + ".off"), min_triangles);
+    normalize(m, size);
+    return m;
+}
+
+void all_pairs(Scene& s) {
+    for (int i = 0; i < (int)s.objects.size(); i++)
+        for (int j = i + 1; j < (int)s.objects.size(); j++) s.pairs.emplace_back(i, j);
+}
+
+// Scene 1 of the paper: many small objects moving and deforming, every pair tested.
+Scene many(const SceneOptions& o) {
+    Scene s;
+    int count = o.full ? 40 : 6;
+    MeshData base = o.full ? cgal_mesh(o, "lion", 14000, 1.0) : cgal_mesh(o, "elephant", 5000, 1.0);
+    s.name = "many";
+    s.description = std::to_string(count) + " objects of " + std::to_string(base.triangles()) +
+                    " triangles moving and deforming, every pair tested";
+    Rng rng(1);
+    int nx = o.full ? 5 : 3, ny = o.full ? 4 : 2;
+    for (int i = 0; i < count; i++) {
+        Object obj;
+        obj.name = "object" + std::to_string(i);
+        obj.rest = base;
+        obj.morph = Morph::random(base, 3, 0.06, 100 + (uint64_t)i);
+        double centre[3] = {0.8 * (i % nx), 0.8 * ((i / nx) % ny), 0.8 * (i / (nx * ny))};
+        double axis[3] = {rng.range(-1, 1), rng.range(-1, 1), rng.range(-1, 1)};
+        double spin = rng.range(0.5, 1.5), phase = rng.unit(), drift = rng.range(0, kTau);
+        double dir[3] = {std::cos(drift), std::sin(drift), rng.range(-0.5, 0.5)};
+        obj.motion = [=](double t) {
+            double a = 0.16 * std::sin(kTau * (t + phase));
+            double tr[3] = {centre[0] + a * dir[0], centre[1] + a * dir[1], centre[2] + a * dir[2]};
+            return Pose::from_axis_angle(axis, spin * kTau * t, tr);
+        };
+        s.objects.push_back(std::move(obj));
+    }
+    all_pairs(s);
+    return s;
+}
+
+// Scene 2: three medium meshes deforming into each other, larger deformation in their upper parts.
+Scene medium(const SceneOptions& o) {
+    Scene s;
+    s.name = "medium";
+    struct Spec {
+        const char* mesh;
+        size_t full, quick;
+        double x;
+    } specs[3] = {{"elephant", 84000, 5000, -0.32}, {"elephant", 84000, 5000, 0.32}, {"mannequin-devil", 100000, 6000, 0.0}};
+    for (int i = 0; i < 3; i++) {
+        Object obj;
+        obj.name = std::string(specs[i].mesh) + std::to_string(i);
+        obj.rest = cgal_mesh(o, specs[i].mesh, o.full ? specs[i].full : specs[i].quick, 1.0);
+        obj.morph = Morph::random(obj.rest, 4, 0.08, 200 + (uint64_t)i);
+        obj.morph.upper_bias = 1.0;
+        double x = specs[i].x, z = i == 2 ? 0.25 : 0.0, phase = 0.3 * i;
+        obj.motion = [=](double t) {
+            double axis[3] = {0, 1, 0};
+            double tr[3] = {x + 0.06 * std::sin(kTau * (t + phase)), 0.0, z};
+            return Pose::from_axis_angle(axis, 0.3 * std::sin(kTau * t + phase), tr);
+        };
+        s.objects.push_back(std::move(obj));
+    }
+    s.description = "3 meshes (" + std::to_string(s.objects[0].rest.triangles()) + ", " +
+                    std::to_string(s.objects[1].rest.triangles()) + ", " + std::to_string(s.objects[2].rest.triangles()) +
+                    " triangles) deforming into each other, more at the top";
+    all_pairs(s);
+    return s;
+}
+
+// Scene 3: two large meshes colliding at their extremities.
+Scene large(const SceneOptions& o) {
+    Scene s;
+    s.name = "large";
+    MeshData base = o.full ? cgal_mesh(o, "refined_elephant", 350000, 1.0) : cgal_mesh(o, "armadillo", 50000, 1.0);
+    for (int i = 0; i < 2; i++) {
+        Object obj;
+        obj.name = i == 0 ? "left" : "right";
+        obj.rest = base;
+        obj.morph = Morph::random(base, 4, 0.05, 300 + (uint64_t)i);
+        double side = i == 0 ? -1.0 : 1.0, turn = i == 0 ? 0.0 : 3.141592653589793;
+        obj.motion = [=](double t) {
+            double axis[3] = {0, 1, 0};
+            double tr[3] = {side * (0.36 + 0.05 * std::cos(kTau * t)), 0.0, 0.0};
+            return Pose::from_axis_angle(axis, turn, tr);
+        };
+        s.objects.push_back(std::move(obj));
+    }
+    s.description = "2 meshes of " + std::to_string(base.triangles()) + " triangles meeting at their extremities";
+    all_pairs(s);
+    return s;
+}
+
+// Stress: two sheets in one plane, one turning and sliding over the other; every contact coplanar.
+Scene coplanar(const SceneOptions& o) {
+    Scene s;
+    s.name = "coplanar";
+    int n = o.full ? 160 : 20;
+    for (int i = 0; i < 2; i++) {
+        Object obj;
+        obj.name = i == 0 ? "sheet" : "turning sheet";
+        obj.rest = grid(n, 1.0);
+        obj.morph = Morph::random(obj.rest, 3, 0.03, 400 + (uint64_t)i);
+        obj.morph.planar = true;
+        obj.motion = [=](double t) {
+            double axis[3] = {0, 0, 1};
+            double tr[3] = {i == 0 ? 0.0 : 0.3 + 0.2 * std::sin(kTau * t), i == 0 ? 0.0 : 0.25, 0.0};
+            return Pose::from_axis_angle(axis, i == 0 ? 0.0 : 0.5 * kTau * t, tr);
+        };
+        s.objects.push_back(std::move(obj));
+    }
+    s.description = "2 coplanar sheets of " + std::to_string(s.objects[0].rest.triangles()) + " triangles";
+    all_pairs(s);
+    return s;
+}
+
+// Stress: a mesh against an exact copy of itself (same deformation, same pose): every triangle
+// touches itself and its neighbours.
+Scene copy(const SceneOptions& o) {
+    Scene s;
+    s.name = "copy";
+    MeshData base = o.full ? cgal_mesh(o, "bunny00", 70000, 1.0) : cgal_mesh(o, "elephant", 5000, 1.0);
+    Morph morph = Morph::random(base, 3, 0.05, 500);
+    for (int i = 0; i < 2; i++) {
+        Object obj;
+        obj.name = i == 0 ? "mesh" : "copy";
+        obj.rest = base;
+        obj.morph = morph;
+        obj.motion = [](double t) {
+            double axis[3] = {1, 1, 0};
+            double tr[3] = {0.1, 0.2, 0.3};
+            return Pose::from_axis_angle(axis, t, tr);
+        };
+        s.objects.push_back(std::move(obj));
+    }
+    s.description = "a mesh of " + std::to_string(base.triangles()) + " triangles against an exact copy";
+    all_pairs(s);
+    return s;
+}
+
+// Stress: a bumpy sheet and its copy shifted sideways by a tiny offset. The two surfaces cross
+// along curves everywhere and nearly coincide elsewhere: nearly coplanar pairs by the thousand.
+Scene near_touching(const SceneOptions& o, double offset) {
+    Scene s;
+    char gap[32];
+    std::snprintf(gap, sizeof gap, "%.0e", offset);
+    s.name = std::string("near-") + gap;
+    int n = o.full ? 160 : 24;
+    MeshData base = terrain(n, 1.0, 0.1, 7);
+    Morph morph = Morph::random(base, 3, 0.03, 600);
+    for (int i = 0; i < 2; i++) {
+        Object obj;
+        obj.name = i == 0 ? "terrain" : "shifted";
+        obj.rest = base;
+        obj.morph = morph;
+        double shift = i == 0 ? 0.0 : offset;
+        obj.motion = [=](double t) {
+            double axis[3] = {0, 0, 1};
+            double tr[3] = {shift, 0.5 * shift, 0.0};
+            return Pose::from_axis_angle(axis, 0.2 * t, tr);
+        };
+        s.objects.push_back(std::move(obj));
+    }
+    s.description = "a terrain of " + std::to_string(base.triangles()) + " triangles and its copy shifted sideways by " + gap;
+    all_pairs(s);
+    return s;
+}
+
+}  // namespace
+
+std::vector<Scene> make_scenes(const SceneOptions& o) {
+    std::vector<Scene> scenes;
+    scenes.push_back(many(o));
+    scenes.push_back(medium(o));
+    scenes.push_back(large(o));
+    scenes.push_back(coplanar(o));
+    scenes.push_back(copy(o));
+    for (double d : {1e-9, 1e-12, 1e-15}) scenes.push_back(near_touching(o, d));
+    int frames = o.frames > 0 ? o.frames : (o.full ? 200 : 4);
+    for (auto& s : scenes) s.frames = frames;
+    return scenes;
+}
+
+}  // namespace xc
