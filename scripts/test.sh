@@ -23,6 +23,8 @@ RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --quiet
 DVH_REQUIRE_CGAL_DATA=1 cargo test
 # The C ABI: C tests under sanitizers and valgrind, install, pkg-config, Python ctypes.
 ctests/run.sh
+# The cross-check against FCL, judged by CGAL: the short version (every scene kind, small meshes).
+cross_check/run.sh | sed -n "/^Summary/,\$p"
 # The main job must keep working.
 cargo run --release --quiet --example demo -- --frames 4 >/dev/null
 echo "all tests passed"

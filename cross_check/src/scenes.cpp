@@ -80,21 +80,27 @@ Scene medium(const SceneOptions& o) {
     return s;
 }
 
-// Scene 3: two large meshes colliding at their extremities.
+// Scene 3: two large meshes colliding at their extremities. The right one is the left one turned
+// half a turn about the vertical, placed so that their farthest-reaching vertices (the extremity
+// along x) meet, then pushed into each other by a varying depth.
 Scene large(const SceneOptions& o) {
     Scene s;
     s.name = "large";
     MeshData base = o.full ? cgal_mesh(o, "refined_elephant", 350000, 1.0) : cgal_mesh(o, "armadillo", 50000, 1.0);
+    size_t tip = 0;
+    for (size_t v = 1; v < base.vertices(); v++)
+        if (base.pos[3 * v] > base.pos[3 * tip]) tip = v;
+    double px = base.pos[3 * tip], pz = base.pos[3 * tip + 2];
     for (int i = 0; i < 2; i++) {
         Object obj;
         obj.name = i == 0 ? "left" : "right";
         obj.rest = base;
         obj.morph = Morph::random(base, 4, 0.05, 300 + (uint64_t)i);
-        double side = i == 0 ? -1.0 : 1.0, turn = i == 0 ? 0.0 : 3.141592653589793;
         obj.motion = [=](double t) {
             double axis[3] = {0, 1, 0};
-            double tr[3] = {side * (0.36 + 0.05 * std::cos(kTau * t)), 0.0, 0.0};
-            return Pose::from_axis_angle(axis, turn, tr);
+            double depth = 0.03 + 0.03 * std::sin(kTau * t);  // how far the tips pass each other
+            double tr[3] = {i == 0 ? -px + 0.5 * depth : px - 0.5 * depth, 0.0, i == 0 ? 0.0 : 2.0 * pz};
+            return Pose::from_axis_angle(axis, i == 0 ? 0.0 : 3.141592653589793, tr);
         };
         s.objects.push_back(std::move(obj));
     }
