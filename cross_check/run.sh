@@ -3,7 +3,7 @@
 # they are missing, installs dvh into the build directory, unpacks the CGAL demo meshes into a
 # cache, and runs the harness.
 #
-#   cross_check/run.sh           short version (small meshes, 3 frames, every scene kind)
+#   cross_check/run.sh           short version (small meshes, 4 frames, every scene kind)
 #   cross_check/run.sh --full    paper sizes, 200 frames
 #   extra arguments go to the harness: --frames N, --scene NAME
 #
@@ -12,18 +12,8 @@ set -euo pipefail
 cd "$(dirname "$0")"
 root=$(cd .. && pwd)
 
-packages=(libfcl-dev libccd-dev libcgal-dev libcgal-demo libgmp-dev libmpfr-dev libeigen3-dev cmake g++ pkg-config)
-missing=()
-for p in "${packages[@]}"; do
-    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-    sudo=""
-    [ "$(id -u)" -eq 0 ] || sudo="sudo"
-    echo "installing ${missing[*]}"
-    $sudo apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+"$root/scripts/ensure-packages.sh" libfcl-dev libccd-dev libcgal-dev libcgal-demo libgmp-dev libmpfr-dev \
+    libeigen3-dev cmake g++ pkg-config
 
 build="$PWD/build"
 mkdir -p "$build/results"
