@@ -142,6 +142,8 @@ impl Orient for Adaptive {
                 -1
             } else if -det > bound {
                 1
+            } else if t.contains(&p) {
+                0
             } else {
                 Self::orient3d(&t[0], &t[1], &t[2], &p)
             }

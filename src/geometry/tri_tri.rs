@@ -74,6 +74,11 @@ pub(crate) fn intersect<O: Orient>(t1: &Triangle, t2: &Triangle) -> bool {
     if strictly_one_side(s1) {
         return false;
     }
+    // A shared corner is a shared point. Only worth looking for when a corner lies on the other's
+    // plane, as a shared one does; meshes touching copies of themselves hit this all the time.
+    if s1.contains(&0) && s2.contains(&0) && t1.iter().any(|p| t2.contains(p)) {
+        return true;
+    }
     if !all_zero(s1) && !all_zero(s2) {
         // Both triangles proper (a degenerate one has no plane: all its signs would be zero) and
         // not coplanar.

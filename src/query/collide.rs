@@ -2,6 +2,7 @@
 
 use super::options::{QueryMode, QueryOptions};
 use super::pairs::{Pair, PairKind, Pairs, QueryStats};
+use super::sort::sort_pairs;
 use super::workspace::{Gathered, GatheredRing, Stamped, Workspace};
 use crate::error::{Error, Result, Side};
 use crate::geometry::MAX_POSED_MAGNITUDE;
@@ -115,7 +116,12 @@ pub fn collide(
         Some(Stop::Limit) => stats.truncated = options.mode != QueryMode::FirstHit,
         None => {}
     }
-    spare.sort_unstable();
+    // The previous result is no longer needed: it serves as the sort's scratch space.
+    let b_count = match options.mode {
+        QueryMode::Triangles | QueryMode::FirstHit => b.triangle_count(),
+        QueryMode::Leaves | QueryMode::Depth(_) => b.node_count(),
+    };
+    sort_pairs(spare, items, b_count as u64);
     spare.dedup();
     std::mem::swap(items, spare);
     *kind = match options.mode {

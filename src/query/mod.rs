@@ -4,6 +4,7 @@ mod brute_force;
 mod collide;
 mod options;
 mod pairs;
+mod sort;
 mod workspace;
 
 pub use brute_force::brute_force;
