@@ -217,18 +217,17 @@ std::vector<FrameRow> run_scene(xc::Scene& scene, std::vector<Offence>& offences
         }
         row.posed_query = ms_since(t0);
 
-        t0 = Clock::now();
-        for (size_t i = 0; i < n; i++) obb.update(i, fcl_world[i]);
-        row.obb_update = ms_since(t0);
-        t0 = Clock::now();
-        for (size_t p = 0; p < scene.pairs.size(); p++) so[p] = obb.collide(scene.pairs[p].first, scene.pairs[p].second);
-        row.obb_query = ms_since(t0);
-        t0 = Clock::now();
-        for (size_t i = 0; i < n; i++) aabb.update(i, fcl_world[i]);
-        row.aabb_update = ms_since(t0);
-        t0 = Clock::now();
-        for (size_t p = 0; p < scene.pairs.size(); p++) sa[p] = aabb.collide(scene.pairs[p].first, scene.pairs[p].second);
-        row.aabb_query = ms_since(t0);
+        // One FCL configuration: update every model, then query every pair, each timed.
+        auto run_fcl = [&](auto& fcl, std::vector<PairSet>& out, double& update_ms, double& query_ms) {
+            t0 = Clock::now();
+            for (size_t i = 0; i < n; i++) fcl.update(i, fcl_world[i]);
+            update_ms = ms_since(t0);
+            t0 = Clock::now();
+            for (size_t p = 0; p < scene.pairs.size(); p++) out[p] = fcl.collide(scene.pairs[p].first, scene.pairs[p].second);
+            query_ms = ms_since(t0);
+        };
+        run_fcl(obb, so, row.obb_update, row.obb_query);
+        run_fcl(aabb, sa, row.aabb_update, row.aabb_query);
 
         for (size_t p = 0; p < scene.pairs.size(); p++) {
             auto [i, j] = scene.pairs[p];

@@ -164,6 +164,30 @@ pub(crate) unsafe fn slice_from<'a, T>(
     Ok(unsafe { std::slice::from_raw_parts(ptr, len) })
 }
 
+/// The Rust value paired with `value` of the C enumeration field `options->{field}` (whose
+/// constants are `{family}_*`, numbered consecutively), or an invalid-argument failure naming the
+/// field, the value and the valid range.
+pub(crate) fn choice<T: Copy>(
+    field: &str,
+    family: &str,
+    value: u32,
+    choices: &[(u32, T)],
+) -> Result<T, Failure> {
+    if let Some(&(_, t)) = choices.iter().find(|(v, _)| *v == value) {
+        return Ok(t);
+    }
+    let low = choices.iter().map(|c| c.0).min().unwrap_or(0);
+    let high = choices.iter().map(|c| c.0).max().unwrap_or(0);
+    let range = if high == low + 1 {
+        format!("{low} or {high}")
+    } else {
+        format!("{low} to {high}")
+    };
+    Err(Failure::invalid(format!(
+        "options->{field} = {value} is not a {family}_* value ({range})"
+    )))
+}
+
 /// `3 * count`, or an invalid-argument failure naming `name`.
 pub(crate) fn times_three(count: usize, name: &str) -> Result<usize, Failure> {
     count

@@ -1,6 +1,6 @@
 //! Meshes through the C ABI: create, refit, free, inspect.
 
-use super::boundary::{Failure, guard, guard_value, slice_from, times_three, try_box};
+use super::boundary::{Failure, choice, guard, guard_value, slice_from, times_three, try_box};
 use super::types::*;
 use crate::geometry::predicates::Point;
 use crate::{BuildOptions, LeftoverPolicy, Mesh, RadiusKind, TreeKind};
@@ -19,37 +19,37 @@ pub extern "C" fn dvh_build_options_default() -> DvhBuildOptions {
 }
 
 fn build_options(o: &DvhBuildOptions) -> Result<BuildOptions, Failure> {
-    let tree = match o.tree {
-        DVH_TREE_KIND_OCTREE => TreeKind::Octree,
-        DVH_TREE_KIND_BINARY => TreeKind::Binary,
-        v => {
-            return Err(Failure::invalid(format!(
-                "options->tree = {v} is not a DVH_TREE_KIND_* value (0 or 1)"
-            )));
-        }
-    };
-    let radius = match o.radius {
-        DVH_RADIUS_KIND_LAYERED => RadiusKind::Layered,
-        DVH_RADIUS_KIND_WRAPPED => RadiusKind::Wrapped,
-        v => {
-            return Err(Failure::invalid(format!(
-                "options->radius = {v} is not a DVH_RADIUS_KIND_* value (0 or 1)"
-            )));
-        }
-    };
-    let leftovers = match o.leftovers {
-        DVH_LEFTOVER_POLICY_JOIN_ADJACENT => LeftoverPolicy::JoinAdjacent,
-        DVH_LEFTOVER_POLICY_EXTRA_RINGS => LeftoverPolicy::ExtraRings,
-        v => {
-            return Err(Failure::invalid(format!(
-                "options->leftovers = {v} is not a DVH_LEFTOVER_POLICY_* value (0 or 1)"
-            )));
-        }
-    };
     Ok(BuildOptions {
-        tree,
-        radius,
-        leftovers,
+        tree: choice(
+            "tree",
+            "DVH_TREE_KIND",
+            o.tree,
+            &[
+                (DVH_TREE_KIND_OCTREE, TreeKind::Octree),
+                (DVH_TREE_KIND_BINARY, TreeKind::Binary),
+            ],
+        )?,
+        radius: choice(
+            "radius",
+            "DVH_RADIUS_KIND",
+            o.radius,
+            &[
+                (DVH_RADIUS_KIND_LAYERED, RadiusKind::Layered),
+                (DVH_RADIUS_KIND_WRAPPED, RadiusKind::Wrapped),
+            ],
+        )?,
+        leftovers: choice(
+            "leftovers",
+            "DVH_LEFTOVER_POLICY",
+            o.leftovers,
+            &[
+                (
+                    DVH_LEFTOVER_POLICY_JOIN_ADJACENT,
+                    LeftoverPolicy::JoinAdjacent,
+                ),
+                (DVH_LEFTOVER_POLICY_EXTRA_RINGS, LeftoverPolicy::ExtraRings),
+            ],
+        )?,
     })
 }
 

@@ -1,6 +1,6 @@
 //! Queries through the C ABI: result buffers, collide, the exact triangle test.
 
-use super::boundary::{Failure, guard, guard_value, set_last_error, slice_from, try_box};
+use super::boundary::{Failure, choice, guard, guard_value, set_last_error, slice_from, try_box};
 use super::types::*;
 use crate::{PairKind, Pairs, Pose, QueryMode, QueryOptions, collide, triangles_intersect};
 
@@ -18,17 +18,17 @@ pub extern "C" fn dvh_query_options_default() -> DvhQueryOptions {
 }
 
 fn query_options(o: &DvhQueryOptions) -> Result<QueryOptions, Failure> {
-    let mode = match o.mode {
-        DVH_QUERY_MODE_TRIANGLES => QueryMode::Triangles,
-        DVH_QUERY_MODE_FIRST_HIT => QueryMode::FirstHit,
-        DVH_QUERY_MODE_LEAVES => QueryMode::Leaves,
-        DVH_QUERY_MODE_DEPTH => QueryMode::Depth(o.max_depth),
-        v => {
-            return Err(Failure::invalid(format!(
-                "options->mode = {v} is not a DVH_QUERY_MODE_* value (0 to 3)"
-            )));
-        }
-    };
+    let mode = choice(
+        "mode",
+        "DVH_QUERY_MODE",
+        o.mode,
+        &[
+            (DVH_QUERY_MODE_TRIANGLES, QueryMode::Triangles),
+            (DVH_QUERY_MODE_FIRST_HIT, QueryMode::FirstHit),
+            (DVH_QUERY_MODE_LEAVES, QueryMode::Leaves),
+            (DVH_QUERY_MODE_DEPTH, QueryMode::Depth(o.max_depth)),
+        ],
+    )?;
     let max_pairs = (o.max_pairs != 0).then(|| usize::try_from(o.max_pairs).unwrap_or(usize::MAX));
     Ok(QueryOptions { mode, max_pairs })
 }
