@@ -101,6 +101,34 @@ static void check_scene(const Mesh *ma, const IPose *ipa, const Mesh *mb, const 
         CHECK_STATUS(dvh_collide(a, ipa ? &pa : NULL, b, ipb ? &pb : NULL, &q, pairs, NULL), DVH_STATUS_OK, NULL);
         CHECK(covers(a, b, pairs, expected, n));
     }
+    /* Budgets: the frontier covers every pair; the tests stay within the budget plus one
+     * opening (64 child tests at most); a budget that suffices gives the leaves' answer. */
+    {
+        uint64_t budgets[] = {1, 3, 17, 120, UINT64_MAX};
+        size_t k, leaves_len;
+        DvhPair *leaves;
+        uint64_t leaves_tests;
+        q.mode = DVH_QUERY_MODE_LEAVES;
+        CHECK_STATUS(dvh_collide(a, ipa ? &pa : NULL, b, ipb ? &pb : NULL, &q, pairs, &stats), DVH_STATUS_OK, NULL);
+        leaves_len = dvh_pairs_len(pairs);
+        leaves_tests = stats.bv_tests;
+        leaves = malloc((leaves_len + 1) * sizeof *leaves);
+        if (leaves_len > 0) memcpy(leaves, dvh_pairs_data(pairs), leaves_len * sizeof *leaves);
+        q.mode = DVH_QUERY_MODE_BUDGET;
+        for (k = 0; k < sizeof budgets / sizeof budgets[0]; k++) {
+            q.budget = budgets[k];
+            CHECK_STATUS(dvh_collide(a, ipa ? &pa : NULL, b, ipb ? &pb : NULL, &q, pairs, &stats), DVH_STATUS_OK, NULL);
+            CHECK(dvh_pairs_kind(pairs) == DVH_PAIR_KIND_NODES);
+            CHECK(covers(a, b, pairs, expected, n));
+            CHECK(stats.bv_tests <= (q.budget > UINT64_MAX - 64 ? UINT64_MAX : q.budget + 64));
+            if (q.budget >= leaves_tests) {
+                CHECK(stats.frontier_pairs == 0 && stats.bv_tests == leaves_tests);
+                CHECK(same_pairs(pairs, leaves, leaves_len));
+            }
+        }
+        q.budget = 0;
+        free(leaves);
+    }
     free(expected);
     dvh_mesh_free(a);
     dvh_mesh_free(b);
@@ -120,9 +148,16 @@ static void test_versions_and_names(void) {
 static void test_defaults(void) {
     DvhBuildOptions b = dvh_build_options_default();
     DvhQueryOptions q = dvh_query_options_default();
+    DvhBuildOptions zero_b;
+    DvhQueryOptions zero_q;
     CHECK(b.tree == DVH_TREE_KIND_OCTREE && b.radius == DVH_RADIUS_KIND_LAYERED &&
-          b.leftovers == DVH_LEFTOVER_POLICY_JOIN_ADJACENT);
-    CHECK(q.mode == DVH_QUERY_MODE_TRIANGLES && q.max_pairs == 0);
+          b.leftovers == DVH_LEFTOVER_POLICY_JOIN_ADJACENT && b.volume == DVH_VOLUME_KIND_DVH);
+    CHECK(q.mode == DVH_QUERY_MODE_TRIANGLES && q.max_pairs == 0 && q.budget == 0);
+    /* The header's growth rule: zeroed options are the defaults. */
+    memset(&zero_b, 0, sizeof zero_b);
+    memset(&zero_q, 0, sizeof zero_q);
+    CHECK(memcmp(&zero_b, &b, sizeof b) == 0);
+    CHECK(memcmp(&zero_q, &q, sizeof q) == 0);
 }
 
 static void test_last_error_message(void) {
@@ -191,6 +226,10 @@ static void test_create_errors(void) {
     o.leftovers = 99;
     CHECK_STATUS(dvh_mesh_create(m.pos, m.vertex_count, m.tris, m.triangle_count, &o, &out), DVH_STATUS_INVALID_ARGUMENT,
                  "options->leftovers = 99");
+    o = dvh_build_options_default();
+    o.volume = 3;
+    CHECK_STATUS(dvh_mesh_create(m.pos, m.vertex_count, m.tris, m.triangle_count, &o, &out), DVH_STATUS_INVALID_ARGUMENT,
+                 "options->volume = 3");
     /* f32 creation errors. */
     CHECK_STATUS(dvh_mesh_create_f32(NULL, 12, 3, m.tris, 1, NULL, &out), DVH_STATUS_NULL_ARGUMENT, "`positions`");
     CHECK_STATUS(dvh_mesh_create_f32(f32, 8, 3, m.tris, 1, NULL, &out), DVH_STATUS_INVALID_ARGUMENT, "stride_bytes = 8");
@@ -349,8 +388,11 @@ static void test_collide_errors(void) {
     CHECK_STATUS(dvh_collide(NULL, NULL, b, NULL, NULL, pairs, &stats), DVH_STATUS_NULL_ARGUMENT, "`a`");
     CHECK_STATUS(dvh_collide(a, NULL, NULL, NULL, NULL, pairs, &stats), DVH_STATUS_NULL_ARGUMENT, "`b`");
     CHECK_STATUS(dvh_collide(a, NULL, b, NULL, NULL, NULL, &stats), DVH_STATUS_NULL_ARGUMENT, "`pairs_out`");
-    q.mode = 4;
-    CHECK_STATUS(dvh_collide(a, NULL, b, NULL, &q, pairs, &stats), DVH_STATUS_INVALID_ARGUMENT, "options->mode = 4");
+    q.mode = 5;
+    CHECK_STATUS(dvh_collide(a, NULL, b, NULL, &q, pairs, &stats), DVH_STATUS_INVALID_ARGUMENT, "options->mode = 5");
+    q.mode = DVH_QUERY_MODE_BUDGET;
+    q.budget = 0;
+    CHECK_STATUS(dvh_collide(a, NULL, b, NULL, &q, pairs, &stats), DVH_STATUS_INVALID_ARGUMENT, "options->budget = 0");
     bad = pose;
     bad.rotation[0] = 1.1;
     CHECK_STATUS(dvh_collide(a, &bad, b, NULL, NULL, pairs, &stats), DVH_STATUS_NON_RIGID_POSE, "pose_a: pose rotation is not a rotation");
@@ -423,28 +465,33 @@ static void test_against_oracle(void) {
     DvhPairs *pairs = dvh_pairs_new();
     Mesh t1 = mesh_terrain(6, 0, 0, wave), t2 = mesh_terrain(5, 1, 2, ridge), t3 = mesh_terrain(4, 2, 2, flat);
     Mesh s1, s2;
-    DvhBuildOptions o;
-    unsigned tree, radius, left;
+    DvhBuildOptions o = dvh_build_options_default();
+    unsigned tree, radius, left, volume;
     int k;
     lcg_state = 7;
     s1 = mesh_soup(80, -4, 8);
     s2 = mesh_soup(60, -3, 7);
-    for (tree = 0; tree < 2; tree++)
-        for (radius = 0; radius < 2; radius++)
-            for (left = 0; left < 2; left++) {
-                o.tree = tree;
-                o.radius = radius;
-                o.leftovers = left;
-                check_scene(&t1, NULL, &t2, NULL, &o, pairs);
-                check_scene(&t1, NULL, &t3, NULL, &o, pairs); /* coplanar contact */
-                check_scene(&s1, NULL, &s2, NULL, &o, pairs);
-                for (k = 0; k < 24; k += 5) {
-                    IPose pa = ipose_make(k, 1, -1, 0), pb = ipose_make(23 - k, 2, 1, 1);
-                    check_scene(&t1, &pa, &s2, &pb, &o, pairs);
-                    check_scene(&s1, NULL, &t2, &pb, &o, pairs);
+    for (volume = 0; volume < 3; volume++)
+        for (tree = 0; tree < 2; tree++)
+            for (radius = 0; radius < 2; radius++)
+                for (left = 0; left < 2; left++) {
+                    /* Every DVH combination; for SBV and boxes, which share the trees and the
+                     * rings, one per tree kind (boxes ignore the radius kind). */
+                    if (volume != DVH_VOLUME_KIND_DVH && (radius != tree || left != tree)) continue;
+                    o.radius = radius;
+                    o.volume = volume;
+                    o.tree = tree;
+                    o.leftovers = left;
+                    check_scene(&t1, NULL, &t2, NULL, &o, pairs);
+                    check_scene(&t1, NULL, &t3, NULL, &o, pairs); /* coplanar contact */
+                    check_scene(&s1, NULL, &s2, NULL, &o, pairs);
+                    for (k = 0; k < 24; k += 5) {
+                        IPose pa = ipose_make(k, 1, -1, 0), pb = ipose_make(23 - k, 2, 1, 1);
+                        check_scene(&t1, &pa, &s2, &pb, &o, pairs);
+                        check_scene(&s1, NULL, &t2, &pb, &o, pairs);
+                    }
+                    check_scene(&t2, NULL, &t2, NULL, &o, pairs); /* a mesh against an exact copy */
                 }
-                check_scene(&t2, NULL, &t2, NULL, &o, pairs); /* a mesh against an exact copy */
-            }
     dvh_pairs_free(pairs);
     mesh_free(&t1);
     mesh_free(&t2);

@@ -11,8 +11,10 @@ import sys
 lib = ctypes.CDLL(os.environ.get("DVH_LIBRARY", os.path.join(os.path.dirname(__file__), "..", "target", "release", "libdvh.so")))
 
 DvhStatus = ctypes.c_uint32
-DVH_STATUS_OK, DVH_STATUS_NULL_ARGUMENT, DVH_STATUS_INDEX_OUT_OF_RANGE, DVH_STATUS_NON_RIGID_POSE = 0, 1, 4, 5
-DVH_QUERY_MODE_LEAVES = 2
+DVH_STATUS_OK, DVH_STATUS_NULL_ARGUMENT, DVH_STATUS_INVALID_ARGUMENT = 0, 1, 2
+DVH_STATUS_INDEX_OUT_OF_RANGE, DVH_STATUS_NON_RIGID_POSE = 4, 5
+DVH_QUERY_MODE_LEAVES, DVH_QUERY_MODE_BUDGET = 2, 4
+DVH_VOLUME_KIND_DVH, DVH_VOLUME_KIND_SBV, DVH_VOLUME_KIND_AABB = 0, 1, 2
 DVH_PAIR_KIND_NODES = 1
 
 
@@ -24,8 +26,12 @@ class DvhPose(ctypes.Structure):
     _fields_ = [("rotation", ctypes.c_double * 9), ("translation", ctypes.c_double * 3)]
 
 
+class DvhBuildOptions(ctypes.Structure):
+    _fields_ = [("tree", ctypes.c_uint32), ("radius", ctypes.c_uint32), ("leftovers", ctypes.c_uint32), ("volume", ctypes.c_uint32)]
+
+
 class DvhQueryOptions(ctypes.Structure):
-    _fields_ = [("mode", ctypes.c_uint32), ("max_depth", ctypes.c_uint32), ("max_pairs", ctypes.c_uint64)]
+    _fields_ = [("mode", ctypes.c_uint32), ("max_depth", ctypes.c_uint32), ("max_pairs", ctypes.c_uint64), ("budget", ctypes.c_uint64)]
 
 
 class DvhQueryStats(ctypes.Structure):
@@ -37,6 +43,7 @@ class DvhQueryStats(ctypes.Structure):
         ("pairs", ctypes.c_uint64),
         ("nodes_refit", ctypes.c_uint64),
         ("truncated", ctypes.c_bool),
+        ("frontier_pairs", ctypes.c_uint64),
     ]
 
 
@@ -50,8 +57,10 @@ lib.dvh_last_error_message.argtypes = [ctypes.c_char_p, ctypes.c_size_t]
 lib.dvh_mesh_create.restype = DvhStatus
 lib.dvh_mesh_create.argtypes = [
     ctypes.POINTER(ctypes.c_double), ctypes.c_size_t, ctypes.POINTER(ctypes.c_uint32), ctypes.c_size_t,
-    ctypes.c_void_p, ctypes.POINTER(MeshPtr),
+    ctypes.POINTER(DvhBuildOptions), ctypes.POINTER(MeshPtr),
 ]
+lib.dvh_build_options_default.restype = DvhBuildOptions
+lib.dvh_query_options_default.restype = DvhQueryOptions
 lib.dvh_mesh_refit.restype = DvhStatus
 lib.dvh_mesh_refit.argtypes = [MeshPtr, ctypes.POINTER(ctypes.c_double), ctypes.c_size_t]
 lib.dvh_mesh_free.argtypes = [MeshPtr]
@@ -90,9 +99,10 @@ def grid(n, z):
     return pos, tris
 
 
-def create(pos, tris):
+def create(pos, tris, options=None):
     mesh = MeshPtr()
-    status = lib.dvh_mesh_create((ctypes.c_double * len(pos))(*pos), len(pos) // 3, (ctypes.c_uint32 * len(tris))(*tris), len(tris) // 3, None, ctypes.byref(mesh))
+    status = lib.dvh_mesh_create((ctypes.c_double * len(pos))(*pos), len(pos) // 3, (ctypes.c_uint32 * len(tris))(*tris), len(tris) // 3,
+                                 ctypes.byref(options) if options is not None else None, ctypes.byref(mesh))
     return status, mesh
 
 
@@ -134,16 +144,46 @@ def main():
     # Leaves mode reports nodes that cover the exact pairs.
     lib.dvh_collide(sheet, None, tent, None, None, pairs, None)
     exact = pairs_of(pairs)
-    options = DvhQueryOptions(DVH_QUERY_MODE_LEAVES, 0, 0)
+
+    def covered_by(a, b):
+        covered = set()
+        for na, nb in pairs_of(pairs):
+            ta, ca, tb, cb = ctypes.POINTER(ctypes.c_uint32)(), ctypes.c_size_t(), ctypes.POINTER(ctypes.c_uint32)(), ctypes.c_size_t()
+            lib.dvh_mesh_node_triangles(a, na, ctypes.byref(ta), ctypes.byref(ca))
+            lib.dvh_mesh_node_triangles(b, nb, ctypes.byref(tb), ctypes.byref(cb))
+            covered |= {(ta[i], tb[j]) for i in range(ca.value) for j in range(cb.value)}
+        return covered
+
+    options = lib.dvh_query_options_default()
+    check(options.mode == 0 and options.budget == 0, "default query options")
+    options.mode = DVH_QUERY_MODE_LEAVES
     check(lib.dvh_collide(sheet, None, tent, None, ctypes.byref(options), pairs, None) == DVH_STATUS_OK, "leaves mode")
     check(lib.dvh_pairs_kind(pairs) == DVH_PAIR_KIND_NODES, "leaves mode reports nodes")
-    covered = set()
-    for na, nb in pairs_of(pairs):
-        ta, ca, tb, cb = ctypes.POINTER(ctypes.c_uint32)(), ctypes.c_size_t(), ctypes.POINTER(ctypes.c_uint32)(), ctypes.c_size_t()
-        lib.dvh_mesh_node_triangles(sheet, na, ctypes.byref(ta), ctypes.byref(ca))
-        lib.dvh_mesh_node_triangles(tent, nb, ctypes.byref(tb), ctypes.byref(cb))
-        covered |= {(ta[i], tb[j]) for i in range(ca.value) for j in range(cb.value)}
-    check(set(exact) <= covered, "leaves cover the exact pairs")
+    check(set(exact) <= covered_by(sheet, tent), "leaves cover the exact pairs")
+
+    # A budget of 2 volume tests: the frontier covers the exact pairs too; 0 is refused.
+    options.mode, options.budget = DVH_QUERY_MODE_BUDGET, 2
+    check(lib.dvh_collide(sheet, None, tent, None, ctypes.byref(options), pairs, ctypes.byref(stats)) == DVH_STATUS_OK, "budget mode")
+    check(stats.bv_tests <= 2 + 64 and set(exact) <= covered_by(sheet, tent), "budget frontier covers the exact pairs")
+    options.budget = 0
+    check(lib.dvh_collide(sheet, None, tent, None, ctypes.byref(options), pairs, None) == DVH_STATUS_INVALID_ARGUMENT, "zero budget refused")
+    check("budget = 0" in last_error(), "zero budget message: " + last_error())
+
+    # Box and SBV volumes give the same exact pairs, against each other too.
+    build = lib.dvh_build_options_default()
+    check(build.volume == DVH_VOLUME_KIND_DVH, "default volume kind")
+    build.volume = DVH_VOLUME_KIND_AABB
+    status, sheet_boxes = create(sheet_pos, sheet_tris, build)
+    build.volume = DVH_VOLUME_KIND_SBV
+    status2, tent_sbv = create(tent_pos, tent_tris, build)
+    check(status == status2 == DVH_STATUS_OK, "box and SBV meshes created")
+    lib.dvh_collide(sheet_boxes, None, tent_sbv, None, None, pairs, None)
+    check(pairs_of(pairs) == exact, "boxes against SBV spheres: the same exact pairs")
+    build.volume = 9
+    status, bad = create(tent_pos, tent_tris, build)
+    check(status == DVH_STATUS_INVALID_ARGUMENT and "options->volume = 9" in last_error(), "volume kind out of range: " + last_error())
+    lib.dvh_mesh_free(sheet_boxes)
+    lib.dvh_mesh_free(tent_sbv)
 
     # Refit: the tent lifted out of the sheet, then an error that changes nothing.
     lifted = [c + (3.0 if k % 3 == 2 else 0.0) for k, c in enumerate(tent_pos)]

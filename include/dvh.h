@@ -15,6 +15,17 @@
  * - Thread safety: a const DvhMesh* may be queried by any number of threads at once, each with
  *   its own DvhPairs; dvh_mesh_refit needs exclusive access to its mesh. The last error message
  *   is per thread.
+ *
+ * ABI and growth
+ * - The option and statistics structs grow as features arrive. Fields are only ever appended,
+ *   and a zero field always means the default (earlier) behaviour, so zeroed options are the
+ *   defaults; start from dvh_build_options_default() / dvh_query_options_default() and set
+ *   what you need by name.
+ * - While the version is 0.x, every minor release may change struct layouts and gets its own
+ *   soname (libdvh.so.0.MINOR): a program is never loaded with a library whose layouts differ
+ *   from the header it was compiled against; rebuilding against the new header is all an
+ *   upgrade needs. From 1.0 on, the soname follows the major version and structs only grow in
+ *   a major release.
  */
 
 #ifndef DVH_H
@@ -58,7 +69,16 @@ typedef uint32_t DvhRadiusKind;
 typedef uint32_t DvhLeftoverPolicy;
 
 /**
+ * The bounding volume on every node of a mesh's hierarchy: a `DVH_VOLUME_KIND_*` value.
+ */
+typedef uint32_t DvhVolumeKind;
+
+/**
  * Options for `dvh_mesh_create`; start from `dvh_build_options_default()`.
+ *
+ * Growth: fields are only ever appended, and zero always means the default, so zeroed options
+ * are the defaults. A release that appends a field changes the library's soname (see the
+ * header's ABI note), so a program never runs against a layout it was not compiled for.
  */
 typedef struct DvhBuildOptions {
   /**
@@ -66,13 +86,17 @@ typedef struct DvhBuildOptions {
    */
   DvhTreeKind tree;
   /**
-   * A `DVH_RADIUS_KIND_*` value.
+   * A `DVH_RADIUS_KIND_*` value (sphere volumes; boxes ignore it).
    */
   DvhRadiusKind radius;
   /**
    * A `DVH_LEFTOVER_POLICY_*` value.
    */
   DvhLeftoverPolicy leftovers;
+  /**
+   * A `DVH_VOLUME_KIND_*` value.
+   */
+  DvhVolumeKind volume;
 } DvhBuildOptions;
 
 /**
@@ -121,7 +145,8 @@ typedef struct DvhRefitStats {
 typedef uint32_t DvhQueryMode;
 
 /**
- * Options for `dvh_collide`; start from `dvh_query_options_default()`.
+ * Options for `dvh_collide`; start from `dvh_query_options_default()`. Grows like
+ * `DvhBuildOptions`: appended fields, zero the default.
  */
 typedef struct DvhQueryOptions {
   /**
@@ -137,6 +162,11 @@ typedef struct DvhQueryOptions {
    * Stop after this many pairs (0: no limit); `DvhQueryStats.truncated` then says so.
    */
   uint64_t max_pairs;
+  /**
+   * Volume tests allowed in `DVH_QUERY_MODE_BUDGET` (at least 1; 0 is INVALID_ARGUMENT in
+   * that mode); ignored by the other modes.
+   */
+  uint64_t budget;
 } DvhQueryOptions;
 
 /**
@@ -179,7 +209,7 @@ typedef struct DvhPose {
  */
 typedef struct DvhQueryStats {
   /**
-   * Sphere pairs tested for overlap (`NV`).
+   * Volume pairs tested for overlap (`NV`).
    */
   uint64_t bv_tests;
   /**
@@ -206,6 +236,11 @@ typedef struct DvhQueryStats {
    * Did `max_pairs` stop the query?
    */
   bool truncated;
+  /**
+   * Node pairs left unopened when the budget of `DVH_QUERY_MODE_BUDGET` ran out (0: it
+   * sufficed, and the result is `DVH_QUERY_MODE_LEAVES`'s).
+   */
+  uint64_t frontier_pairs;
 } DvhQueryStats;
 
 /**
@@ -291,6 +326,22 @@ typedef struct DvhQueryStats {
 #define DVH_LEFTOVER_POLICY_EXTRA_RINGS 1
 
 /**
+ * The DVH: spheres centred on mesh vertices, refit by recomputing radii only. The default.
+ */
+#define DVH_VOLUME_KIND_DVH 0
+
+/**
+ * A standard sphere tree (SBV): centres recomputed at every refit (midpoints of the boxes of
+ * the vertices below each node), then radii.
+ */
+#define DVH_VOLUME_KIND_SBV 1
+
+/**
+ * Axis-aligned boxes, refit bottom-up.
+ */
+#define DVH_VOLUME_KIND_AABB 2
+
+/**
  * Every intersecting triangle pair, by the exact test. The default.
  */
 #define DVH_QUERY_MODE_TRIANGLES 0
@@ -306,9 +357,17 @@ typedef struct DvhQueryStats {
 #define DVH_QUERY_MODE_LEAVES 2
 
 /**
- * Pairs of nodes whose spheres overlap, descending no deeper than `max_depth`.
+ * Pairs of nodes whose volumes overlap, descending no deeper than `max_depth`.
  */
 #define DVH_QUERY_MODE_DEPTH 3
+
+/**
+ * At most `budget` volume tests (plus the child tests of one node pair): node pairs are opened
+ * largest volumes first, and when the budget is spent the unopened pairs (the frontier) are
+ * reported with the leaf pairs reached. Their triangles include every intersecting pair; with
+ * a large enough budget the result is `DVH_QUERY_MODE_LEAVES`'s.
+ */
+#define DVH_QUERY_MODE_BUDGET 4
 
 /**
  * Triangle indices (modes `TRIANGLES` and `FIRST_HIT`).
@@ -316,7 +375,7 @@ typedef struct DvhQueryStats {
 #define DVH_PAIR_KIND_TRIANGLES 0
 
 /**
- * Node indices (modes `LEAVES` and `DEPTH`); expand with `dvh_mesh_node_triangles`.
+ * Node indices (modes `LEAVES`, `DEPTH` and `BUDGET`); expand with `dvh_mesh_node_triangles`.
  */
 #define DVH_PAIR_KIND_NODES 1
 
@@ -346,14 +405,15 @@ const char *dvh_status_name(DvhStatus status);
 size_t dvh_last_error_message(char *buffer, size_t capacity);
 
 /**
- * The library's version, such as `"0.1.0"`. A static string: never freed.
+ * The library's version, such as `"0.2.0"`. A static string: never freed.
  *
  * Thread safety: any thread, any time.
  */
 const char *dvh_version(void);
 
 /**
- * The default build options: octree, layered radii, leftover triangles joined to adjacent rings.
+ * The default build options: octree, layered radii, leftover triangles joined to adjacent rings,
+ * DVH volumes (all fields zero).
  *
  * Thread safety: any thread, any time.
  */
@@ -530,7 +590,8 @@ DvhStatus dvh_mesh_node_triangles(const struct DvhMesh *mesh,
 DvhStatus dvh_mesh_validate(const struct DvhMesh *mesh);
 
 /**
- * The default query options: every intersecting triangle pair, no pair limit.
+ * The default query options: every intersecting triangle pair, no pair limit (all fields
+ * zero).
  *
  * Thread safety: any thread, any time.
  */
@@ -599,7 +660,8 @@ void dvh_pairs_free(struct DvhPairs *pairs);
  * coordinates `R * p + t` computed in double precision (as `((R0 x + R1 y) + R2 z) + t`), and
  * touching counts as intersecting. On failure neither `pairs_out` nor `*stats_out` changes.
  *
- * Errors: NULL_ARGUMENT (`a`, `b`, `pairs_out`); INVALID_ARGUMENT (options out of range);
+ * Errors: NULL_ARGUMENT (`a`, `b`, `pairs_out`); INVALID_ARGUMENT (options out of range, a
+ * budget of 0 in `DVH_QUERY_MODE_BUDGET`);
  * NON_FINITE_COORDINATE and NON_RIGID_POSE (a pose); POSE_OUT_OF_RANGE; OUT_OF_MEMORY (the
  * result could not grow: set `max_pairs`); INTERNAL_PANIC.
  *

@@ -89,6 +89,8 @@ pub enum Error {
         /// Size of the allocation that failed (or of the build's estimated working memory).
         bytes: usize,
     },
+    /// [`crate::QueryMode::Budget`] with a budget of 0: at least the roots' test is needed.
+    ZeroBudget,
     /// A pose would move a mesh's coordinates beyond the range where the query is sound
     /// (transformed coordinates could overflow).
     PoseOutOfRange {
@@ -156,6 +158,10 @@ impl fmt::Display for Error {
             Error::OutOfMemory { bytes } => {
                 write!(f, "out of memory: could not allocate {bytes} bytes")
             }
+            Error::ZeroBudget => write!(
+                f,
+                "the query's budget is 0 volume tests: it must be at least 1 (the roots' test)"
+            ),
             Error::PoseOutOfRange { side, bound } => write!(
                 f,
                 "pose of mesh {side:?} moves coordinates up to {bound:e}, beyond the supported magnitude {:e}",

@@ -26,21 +26,29 @@
 
 #![warn(missing_docs)]
 
+mod csr;
 mod error;
 pub mod ffi;
+#[cfg(feature = "fixtures")]
 pub mod fixtures;
 pub mod geometry;
 mod mesh;
 mod query;
+mod tree;
+mod volume;
 
 pub use error::{Error, Result, Side};
+pub use geometry::aabb::Aabb;
 pub use geometry::pose::{Pose, RIGIDITY_TOLERANCE};
+pub use geometry::sphere::Sphere;
 pub use geometry::tri_tri::triangles_intersect;
 pub use mesh::{
-    BuildOptions, InvariantError, LeftoverPolicy, Mesh, NodeView, RadiusKind, RefitStats, TreeKind,
-    TreeStats,
+    BoundingVolume, BuildOptions, InvariantError, LeftoverPolicy, Mesh, NodeView, RadiusKind,
+    RefitStats, TreeStats,
 };
 pub use query::{Pair, PairKind, Pairs, QueryMode, QueryOptions, QueryStats, brute_force, collide};
+pub use tree::TreeKind;
+pub use volume::VolumeKind;
 
 /// The README's examples, compiled and run as documentation tests.
 #[cfg(doctest)]

@@ -6,7 +6,7 @@ mod common;
 
 use common::{Body, check_all_modes};
 use dvh::fixtures::{cgal_data_archive, cgal_data_available, cgal_mesh};
-use dvh::{BuildOptions, LeftoverPolicy, Pairs, Pose, RadiusKind, TreeKind};
+use dvh::{BuildOptions, LeftoverPolicy, Pairs, Pose, RadiusKind, TreeKind, VolumeKind};
 
 fn data_or_skip() -> bool {
     if cgal_data_available() {
@@ -31,16 +31,24 @@ fn scanned_meshes_deforming_into_each_other() {
         ("dino", "elephant"),
         ("bunny00", "dino"),
     ];
+    let sbv = BuildOptions {
+        tree: TreeKind::Binary,
+        radius: RadiusKind::Wrapped,
+        leftovers: LeftoverPolicy::ExtraRings,
+        volume: VolumeKind::Sbv,
+    };
+    let aabb = BuildOptions {
+        volume: VolumeKind::Aabb,
+        ..BuildOptions::default()
+    };
+    // The last scene queries boxes against the DVH's spheres.
     let options = [
-        BuildOptions::default(),
-        BuildOptions {
-            tree: TreeKind::Binary,
-            radius: RadiusKind::Wrapped,
-            leftovers: LeftoverPolicy::ExtraRings,
-        },
+        (BuildOptions::default(), BuildOptions::default()),
+        (sbv, sbv),
+        (aabb, BuildOptions::default()),
     ];
     let mut pairs = Pairs::new();
-    for ((first, second), options) in scenes.into_iter().zip(options.iter().cycle()) {
+    for ((first, second), (options_a, options_b)) in scenes.into_iter().zip(&options) {
         let mut ma = cgal_mesh(first).expect("mesh unpacks");
         let mut mb = cgal_mesh(second).expect("mesh unpacks");
         ma.normalize(1.0);
@@ -51,8 +59,8 @@ fn scanned_meshes_deforming_into_each_other() {
             [0.3, 0.05, 0.0],
         )
         .unwrap();
-        let mut a = Body::new(ma, 1, 0.1, None, options);
-        let mut b = Body::new(mb, 2, 0.1, Some(pose), options);
+        let mut a = Body::new(ma, 1, 0.1, None, options_a);
+        let mut b = Body::new(mb, 2, 0.1, Some(pose), options_b);
         let mut contacts = 0;
         for frame in 0..3 {
             let t = f64::from(frame) / 3.0;

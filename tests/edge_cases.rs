@@ -6,7 +6,10 @@ mod common;
 
 use common::{Body, all_build_options, check_all_modes, random_pose};
 use dvh::fixtures::{MeshData, Rng, grid, icosphere, soup, torus};
-use dvh::{BuildOptions, Mesh, Pair, Pairs, Pose, QueryOptions, brute_force, collide};
+use dvh::{
+    BuildOptions, LeftoverPolicy, Mesh, Pair, Pairs, Pose, QueryOptions, RadiusKind, TreeKind,
+    VolumeKind, brute_force, collide,
+};
 
 fn body(m: &MeshData, options: &BuildOptions) -> Body {
     Body::new(m.clone(), 5, 0.1, None, options)
@@ -111,7 +114,18 @@ fn tiny_and_huge_coordinates() {
     b_shape.translate([0.7, 0.0, 0.0]);
     let mut c_shape = soup(150, 1.0, 0.3, 9);
     c_shape.translate([-0.2, -0.3, -0.1]);
-    for options in [BuildOptions::default(), all_build_options()[5]] {
+    let sbv = BuildOptions {
+        tree: TreeKind::Binary,
+        radius: RadiusKind::Wrapped,
+        leftovers: LeftoverPolicy::ExtraRings,
+        volume: VolumeKind::Sbv,
+    };
+    let aabb = BuildOptions {
+        tree: TreeKind::Binary,
+        volume: VolumeKind::Aabb,
+        ..BuildOptions::default()
+    };
+    for options in [BuildOptions::default(), sbv, aabb] {
         let mut pairs = Pairs::new();
         let reference_ab = check_all_modes(
             &body(&a_shape, &options),
@@ -155,11 +169,21 @@ fn tiny_and_huge_coordinates() {
     }
 }
 
+/// One option set per volume kind.
+fn each_volume_kind() -> [BuildOptions; 3] {
+    [VolumeKind::Dvh, VolumeKind::Sbv, VolumeKind::Aabb].map(|volume| BuildOptions {
+        volume,
+        ..BuildOptions::default()
+    })
+}
+
 #[test]
 fn far_from_the_origin() {
-    let options = BuildOptions::default();
     let mut pairs = Pairs::new();
-    for offset in [1e6, 1e9, 1e12, 1e15, -3e17] {
+    for (offset, options) in [1e6, 1e9, 1e12, 1e15, -3e17]
+        .into_iter()
+        .flat_map(|o| each_volume_kind().map(|k| (o, k)))
+    {
         let mut a = torus(0.4, 0.15, 16, 10);
         let mut b = icosphere(2);
         b.scale(0.5);
@@ -294,19 +318,21 @@ fn deformation_over_many_frames_with_all_options() {
     }
 }
 
-fn single(t: [[f64; 3]; 3]) -> Mesh {
-    Mesh::new(t.as_flattened(), &[0, 1, 2], &BuildOptions::default()).unwrap()
+fn single(t: [[f64; 3]; 3], options: &BuildOptions) -> Mesh {
+    Mesh::new(t.as_flattened(), &[0, 1, 2], options).unwrap()
 }
 
-/// Two triangles whose one-leaf spheres touch at exactly the point where the triangles touch:
-/// `a` is posed, `b` is built from `a`'s world coordinates. Only the widening of posed spheres
-/// (the rotation's stretch, the rounding of the transformation) keeps the pair.
+/// Two triangles whose one-leaf volumes touch at exactly the point where the triangles touch:
+/// `a` is posed, `b` is built from `a`'s world coordinates. Only the widening of posed volumes
+/// (the rotation's stretch, the rounding of the transformation) keeps the pair: for spheres
+/// centred on corner 0, the touching point is at the full radius; for boxes it is a corner of
+/// the rotated box's bound on some axis.
 #[test]
-fn posed_spheres_are_widened_enough() {
+fn posed_volumes_are_widened_enough() {
     let mut rng = Rng::new(23);
     let mut pairs = Pairs::new();
     let mut hits = 0;
-    for trial in 0..400 {
+    for (trial, options) in (0..400).flat_map(|t| each_volume_kind().map(|k| (t, k))) {
         let exact = random_pose(&mut rng, 1.0);
         // Half the trials stretch the rotation to near the rigidity tolerance; the other half put
         // the triangle far from the origin, where the transformation rounds coarsely.
@@ -326,8 +352,8 @@ fn posed_spheres_are_widened_enough() {
         // b: centred on its corner 0, at w1 + (w1 - w0), touching a at w1.
         let far = [0, 1, 2].map(|k| w[1][k] + (w[1][k] - w[0][k]));
         let side = [0, 1, 2].map(|k| far[k] + (w[2][k] - w[0][k]));
-        let a = single(local);
-        let b = single([far, w[1], side]);
+        let a = single(local, &options);
+        let b = single([far, w[1], side], &options);
         let expected = brute_force(&a, Some(&pose), &b, None);
         collide(
             &a,
@@ -338,7 +364,11 @@ fn posed_spheres_are_widened_enough() {
             &mut pairs,
         )
         .unwrap();
-        assert_eq!(pairs.as_slice(), &expected[..], "trial {trial}");
+        assert_eq!(
+            pairs.as_slice(),
+            &expected[..],
+            "trial {trial}, {options:?}"
+        );
         collide(
             &b,
             None,
@@ -351,5 +381,5 @@ fn posed_spheres_are_widened_enough() {
         assert_eq!(pairs.len(), expected.len(), "trial {trial} swapped");
         hits += expected.len();
     }
-    assert!(hits > 300, "the triangles touch in most trials: {hits}");
+    assert!(hits > 900, "the triangles touch in most trials: {hits}");
 }

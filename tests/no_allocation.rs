@@ -2,7 +2,8 @@
 
 use dvh::fixtures::{Morph, icosphere, torus};
 use dvh::{
-    BuildOptions, Mesh, Pairs, Pose, QueryMode, QueryOptions, RadiusKind, TreeKind, collide,
+    BuildOptions, Mesh, Pairs, Pose, QueryMode, QueryOptions, RadiusKind, TreeKind, VolumeKind,
+    collide,
 };
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -42,10 +43,17 @@ fn allocations_during(f: impl FnOnce()) -> usize {
 #[test]
 fn refit_and_steady_state_queries_do_not_allocate() {
     for tree in [TreeKind::Octree, TreeKind::Binary] {
-        for radius in [RadiusKind::Wrapped, RadiusKind::Layered] {
+        for (volume, radius) in [
+            (VolumeKind::Dvh, RadiusKind::Wrapped),
+            (VolumeKind::Dvh, RadiusKind::Layered),
+            (VolumeKind::Sbv, RadiusKind::Wrapped),
+            (VolumeKind::Sbv, RadiusKind::Layered),
+            (VolumeKind::Aabb, RadiusKind::Layered),
+        ] {
             let options = BuildOptions {
                 tree,
                 radius,
+                volume,
                 ..BuildOptions::default()
             };
             let sa = icosphere(3);
@@ -72,6 +80,8 @@ fn refit_and_steady_state_queries_do_not_allocate() {
                 QueryMode::FirstHit,
                 QueryMode::Leaves,
                 QueryMode::Depth(2),
+                QueryMode::Budget(500),
+                QueryMode::Budget(u64::MAX),
             ];
             let mut pairs = Pairs::new();
             let mut found = 0;

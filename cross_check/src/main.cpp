@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "fcl_side.hpp"
 #include "geometry.hpp"
 #include "judge.hpp"
 #include "scenes.hpp"
@@ -33,7 +34,7 @@
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using PairSet = std::vector<uint64_t>;  // sorted (a << 32 | b)
+using xc::PairSet;
 
 double ms_since(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
@@ -62,46 +63,6 @@ DvhPose to_dvh(const xc::Pose& p) {
     std::copy(p.t, p.t + 3, d.translation);
     return d;
 }
-
-// One FCL configuration for every object of a scene.
-template <typename BV>
-struct FclSide {
-    std::vector<std::shared_ptr<fcl::BVHModel<BV>>> models;
-    std::vector<std::unique_ptr<fcl::CollisionObjectd>> objects;
-
-    void build(const xc::MeshData& mesh, const std::vector<fcl::Vector3d>& world) {
-        std::vector<fcl::Triangle> tris(mesh.triangles());
-        for (size_t t = 0; t < tris.size(); t++)
-            tris[t] = fcl::Triangle(mesh.tris[3 * t], mesh.tris[3 * t + 1], mesh.tris[3 * t + 2]);
-        auto model = std::make_shared<fcl::BVHModel<BV>>();
-        model->beginModel((int)tris.size(), (int)world.size());
-        model->addSubModel(world, tris);
-        model->endModel();
-        models.push_back(model);
-        objects.push_back(std::make_unique<fcl::CollisionObjectd>(model, fcl::Transform3d::Identity()));
-    }
-
-    void update(size_t i, const std::vector<fcl::Vector3d>& world) {
-        models[i]->beginReplaceModel();
-        models[i]->replaceSubModel(world);
-        models[i]->endReplaceModel(true, true);
-    }
-
-    PairSet collide(size_t i, size_t j) {
-        // The default request stops at one contact: ask for all of them, without contact points.
-        fcl::CollisionRequestd request(std::numeric_limits<size_t>::max(), false);
-        fcl::CollisionResultd result;
-        fcl::collide(objects[i].get(), objects[j].get(), request, result);
-        std::vector<fcl::Contactd> contacts;
-        result.getContacts(contacts);
-        PairSet s;
-        s.reserve(contacts.size());
-        for (const auto& c : contacts) s.push_back(((uint64_t)(uint32_t)c.b1 << 32) | (uint32_t)c.b2);
-        std::sort(s.begin(), s.end());
-        s.erase(std::unique(s.begin(), s.end()), s.end());
-        return s;
-    }
-};
 
 struct FrameRow {
     std::string scene;
@@ -172,14 +133,14 @@ std::vector<FrameRow> run_scene(xc::Scene& scene, std::vector<Offence>& offences
 
     place(0.0);
     std::vector<DvhMesh*> dvh_world(n, nullptr), dvh_local(n, nullptr);
-    FclSide<fcl::OBBRSSd> obb;
-    FclSide<fcl::AABBd> aabb;
+    xc::FclSide<fcl::OBBRSSd> obb;
+    xc::FclSide<fcl::AABBd> aabb;
     for (size_t i = 0; i < n; i++) {
         const auto& m = scene.objects[i].rest;
         dvh_check(dvh_mesh_create(world[i].data(), m.vertices(), m.tris.data(), m.triangles(), nullptr, &dvh_world[i]), "create");
         dvh_check(dvh_mesh_create(local[i].data(), m.vertices(), m.tris.data(), m.triangles(), nullptr, &dvh_local[i]), "create");
-        obb.build(m, fcl_world[i]);
-        aabb.build(m, fcl_world[i]);
+        obb.build(m.tris.data(), m.triangles(), fcl_world[i]);
+        aabb.build(m.tris.data(), m.triangles(), fcl_world[i]);
     }
     DvhPairs* pairs = dvh_pairs_new();
     if (pairs == nullptr) throw std::runtime_error("dvh_pairs_new failed");

@@ -53,7 +53,8 @@ impl From<Error> for Failure {
             | Error::TrianglesLength { .. }
             | Error::TooManyVertices { .. }
             | Error::TooManyTriangles { .. }
-            | Error::VertexCountMismatch { .. } => DVH_STATUS_INVALID_ARGUMENT,
+            | Error::VertexCountMismatch { .. }
+            | Error::ZeroBudget => DVH_STATUS_INVALID_ARGUMENT,
             Error::IndexOutOfRange { .. } => DVH_STATUS_INDEX_OUT_OF_RANGE,
             Error::NonFiniteCoordinate { .. } | Error::NonFinitePose { .. } => {
                 DVH_STATUS_NON_FINITE_COORDINATE

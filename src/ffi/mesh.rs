@@ -3,9 +3,10 @@
 use super::boundary::{Failure, choice, guard, guard_value, slice_from, times_three, try_box};
 use super::types::*;
 use crate::geometry::predicates::Point;
-use crate::{BuildOptions, LeftoverPolicy, Mesh, RadiusKind, TreeKind};
+use crate::{BuildOptions, LeftoverPolicy, Mesh, RadiusKind, TreeKind, VolumeKind};
 
-/// The default build options: octree, layered radii, leftover triangles joined to adjacent rings.
+/// The default build options: octree, layered radii, leftover triangles joined to adjacent rings,
+/// DVH volumes (all fields zero).
 ///
 /// Thread safety: any thread, any time.
 #[unsafe(no_mangle)]
@@ -14,6 +15,7 @@ pub extern "C" fn dvh_build_options_default() -> DvhBuildOptions {
         tree: DVH_TREE_KIND_OCTREE,
         radius: DVH_RADIUS_KIND_LAYERED,
         leftovers: DVH_LEFTOVER_POLICY_JOIN_ADJACENT,
+        volume: DVH_VOLUME_KIND_DVH,
     };
     guard_value(DEFAULT, || DEFAULT)
 }
@@ -48,6 +50,16 @@ fn build_options(o: &DvhBuildOptions) -> Result<BuildOptions, Failure> {
                     LeftoverPolicy::JoinAdjacent,
                 ),
                 (DVH_LEFTOVER_POLICY_EXTRA_RINGS, LeftoverPolicy::ExtraRings),
+            ],
+        )?,
+        volume: choice(
+            "volume",
+            "DVH_VOLUME_KIND",
+            o.volume,
+            &[
+                (DVH_VOLUME_KIND_DVH, VolumeKind::Dvh),
+                (DVH_VOLUME_KIND_SBV, VolumeKind::Sbv),
+                (DVH_VOLUME_KIND_AABB, VolumeKind::Aabb),
             ],
         )?,
     })

@@ -4,7 +4,8 @@ use super::boundary::{Failure, choice, guard, guard_value, set_last_error, slice
 use super::types::*;
 use crate::{PairKind, Pairs, Pose, QueryMode, QueryOptions, collide, triangles_intersect};
 
-/// The default query options: every intersecting triangle pair, no pair limit.
+/// The default query options: every intersecting triangle pair, no pair limit (all fields
+/// zero).
 ///
 /// Thread safety: any thread, any time.
 #[unsafe(no_mangle)]
@@ -13,6 +14,7 @@ pub extern "C" fn dvh_query_options_default() -> DvhQueryOptions {
         mode: DVH_QUERY_MODE_TRIANGLES,
         max_depth: 0,
         max_pairs: 0,
+        budget: 0,
     };
     guard_value(DEFAULT, || DEFAULT)
 }
@@ -27,8 +29,14 @@ fn query_options(o: &DvhQueryOptions) -> Result<QueryOptions, Failure> {
             (DVH_QUERY_MODE_FIRST_HIT, QueryMode::FirstHit),
             (DVH_QUERY_MODE_LEAVES, QueryMode::Leaves),
             (DVH_QUERY_MODE_DEPTH, QueryMode::Depth(o.max_depth)),
+            (DVH_QUERY_MODE_BUDGET, QueryMode::Budget(o.budget)),
         ],
     )?;
+    if mode == QueryMode::Budget(0) {
+        return Err(Failure::invalid(
+            "options->budget = 0 in DVH_QUERY_MODE_BUDGET: at least 1 volume test is needed",
+        ));
+    }
     let max_pairs = (o.max_pairs != 0).then(|| usize::try_from(o.max_pairs).unwrap_or(usize::MAX));
     Ok(QueryOptions { mode, max_pairs })
 }
@@ -144,7 +152,8 @@ pub unsafe extern "C" fn dvh_pairs_free(pairs: *mut DvhPairs) {
 /// coordinates `R * p + t` computed in double precision (as `((R0 x + R1 y) + R2 z) + t`), and
 /// touching counts as intersecting. On failure neither `pairs_out` nor `*stats_out` changes.
 ///
-/// Errors: NULL_ARGUMENT (`a`, `b`, `pairs_out`); INVALID_ARGUMENT (options out of range);
+/// Errors: NULL_ARGUMENT (`a`, `b`, `pairs_out`); INVALID_ARGUMENT (options out of range, a
+/// budget of 0 in `DVH_QUERY_MODE_BUDGET`);
 /// NON_FINITE_COORDINATE and NON_RIGID_POSE (a pose); POSE_OUT_OF_RANGE; OUT_OF_MEMORY (the
 /// result could not grow: set `max_pairs`); INTERNAL_PANIC.
 ///
@@ -205,6 +214,7 @@ pub unsafe extern "C" fn dvh_collide(
                     pairs: s.pairs,
                     nodes_refit: s.nodes_refit,
                     truncated: s.truncated,
+                    frontier_pairs: s.frontier_pairs,
                 })
             };
         }

@@ -54,6 +54,16 @@ pub const DVH_LEFTOVER_POLICY_JOIN_ADJACENT: DvhLeftoverPolicy = 0;
 /// Extra rings hold them: more leaves, tighter spheres.
 pub const DVH_LEFTOVER_POLICY_EXTRA_RINGS: DvhLeftoverPolicy = 1;
 
+/// The bounding volume on every node of a mesh's hierarchy: a `DVH_VOLUME_KIND_*` value.
+pub type DvhVolumeKind = u32;
+/// The DVH: spheres centred on mesh vertices, refit by recomputing radii only. The default.
+pub const DVH_VOLUME_KIND_DVH: DvhVolumeKind = 0;
+/// A standard sphere tree (SBV): centres recomputed at every refit (midpoints of the boxes of
+/// the vertices below each node), then radii.
+pub const DVH_VOLUME_KIND_SBV: DvhVolumeKind = 1;
+/// Axis-aligned boxes, refit bottom-up.
+pub const DVH_VOLUME_KIND_AABB: DvhVolumeKind = 2;
+
 /// What a query reports: a `DVH_QUERY_MODE_*` value.
 pub type DvhQueryMode = u32;
 /// Every intersecting triangle pair, by the exact test. The default.
@@ -62,29 +72,41 @@ pub const DVH_QUERY_MODE_TRIANGLES: DvhQueryMode = 0;
 pub const DVH_QUERY_MODE_FIRST_HIT: DvhQueryMode = 1;
 /// Pairs of leaf nodes (1-rings) whose spheres overlap; no triangle tests.
 pub const DVH_QUERY_MODE_LEAVES: DvhQueryMode = 2;
-/// Pairs of nodes whose spheres overlap, descending no deeper than `max_depth`.
+/// Pairs of nodes whose volumes overlap, descending no deeper than `max_depth`.
 pub const DVH_QUERY_MODE_DEPTH: DvhQueryMode = 3;
+/// At most `budget` volume tests (plus the child tests of one node pair): node pairs are opened
+/// largest volumes first, and when the budget is spent the unopened pairs (the frontier) are
+/// reported with the leaf pairs reached. Their triangles include every intersecting pair; with
+/// a large enough budget the result is `DVH_QUERY_MODE_LEAVES`'s.
+pub const DVH_QUERY_MODE_BUDGET: DvhQueryMode = 4;
 
 /// What the indices of a result refer to: a `DVH_PAIR_KIND_*` value.
 pub type DvhPairKind = u32;
 /// Triangle indices (modes `TRIANGLES` and `FIRST_HIT`).
 pub const DVH_PAIR_KIND_TRIANGLES: DvhPairKind = 0;
-/// Node indices (modes `LEAVES` and `DEPTH`); expand with `dvh_mesh_node_triangles`.
+/// Node indices (modes `LEAVES`, `DEPTH` and `BUDGET`); expand with `dvh_mesh_node_triangles`.
 pub const DVH_PAIR_KIND_NODES: DvhPairKind = 1;
 
 /// Options for `dvh_mesh_create`; start from `dvh_build_options_default()`.
+///
+/// Growth: fields are only ever appended, and zero always means the default, so zeroed options
+/// are the defaults. A release that appends a field changes the library's soname (see the
+/// header's ABI note), so a program never runs against a layout it was not compiled for.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct DvhBuildOptions {
     /// A `DVH_TREE_KIND_*` value.
     pub tree: DvhTreeKind,
-    /// A `DVH_RADIUS_KIND_*` value.
+    /// A `DVH_RADIUS_KIND_*` value (sphere volumes; boxes ignore it).
     pub radius: DvhRadiusKind,
     /// A `DVH_LEFTOVER_POLICY_*` value.
     pub leftovers: DvhLeftoverPolicy,
+    /// A `DVH_VOLUME_KIND_*` value.
+    pub volume: DvhVolumeKind,
 }
 
-/// Options for `dvh_collide`; start from `dvh_query_options_default()`.
+/// Options for `dvh_collide`; start from `dvh_query_options_default()`. Grows like
+/// `DvhBuildOptions`: appended fields, zero the default.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct DvhQueryOptions {
@@ -95,13 +117,16 @@ pub struct DvhQueryOptions {
     pub max_depth: u32,
     /// Stop after this many pairs (0: no limit); `DvhQueryStats.truncated` then says so.
     pub max_pairs: u64,
+    /// Volume tests allowed in `DVH_QUERY_MODE_BUDGET` (at least 1; 0 is INVALID_ARGUMENT in
+    /// that mode); ignored by the other modes.
+    pub budget: u64,
 }
 
 /// Counters of one query: the terms of the paper's cost model `T = NV*CV + NP*CP + NU*CU`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct DvhQueryStats {
-    /// Sphere pairs tested for overlap (`NV`).
+    /// Volume pairs tested for overlap (`NV`).
     pub bv_tests: u64,
     /// Triangle pairs given to the exact test (`NP`).
     pub triangle_tests: u64,
@@ -115,6 +140,9 @@ pub struct DvhQueryStats {
     pub nodes_refit: u64,
     /// Did `max_pairs` stop the query?
     pub truncated: bool,
+    /// Node pairs left unopened when the budget of `DVH_QUERY_MODE_BUDGET` ran out (0: it
+    /// sufficed, and the result is `DVH_QUERY_MODE_LEAVES`'s).
+    pub frontier_pairs: u64,
 }
 
 /// Counters of the last refit of a mesh (or of its build).

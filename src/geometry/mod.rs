@@ -1,8 +1,10 @@
-//! Geometry: exact predicates, the exact triangle test, rigid poses, conservative spheres.
+//! Geometry: exact predicates, the exact triangle test, rigid poses, conservative spheres and
+//! boxes.
 
+pub mod aabb;
 pub mod pose;
 pub mod predicates;
-pub(crate) mod sphere;
+pub mod sphere;
 pub mod tri_tri;
 
 /// Largest magnitude a posed mesh's transformed coordinates may reach. Beyond it, differences of

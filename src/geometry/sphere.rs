@@ -1,7 +1,48 @@
 //! Conservative sphere arithmetic: radii rounded up, overlap tests that never say "apart" for
 //! spheres that touch.
 
+use super::aabb::Aabb;
 use super::predicates::Point;
+
+/// A closed ball: the bounding volume of the sphere hierarchies (DVH and SBV).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Sphere {
+    /// The centre.
+    pub centre: Point,
+    /// The radius: an upper bound, rounded up so that no point it must hold is left out.
+    pub radius: f64,
+}
+
+impl Sphere {
+    /// Might the two balls share a point? Never `false` when they do: the squared distance of the
+    /// centres is compared with the squared sum of the radii with a relative slack that covers
+    /// the rounding of both.
+    #[inline(always)]
+    pub fn meets(&self, other: &Sphere) -> bool {
+        overlap(&self.centre, self.radius, &other.centre, other.radius)
+    }
+
+    /// Might the ball and the closed box share a point? Never `false` when they do: the squared
+    /// distance from the centre to the box is computed in floating point and compared with a
+    /// relative slack that covers its rounding (the box's own coordinates are exact).
+    #[inline(always)]
+    pub fn meets_box(&self, b: &Aabb) -> bool {
+        let mut d2 = 0.0;
+        for (k, &c) in self.centre.iter().enumerate() {
+            let below = b.lo[k] - c;
+            let above = c - b.hi[k];
+            let gap = if below > 0.0 {
+                below
+            } else if above > 0.0 {
+                above
+            } else {
+                0.0
+            };
+            d2 += gap * gap;
+        }
+        d2 <= self.radius * self.radius * OVERLAP_SLACK
+    }
+}
 
 /// Relative widening of every computed radius: covers the rounding of a square root of a sum of
 /// three squares (a few units in the last place) with a wide margin.
@@ -55,6 +96,35 @@ mod tests {
             let rb = round_up(d * 0.75);
             assert!(overlap(&a, ra, &b, rb), "scale 2^{k}");
             assert!(!overlap(&a, d * 0.2, &b, d * 0.2), "scale 2^{k}");
+        }
+    }
+
+    #[test]
+    fn ball_against_box_is_conservative_at_every_scale() {
+        for k in [-140, -60, 0, 60, 150] {
+            let s = 2f64.powi(k);
+            let b = Aabb {
+                lo: [0.0, 0.0, 0.0],
+                hi: [s, s, s],
+            };
+            // A ball touching the box's corner from outside, radius rounded up as refits do.
+            let c = [2.0 * s, 2.0 * s, 2.0 * s];
+            let d = (3.0f64).sqrt() * s;
+            let touching = Sphere {
+                centre: c,
+                radius: round_up(d),
+            };
+            assert!(touching.meets_box(&b), "scale 2^{k}");
+            let apart = Sphere {
+                centre: c,
+                radius: 0.99 * d,
+            };
+            assert!(!apart.meets_box(&b), "scale 2^{k}");
+            let inside = Sphere {
+                centre: [0.5 * s; 3],
+                radius: RADIUS_FLOOR,
+            };
+            assert!(inside.meets_box(&b));
         }
     }
 

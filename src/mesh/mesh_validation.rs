@@ -3,7 +3,9 @@
 use super::input::scan_positions;
 use super::mesh::Mesh;
 use super::rings::distinct_corners;
-use crate::geometry::sphere::distance_squared;
+use crate::geometry::aabb::Aabb;
+use crate::geometry::sphere::{Sphere, distance_squared};
+use crate::volume::Volumes;
 use std::fmt;
 
 /// A broken invariant found by [`Mesh::validate`]. Always a bug in dvh, never a user error.
@@ -31,36 +33,56 @@ impl Mesh {
     /// Checks every invariant: array sizes and indices in range; the tree's shape (children
     /// contiguous and after their parent, ring ranges partitioned among children, depths, one
     /// ring per leaf); every triangle in exactly one ring and every ring triangle incident to
-    /// nothing outside the ring's vertex list; sphere centres at their vertices; and every sphere
-    /// containing every vertex of every triangle below it. Costs `O(vertices × depth)`; meant for
-    /// tests, which call it after every build and refit.
+    /// nothing outside the ring's vertex list; DVH centres at their vertices and SBV centres at
+    /// the midpoints of their boxes; and every volume containing every vertex of every triangle
+    /// below it (boxes exactly the boxes of those vertices). Costs `O(vertices × depth)`; meant
+    /// for tests, which call it after every build and refit.
     pub fn validate(&self) -> Result<(), InvariantError> {
+        self.validate_rings()?;
+        self.validate_tree()?;
+        self.validate_volumes()?;
+        // Cached extent of the coordinates.
+        let extent = scan_positions(self.positions.as_flattened())
+            .map_err(|e| InvariantError(e.to_string()))?;
+        ensure!(
+            extent.max_abs == self.max_abs && extent.safe == self.safe,
+            "cached coordinate extent is stale"
+        );
+        ensure!(
+            self.scratch.capacity() >= self.options.tree.max_children() * self.tree.levels(),
+            "refit stack not preallocated"
+        );
+        Ok(())
+    }
+
+    /// Offsets monotone, every triangle in exactly one ring, vertex lists exact.
+    fn validate_rings(&self) -> Result<(), InvariantError> {
         let nv = self.positions.len();
         let nt = self.triangles.len();
-        let nr = self.ring_centre.len();
-        let nn = self.nodes.len();
+        let rings = &self.rings;
+        let nr = rings.len();
+        ensure!(nr >= 1, "no rings");
+        for (name, table) in [("triangle", &rings.triangles), ("vertex", &rings.vertices)] {
+            let o = table.offsets();
+            ensure!(
+                table.rows() == nr,
+                "ring {name} table has {} rows for {nr} rings",
+                table.rows()
+            );
+            ensure!(
+                o[0] == 0 && o[nr] as usize == table.items().len(),
+                "ring {name} offsets do not span the list"
+            );
+            ensure!(
+                o.windows(2).all(|w| w[0] <= w[1]),
+                "ring {name} offsets decrease"
+            );
+        }
         ensure!(
-            nr >= 1 && nn >= 1,
-            "empty hierarchy: {nr} rings, {nn} nodes"
-        );
-        ensure!(
-            self.ring_tri_start.len() == nr + 1,
-            "ring triangle offsets: {} for {nr} rings",
-            self.ring_tri_start.len()
-        );
-        ensure!(
-            self.ring_vert_start.len() == nr + 1,
-            "ring vertex offsets: {} for {nr} rings",
-            self.ring_vert_start.len()
-        );
-        ensure!(
-            self.ring_tri_start[0] == 0 && self.ring_tri_start[nr] as usize == self.ring_tris.len(),
-            "ring triangle offsets do not span the list"
-        );
-        ensure!(
-            self.ring_vert_start[0] == 0
-                && self.ring_vert_start[nr] as usize == self.ring_verts.len(),
-            "ring vertex offsets do not span the list"
+            rings.corners.len() == rings.triangles.items().len(),
+            "{} stored corners for {} ring triangles",
+            rings.corners.len(),
+            rings.triangles.items().len()
         );
         for (t, tri) in self.triangles.iter().enumerate() {
             ensure!(
@@ -68,20 +90,15 @@ impl Mesh {
                 "triangle {t} = {tri:?} out of range ({nv} vertices)"
             );
         }
-
-        // Rings: offsets monotone, every triangle exactly once, vertex lists exact.
         let mut covered = vec![0u32; nt];
         let mut in_ring = vec![u32::MAX; nv];
         let mut corner_of = vec![u32::MAX; nv];
         for r in 0..nr {
-            let (ts, te) = (self.ring_tri_start[r], self.ring_tri_start[r + 1]);
-            let (vs, ve) = (self.ring_vert_start[r], self.ring_vert_start[r + 1]);
-            ensure!(ts < te, "ring {r} has no triangles");
-            ensure!(vs <= ve, "ring {r} vertex offsets decrease");
-            let c = self.ring_centre[r];
+            ensure!(rings.triangles.row_len(r) > 0, "ring {r} has no triangles");
+            let c = rings.centre[r];
             ensure!((c as usize) < nv, "ring {r} centre {c} out of range");
             in_ring[c as usize] = r as u32;
-            for &v in &self.ring_verts[vs as usize..ve as usize] {
+            for &v in rings.vertices.row(r) {
                 ensure!((v as usize) < nv, "ring {r} vertex {v} out of range");
                 ensure!(v != c, "ring {r} lists its centre among its vertices");
                 ensure!(
@@ -90,16 +107,11 @@ impl Mesh {
                 );
                 in_ring[v as usize] = r as u32;
             }
-            for (k, &t) in self
-                .ring_tris
-                .iter()
-                .enumerate()
-                .take(te as usize)
-                .skip(ts as usize)
-            {
+            for k in rings.triangles.span(r..r + 1) {
+                let t = rings.triangles.items()[k];
                 ensure!((t as usize) < nt, "ring {r} triangle {t} out of range");
                 ensure!(
-                    self.ring_corners.get(k) == Some(&self.triangles[t as usize]),
+                    rings.corners[k] == self.triangles[t as usize],
                     "ring {r}: stored corners of triangle {t} are stale"
                 );
                 covered[t as usize] += 1;
@@ -111,7 +123,7 @@ impl Mesh {
                     corner_of[v as usize] = r as u32;
                 }
             }
-            for &v in &self.ring_verts[vs as usize..ve as usize] {
+            for &v in rings.vertices.row(r) {
                 ensure!(
                     corner_of[v as usize] == r as u32,
                     "ring {r} lists vertex {v}, which is on none of its triangles"
@@ -124,34 +136,30 @@ impl Mesh {
                 covered[t]
             )));
         }
+        Ok(())
+    }
 
-        // Tree shape.
-        let root = &self.nodes[0];
+    /// Children contiguous and after their parent, ring ranges partitioned among children,
+    /// depths, one ring per leaf, one parent per node.
+    fn validate_tree(&self) -> Result<(), InvariantError> {
+        let nr = self.rings.len();
+        let nodes = &self.tree.nodes;
+        let nn = nodes.len();
+        ensure!(nn >= 1, "empty hierarchy");
+        let root = &nodes[0];
         ensure!(
             root.ring_start == 0 && root.ring_end as usize == nr && root.depth == 0,
             "root does not span every ring at depth 0: {root:?}"
         );
         let mut leaves_seen = 0;
         let mut parent_count = vec![0u32; nn];
-        for (i, n) in self.nodes.iter().enumerate() {
+        for (i, n) in nodes.iter().enumerate() {
             ensure!(
                 n.ring_start < n.ring_end && (n.ring_end as usize) <= nr,
                 "node {i} ring range {}..{} invalid",
                 n.ring_start,
                 n.ring_end
             );
-            ensure!(
-                (n.centre_vertex as usize) < nv,
-                "node {i} centre vertex {} out of range",
-                n.centre_vertex
-            );
-            ensure!(
-                n.centre == self.positions[n.centre_vertex as usize],
-                "node {i} sphere centre is not at its vertex {}",
-                n.centre_vertex
-            );
-            let radius = n.radius;
-            ensure!(radius >= 0.0, "node {i} radius {radius} is negative or NaN");
             if n.is_leaf() {
                 leaves_seen += 1;
                 ensure!(
@@ -159,38 +167,40 @@ impl Mesh {
                     "leaf {i} holds {} rings",
                     n.ring_end - n.ring_start
                 );
-                ensure!(
-                    n.centre_vertex == self.ring_centre[n.ring_start as usize],
-                    "leaf {i} not centred on its ring's centre"
-                );
-            } else {
-                ensure!(
-                    n.first_child as usize > i && (n.first_child + n.child_count) as usize <= nn,
-                    "node {i} children {:?} out of order or range",
-                    n.children()
-                );
-                ensure!(n.child_count >= 2, "node {i} has a single child");
-                let mut expect = n.ring_start;
-                for ch in n.children() {
-                    let c = &self.nodes[ch as usize];
-                    parent_count[ch as usize] += 1;
-                    ensure!(
-                        c.depth == n.depth + 1,
-                        "node {ch} depth {} under node {i} at depth {}",
-                        c.depth,
-                        n.depth
-                    );
-                    ensure!(
-                        c.ring_start == expect,
-                        "children of node {i} do not partition its rings"
-                    );
-                    expect = c.ring_end;
-                }
-                ensure!(
-                    expect == n.ring_end,
-                    "children of node {i} do not cover its rings"
-                );
+                continue;
             }
+            ensure!(
+                n.first_child as usize > i && n.children().end as usize <= nn,
+                "node {i} children {:?} out of order or range",
+                n.children()
+            );
+            ensure!(n.child_count >= 2, "node {i} has a single child");
+            ensure!(
+                usize::from(n.child_count) <= self.options.tree.max_children(),
+                "node {i} has {} children, more than a {:?} node may",
+                n.child_count,
+                self.options.tree
+            );
+            let mut expect = n.ring_start;
+            for ch in n.children() {
+                let c = &nodes[ch as usize];
+                parent_count[ch as usize] += 1;
+                ensure!(
+                    c.depth == n.depth + 1,
+                    "node {ch} depth {} under node {i} at depth {}",
+                    c.depth,
+                    n.depth
+                );
+                ensure!(
+                    c.ring_start == expect,
+                    "children of node {i} do not partition its rings"
+                );
+                expect = c.ring_end;
+            }
+            ensure!(
+                expect == n.ring_end,
+                "children of node {i} do not cover its rings"
+            );
         }
         ensure!(leaves_seen == nr, "{leaves_seen} leaves for {nr} rings");
         if let Some(i) = (1..nn).find(|&i| parent_count[i] != 1) {
@@ -199,43 +209,102 @@ impl Mesh {
                 parent_count[i]
             )));
         }
+        Ok(())
+    }
 
-        // Containment: every vertex of every triangle below a node is inside its sphere; inner
-        // centres are vertices below the node.
-        for (i, n) in self.nodes.iter().enumerate() {
-            let s = n;
-            let mut centre_below = false;
-            for r in n.ring_start as usize..n.ring_end as usize {
-                let verts = &self.ring_verts
-                    [self.ring_vert_start[r] as usize..self.ring_vert_start[r + 1] as usize];
-                for &v in std::iter::once(&self.ring_centre[r]).chain(verts) {
-                    centre_below |= v == n.centre_vertex;
-                    let d = distance_squared(&s.centre, &self.positions[v as usize]).sqrt();
+    /// Every vertex of every triangle below a node is inside its volume; DVH centres sit on
+    /// vertices below their node (a leaf's on its ring's centre); SBV centres are the midpoints
+    /// of the exact boxes of the vertices below.
+    fn validate_volumes(&self) -> Result<(), InvariantError> {
+        let nn = self.tree.len();
+        let sizes = match &self.volumes {
+            Volumes::Dvh {
+                centre_vertex,
+                spheres,
+            } => [centre_vertex.len(), spheres.len()],
+            Volumes::Sbv { spheres, boxes } => [spheres.len(), boxes.len()],
+            Volumes::Aabb { boxes } => [boxes.len(), nn],
+        };
+        ensure!(
+            sizes == [nn, nn],
+            "{:?} volumes sized {sizes:?} for {nn} nodes",
+            self.volumes.kind()
+        );
+        for (i, n) in self.tree.nodes.iter().enumerate() {
+            let below = || {
+                (n.ring_start as usize..n.ring_end as usize)
+                    .flat_map(|r| self.rings.all_vertices(r))
+            };
+            let exact_box = Aabb::of_points(below().map(|v| &self.positions[v as usize]));
+            match &self.volumes {
+                Volumes::Dvh {
+                    centre_vertex,
+                    spheres,
+                } => {
+                    let cv = centre_vertex[i];
                     ensure!(
-                        d <= s.radius,
-                        "node {i}: vertex {v} at distance {d:e} outside radius {:e}",
-                        s.radius
+                        (cv as usize) < self.positions.len(),
+                        "node {i} centre vertex {cv} out of range"
+                    );
+                    ensure!(
+                        spheres[i].centre == self.positions[cv as usize],
+                        "node {i} sphere centre is not at its vertex {cv}"
+                    );
+                    ensure!(
+                        below().any(|v| v == cv),
+                        "node {i} centre vertex {cv} is not below it"
+                    );
+                    if n.is_leaf() {
+                        ensure!(
+                            cv == self.rings.centre[n.ring_start as usize],
+                            "leaf {i} not centred on its ring's centre"
+                        );
+                    }
+                    self.check_sphere(i, &spheres[i], below())?;
+                }
+                Volumes::Sbv { spheres, boxes } => {
+                    ensure!(
+                        boxes[i] == exact_box,
+                        "node {i}: stored box {:?} is not the box of its vertices {exact_box:?}",
+                        boxes[i]
+                    );
+                    ensure!(
+                        spheres[i].centre == exact_box.centre(),
+                        "node {i}: sphere centre is not the midpoint of its vertices' box"
+                    );
+                    self.check_sphere(i, &spheres[i], below())?;
+                }
+                Volumes::Aabb { boxes } => {
+                    ensure!(
+                        boxes[i] == exact_box,
+                        "node {i}: box {:?} is not the box of its vertices {exact_box:?}",
+                        boxes[i]
                     );
                 }
             }
+        }
+        Ok(())
+    }
+
+    fn check_sphere(
+        &self,
+        i: usize,
+        s: &Sphere,
+        below: impl Iterator<Item = u32>,
+    ) -> Result<(), InvariantError> {
+        ensure!(
+            s.radius >= 0.0,
+            "node {i} radius {} is negative or NaN",
+            s.radius
+        );
+        for v in below {
+            let d = distance_squared(&s.centre, &self.positions[v as usize]).sqrt();
             ensure!(
-                centre_below,
-                "node {i} centre vertex {} is not below it",
-                n.centre_vertex
+                d <= s.radius,
+                "node {i}: vertex {v} at distance {d:e} outside radius {:e}",
+                s.radius
             );
         }
-
-        // Cached extent of the coordinates.
-        let extent = scan_positions(self.positions.as_flattened())
-            .map_err(|e| InvariantError(e.to_string()))?;
-        ensure!(
-            extent.max_abs == self.max_abs && extent.safe == self.safe,
-            "cached coordinate extent is stale"
-        );
-        ensure!(
-            self.scratch.capacity() >= 8 * self.tree_stats().levels,
-            "refit stack not preallocated"
-        );
         Ok(())
     }
 }

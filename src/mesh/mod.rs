@@ -6,8 +6,12 @@ mod mesh;
 mod mesh_build;
 mod mesh_refit;
 mod mesh_validation;
+mod options;
+mod ring_table;
 pub(crate) mod rings;
 
-pub use mesh::{BuildOptions, Mesh, NodeView, RadiusKind, RefitStats, TreeKind, TreeStats};
+pub use mesh::{BoundingVolume, Mesh, NodeView, RefitStats, TreeStats};
 pub use mesh_validation::InvariantError;
+pub use options::{BuildOptions, RadiusKind};
+pub(crate) use ring_table::RingTable;
 pub use rings::LeftoverPolicy;

@@ -11,6 +11,7 @@
 //! Triangles none of whose vertices became a centre ("leftovers", about a quarter on scanned
 //! meshes) must still be covered, or collisions would be missed. [`LeftoverPolicy`] chooses how.
 
+use crate::csr::Csr;
 use crate::geometry::predicates::Point;
 use crate::geometry::sphere::distance_squared;
 use std::collections::VecDeque;
@@ -29,23 +30,11 @@ pub enum LeftoverPolicy {
 
 const NONE: u32 = u32::MAX;
 
-/// Rings in construction order, triangles of ring `r` in `tris[tri_start[r]..tri_start[r + 1]]`.
-/// Every triangle is in exactly one ring.
+/// Rings in construction order: ring `r` is centred on `centre[r]` and holds the triangles
+/// `triangles.row(r)`. Every triangle is in exactly one ring.
 pub(crate) struct Rings {
     pub centre: Vec<u32>,
-    pub tri_start: Vec<u32>,
-    pub tris: Vec<u32>,
-}
-
-impl Rings {
-    #[cfg(test)]
-    pub fn len(&self) -> usize {
-        self.centre.len()
-    }
-
-    pub fn triangles(&self, r: usize) -> &[u32] {
-        &self.tris[self.tri_start[r] as usize..self.tri_start[r + 1] as usize]
-    }
+    pub triangles: Csr<u32>,
 }
 
 /// The distinct corners of a triangle (repeated indices are legal input).
@@ -57,38 +46,14 @@ pub(crate) fn distinct_corners(t: &[u32; 3]) -> impl Iterator<Item = u32> + '_ {
         .map(|(_, &v)| v)
 }
 
-/// Vertex to incident triangles, as CSR: triangles of `v` in `tris[start[v]..start[v + 1]]`.
-pub(crate) struct Incidence {
-    pub start: Vec<u32>,
-    pub tris: Vec<u32>,
-}
-
-impl Incidence {
-    pub fn new(vertex_count: usize, triangles: &[[u32; 3]]) -> Incidence {
-        let mut start = vec![0u32; vertex_count + 1];
-        for t in triangles {
-            for v in distinct_corners(t) {
-                start[v as usize + 1] += 1;
-            }
-        }
-        for i in 0..vertex_count {
-            start[i + 1] += start[i];
-        }
-        let mut cursor = start.clone();
-        let mut tris = vec![0u32; start[vertex_count] as usize];
-        for (ti, t) in triangles.iter().enumerate() {
-            for v in distinct_corners(t) {
-                tris[cursor[v as usize] as usize] = ti as u32;
-                cursor[v as usize] += 1;
-            }
-        }
-        Incidence { start, tris }
-    }
-
-    #[inline]
-    pub fn of(&self, v: u32) -> &[u32] {
-        &self.tris[self.start[v as usize] as usize..self.start[v as usize + 1] as usize]
-    }
+/// Vertex to incident triangles: row `v` lists the triangles with `v` as a corner.
+fn incidence(vertex_count: usize, triangles: &[[u32; 3]]) -> Csr<u32> {
+    Csr::from_entries(vertex_count, || {
+        triangles
+            .iter()
+            .enumerate()
+            .flat_map(|(t, tri)| distinct_corners(tri).map(move |v| (v, t as u32)))
+    })
 }
 
 /// Builds the rings of a mesh. Positions are only used by [`LeftoverPolicy::JoinAdjacent`].
@@ -98,7 +63,7 @@ pub(crate) fn build_rings(
     positions: &[Point],
     policy: LeftoverPolicy,
 ) -> Rings {
-    let incidence = Incidence::new(vertex_count, triangles);
+    let incidence = incidence(vertex_count, triangles);
     let mut claimed_by = vec![NONE; vertex_count];
     let mut ring_of = vec![NONE; triangles.len()];
     let mut queued = vec![false; triangles.len()];
@@ -122,7 +87,7 @@ pub(crate) fn build_rings(
                 let r = centre.len() as u32;
                 centre.push(v);
                 claimed_by[v as usize] = r;
-                for &t2 in incidence.of(v) {
+                for &t2 in incidence.row(v as usize) {
                     debug_assert_eq!(
                         ring_of[t2 as usize], NONE,
                         "rings of an independent set are disjoint"
@@ -136,7 +101,7 @@ pub(crate) fn build_rings(
                 }
             }
             for v in distinct_corners(tri) {
-                for &t2 in incidence.of(v) {
+                for &t2 in incidence.row(v as usize) {
                     if !queued[t2 as usize] {
                         queued[t2 as usize] = true;
                         queue.push_back(t2);
@@ -156,7 +121,7 @@ pub(crate) fn build_rings(
             LeftoverPolicy::ExtraRings => {
                 let uncovered = |v: u32| {
                     incidence
-                        .of(v)
+                        .row(v as usize)
                         .iter()
                         .filter(|&&t2| ring_of[t2 as usize] == NONE)
                         .count()
@@ -166,7 +131,7 @@ pub(crate) fn build_rings(
                     .expect("a triangle has a corner");
                 let r = centre.len() as u32;
                 centre.push(v);
-                for &t2 in incidence.of(v) {
+                for &t2 in incidence.row(v as usize) {
                     if ring_of[t2 as usize] == NONE {
                         ring_of[t2 as usize] = r;
                     }
@@ -191,23 +156,12 @@ pub(crate) fn build_rings(
         }
     }
 
-    let mut tri_start = vec![0u32; centre.len() + 1];
-    for &r in &ring_of {
-        tri_start[r as usize + 1] += 1;
-    }
-    for i in 0..centre.len() {
-        tri_start[i + 1] += tri_start[i];
-    }
-    let mut cursor = tri_start.clone();
-    let mut tris = vec![0u32; triangles.len()];
-    for (t, &r) in ring_of.iter().enumerate() {
-        tris[cursor[r as usize] as usize] = t as u32;
-        cursor[r as usize] += 1;
-    }
+    let members = Csr::from_entries(centre.len(), || {
+        ring_of.iter().enumerate().map(|(t, &r)| (r, t as u32))
+    });
     Rings {
         centre,
-        tri_start,
-        tris,
+        triangles: members,
     }
 }
 
@@ -235,9 +189,9 @@ mod tests {
 
     fn check_cover(rings: &Rings, triangles: &[[u32; 3]], policy: LeftoverPolicy) {
         let mut seen = vec![0; triangles.len()];
-        for r in 0..rings.len() {
+        for r in 0..rings.centre.len() {
             let c = rings.centre[r];
-            for &t in rings.triangles(r) {
+            for &t in rings.triangles.row(r) {
                 seen[t as usize] += 1;
                 if policy == LeftoverPolicy::ExtraRings {
                     assert!(
@@ -259,7 +213,7 @@ mod tests {
         for policy in [LeftoverPolicy::JoinAdjacent, LeftoverPolicy::ExtraRings] {
             let rings = build_rings(p.len(), &t, &p, policy);
             check_cover(&rings, &t, policy);
-            let ratio = rings.len() as f64 / t.len() as f64;
+            let ratio = rings.centre.len() as f64 / t.len() as f64;
             assert!(ratio < 0.35, "{policy:?}: {ratio}");
         }
     }

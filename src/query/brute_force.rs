@@ -1,6 +1,7 @@
 //! The reference answer: every triangle pair, by the exact test.
 
 use super::pairs::Pair;
+use crate::geometry::aabb::Aabb;
 use crate::geometry::pose::Pose;
 use crate::geometry::predicates::Point;
 use crate::geometry::tri_tri::{Triangle, triangles_intersect};
@@ -19,8 +20,12 @@ pub fn brute_force(a: &Mesh, pose_a: Option<&Pose>, b: &Mesh, pose_b: Option<&Po
     let mut events: Vec<(f64, bool, u32)> = ta
         .iter()
         .enumerate()
-        .map(|(i, t)| (t.1[0], false, i as u32))
-        .chain(tb.iter().enumerate().map(|(i, t)| (t.1[0], true, i as u32)))
+        .map(|(i, t)| (t.1.lo[0], false, i as u32))
+        .chain(
+            tb.iter()
+                .enumerate()
+                .map(|(i, t)| (t.1.lo[0], true, i as u32)),
+        )
         .collect();
     events.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)).then(x.2.cmp(&y.2)));
     let mut active_a: Vec<u32> = Vec::new();
@@ -32,12 +37,11 @@ pub fn brute_force(a: &Mesh, pose_a: Option<&Pose>, b: &Mesh, pose_b: Option<&Po
         } else {
             (&ta, &tb, &mut active_b, &mut active_a)
         };
-        active_other.retain(|&j| other[j as usize].2[0] >= x);
-        let (tri, lo, hi) = &mine[i as usize];
+        active_other.retain(|&j| other[j as usize].1.hi[0] >= x);
+        let (tri, bounds) = &mine[i as usize];
         for &j in active_other.iter() {
-            let (tri2, lo2, hi2) = &other[j as usize];
-            let apart = (1..3).any(|k| hi[k] < lo2[k] || hi2[k] < lo[k]);
-            if !apart && triangles_intersect(tri, tri2) {
+            let (tri2, bounds2) = &other[j as usize];
+            if bounds.meets(bounds2) && triangles_intersect(tri, tri2) {
                 out.push(if from_b {
                     Pair { a: j, b: i }
                 } else {
@@ -52,7 +56,7 @@ pub fn brute_force(a: &Mesh, pose_a: Option<&Pose>, b: &Mesh, pose_b: Option<&Po
     out
 }
 
-fn world_triangles(mesh: &Mesh, pose: Option<&Pose>) -> Vec<(Triangle, Point, Point)> {
+fn world_triangles(mesh: &Mesh, pose: Option<&Pose>) -> Vec<(Triangle, Aabb)> {
     let world: Vec<Point> = match pose {
         Some(p) => mesh
             .positions()
@@ -65,9 +69,7 @@ fn world_triangles(mesh: &Mesh, pose: Option<&Pose>) -> Vec<(Triangle, Point, Po
         .iter()
         .map(|t| {
             let tri = t.map(|v| world[v as usize]);
-            let lo = [0, 1, 2].map(|k| tri[0][k].min(tri[1][k]).min(tri[2][k]));
-            let hi = [0, 1, 2].map(|k| tri[0][k].max(tri[1][k]).max(tri[2][k]));
-            (tri, lo, hi)
+            (tri, Aabb::of_points(&tri))
         })
         .collect()
 }

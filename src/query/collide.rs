@@ -1,19 +1,26 @@
-//! The pair query: two hierarchies traversed together from their roots.
+//! The pair query's entry point: checks the options and poses, puts each mesh in the query's
+//! frame, runs the traversal with the narrow phase the mode asks for, and sorts the result.
 
+use super::narrow::{NodePairs, TrianglePairs};
 use super::options::{QueryMode, QueryOptions};
-use super::pairs::{Pair, PairKind, Pairs, QueryStats};
+use super::pairs::{PairKind, Pairs, QueryStats};
+use super::side::{Boxes, FreeSpheres, Local, Placement, Posed, QuerySide, VertexSpheres, View};
+use super::sink::{Sink, Stop};
 use super::sort::sort_pairs;
-use super::workspace::{Gathered, GatheredRing, Stamped, Workspace};
+use super::traverse::{best_first, depth_first};
+use super::workspace::{GatheredRing, Queued, SideSpace, Stamped, Workspace};
 use crate::error::{Error, Result, Side};
 use crate::geometry::MAX_POSED_MAGNITUDE;
+use crate::geometry::aabb::Aabb;
 use crate::geometry::pose::Pose;
-use crate::geometry::predicates::{Point, is_safe_point};
-use crate::geometry::sphere::overlap;
-use crate::geometry::tri_tri::{triangles_intersect, triangles_intersect_safe};
+use crate::geometry::predicates::Point;
 use crate::mesh::Mesh;
+use crate::volume::Volumes;
+use std::collections::BinaryHeap;
 
 /// Finds what intersects between mesh `a` placed by `pose_a` and mesh `b` placed by `pose_b`
 /// (`None`: the mesh's coordinates are world coordinates), as [`QueryOptions::mode`] asks.
+/// The meshes may have different volume kinds.
 ///
 /// The result replaces the contents of `out`: pairs `(index in a, index in b)`, sorted and
 /// without duplicates, of triangles or of nodes according to [`Pairs::kind`]. The counters are
@@ -21,14 +28,15 @@ use crate::mesh::Mesh;
 ///
 /// With poses, triangles are tested at the world coordinates [`Pose::transform_point`] computes
 /// (lazily, only for vertices the traversal reaches), so the answer is exactly that of a brute
-/// force over those coordinates; spheres are widened by a bound on the rounding of the
+/// force over those coordinates; volumes are widened by a bound on the rounding of the
 /// transformation so that none is dropped.
 ///
-/// Errors: [`Error::PoseOutOfRange`] when a pose could move coordinates beyond
-/// [`MAX_POSED_MAGNITUDE`]; [`Error::OutOfMemory`] when the result cannot grow (set
-/// [`QueryOptions::max_pairs`] to bound it). On error `out` still holds the previous result.
+/// Errors: [`Error::ZeroBudget`] for [`QueryMode::Budget`]`(0)`; [`Error::PoseOutOfRange`] when
+/// a pose could move coordinates beyond [`MAX_POSED_MAGNITUDE`]; [`Error::OutOfMemory`] when the
+/// result cannot grow (set [`QueryOptions::max_pairs`] to bound it). On error `out` still holds
+/// the previous result.
 ///
-/// Cost: proportional to the sphere pairs visited plus the triangle pairs tested; allocates
+/// Cost: proportional to the volume pairs visited plus the triangle pairs tested; allocates
 /// nothing once `out` has grown to the scene's needs.
 pub fn collide(
     a: &Mesh,
@@ -38,10 +46,13 @@ pub fn collide(
     options: &QueryOptions,
     out: &mut Pairs,
 ) -> Result<QueryStats> {
+    if options.mode == QueryMode::Budget(0) {
+        return Err(Error::ZeroBudget);
+    }
     let pose_a = pose_a.filter(|p| !p.is_identity());
     let pose_b = pose_b.filter(|p| !p.is_identity());
-    let widen_a = pose_a.map(|p| widening(p, a, Side::A)).transpose()?;
-    let widen_b = pose_b.map(|p| widening(p, b, Side::B)).transpose()?;
+    let place_a = pose_a.map(|p| widening(p, a, Side::A)).transpose()?;
+    let place_b = pose_b.map(|p| widening(p, b, Side::B)).transpose()?;
 
     let Pairs {
         items,
@@ -51,106 +62,95 @@ pub fn collide(
     } = out;
     let Workspace {
         stack,
-        world_a,
-        world_b,
-        boxes_a,
-        boxes_b,
-        ring_a,
-        ring_b,
+        queue,
+        a: space_a,
+        b: space_b,
     } = workspace;
-    boxes_a.begin(a.ring_count());
-    boxes_b.begin(b.ring_count());
-    ring_a.ring = u32::MAX;
-    ring_b.ring = u32::MAX;
+    space_a.begin(a.vertex_count(), a.ring_count(), pose_a.is_some());
+    space_b.begin(b.vertex_count(), b.ring_count(), pose_b.is_some());
     spare.clear();
     let limit = match options.mode {
         QueryMode::FirstHit => 1,
         _ => usize::MAX,
     };
-    let mut ctx = Ctx {
-        sink: Sink {
-            out: spare,
-            limit: options.max_pairs.map_or(limit, |m| m.min(limit)),
-            stop: None,
-        },
-        mode: options.mode,
-        max_depth: match options.mode {
-            QueryMode::Depth(d) => d,
-            _ => u32::MAX,
-        },
-        check_domain: !(a.safe && b.safe) || pose_a.is_some() || pose_b.is_some(),
-        stats: QueryStats::default(),
-        stack,
-        boxes_a,
-        boxes_b,
-        ring_a,
-        ring_b,
+    let mut sink = Sink {
+        out: spare,
+        limit: options.max_pairs.map_or(limit, |m| m.min(limit)),
+        stop: None,
     };
-    let local_a = || Local { mesh: a };
-    let local_b = || Local { mesh: b };
-    match (pose_a.zip(widen_a), pose_b.zip(widen_b)) {
-        (None, None) => traverse(&mut local_a(), &mut local_b(), a, b, &mut ctx),
-        (Some((pa, wa)), None) => traverse(
-            &mut posed(a, pa, wa, world_a),
-            &mut local_b(),
-            a,
-            b,
-            &mut ctx,
-        ),
-        (None, Some((pb, wb))) => traverse(
-            &mut local_a(),
-            &mut posed(b, pb, wb, world_b),
-            a,
-            b,
-            &mut ctx,
-        ),
-        (Some((pa, wa)), Some((pb, wb))) => {
-            let mut fa = posed(a, pa, wa, world_a);
-            let mut fb = posed(b, pb, wb, world_b);
-            traverse(&mut fa, &mut fb, a, b, &mut ctx)
+    let mut stats = QueryStats::default();
+    if sink.limit == 0 {
+        sink.stop = Some(Stop::Limit);
+    } else {
+        let SideSpace {
+            world: world_a,
+            ring_boxes: boxes_a,
+            ring: ring_a,
+        } = space_a;
+        let SideSpace {
+            world: world_b,
+            ring_boxes: boxes_b,
+            ring: ring_b,
+        } = space_b;
+        let run = Run {
+            mode: options.mode,
+            check_domain: !(a.safe && b.safe) || pose_a.is_some() || pose_b.is_some(),
+            sink: &mut sink,
+            stats: &mut stats,
+            stack,
+            queue,
+            ring_a,
+            ring_b,
+        };
+        let b_side = SideB {
+            mesh: b,
+            pose: pose_b.zip(place_b),
+            world: world_b,
+            ring_boxes: boxes_b,
+            run,
+        };
+        match pose_a.zip(place_a) {
+            None => with_volumes_a(Local { mesh: a }, boxes_a, b_side),
+            Some((pose, (stretch, pad))) => with_volumes_a(
+                Posed {
+                    mesh: a,
+                    pose,
+                    cache: world_a,
+                    stretch,
+                    pad,
+                },
+                boxes_a,
+                b_side,
+            ),
         }
     }
-    let mut stats = ctx.stats;
-    match ctx.sink.stop {
+    match sink.stop {
         Some(Stop::OutOfMemory { bytes }) => return Err(Error::OutOfMemory { bytes }),
         Some(Stop::Limit) => stats.truncated = options.mode != QueryMode::FirstHit,
         None => {}
     }
+    let nodes = options.mode.reports_nodes();
     // The previous result is no longer needed: it serves as the sort's scratch space.
-    let b_count = match options.mode {
-        QueryMode::Triangles | QueryMode::FirstHit => b.triangle_count(),
-        QueryMode::Leaves | QueryMode::Depth(_) => b.node_count(),
+    let b_count = if nodes {
+        b.node_count()
+    } else {
+        b.triangle_count()
     };
     sort_pairs(spare, items, b_count as u64);
     spare.dedup();
     std::mem::swap(items, spare);
-    *kind = match options.mode {
-        QueryMode::Triangles | QueryMode::FirstHit => PairKind::Triangles,
-        QueryMode::Leaves | QueryMode::Depth(_) => PairKind::Nodes,
+    *kind = if nodes {
+        PairKind::Nodes
+    } else {
+        PairKind::Triangles
     };
     stats.pairs = items.len() as u64;
     stats.nodes_refit = a.last_refit.nodes_refit + b.last_refit.nodes_refit;
     Ok(stats)
 }
 
-fn posed<'m, 'w>(
-    mesh: &'m Mesh,
-    pose: &'m Pose,
-    (stretch, pad): (f64, f64),
-    cache: &'w mut Stamped<Point>,
-) -> Posed<'m, 'w> {
-    cache.begin(mesh.vertex_count());
-    Posed {
-        mesh,
-        pose,
-        cache,
-        stretch,
-        pad,
-    }
-}
-
-/// How much to widen a posed mesh's spheres: the rotation's stretch, and twice the rounding
-/// bound of the transformation (vertex and centre are each off by at most that much).
+/// How much to widen a posed mesh's volumes: the rotation's stretch (spheres), and twice the
+/// rounding bound of the transformation (vertex and volume are each off by at most that much).
 fn widening(pose: &Pose, mesh: &Mesh, side: Side) -> Result<(f64, f64)> {
     let (error, magnitude) = pose.rounding_bound(mesh.max_abs);
     let in_range = magnitude <= MAX_POSED_MAGNITUDE;
@@ -163,318 +163,165 @@ fn widening(pose: &Pose, mesh: &Mesh, side: Side) -> Result<(f64, f64)> {
     Ok((pose.stretch(), 2.0 * error))
 }
 
-/// A mesh in the query's common frame.
-trait Frame {
-    fn vertex(&mut self, v: u32) -> Point;
-    fn centre(&mut self, node: u32) -> Point;
-    fn radius(&self, node: u32) -> f64;
-}
-
-/// A mesh whose coordinates are world coordinates.
-struct Local<'m> {
-    mesh: &'m Mesh,
-}
-
-impl Frame for Local<'_> {
-    #[inline(always)]
-    fn vertex(&mut self, v: u32) -> Point {
-        self.mesh.positions[v as usize]
-    }
-
-    #[inline(always)]
-    fn centre(&mut self, node: u32) -> Point {
-        self.mesh.nodes[node as usize].centre
-    }
-
-    #[inline(always)]
-    fn radius(&self, node: u32) -> f64 {
-        self.mesh.nodes[node as usize].radius
-    }
-}
-
-/// A mesh moved by a pose; world positions are computed on first use within a query.
-struct Posed<'m, 'w> {
-    mesh: &'m Mesh,
-    pose: &'m Pose,
-    cache: &'w mut Stamped<Point>,
-    stretch: f64,
-    pad: f64,
-}
-
-impl Frame for Posed<'_, '_> {
-    #[inline(always)]
-    fn vertex(&mut self, v: u32) -> Point {
-        let (pose, positions) = (self.pose, &self.mesh.positions);
-        self.cache
-            .get_or(v as usize, || pose.transform_point(&positions[v as usize]))
-    }
-
-    #[inline(always)]
-    fn centre(&mut self, node: u32) -> Point {
-        self.vertex(self.mesh.nodes[node as usize].centre_vertex)
-    }
-
-    #[inline(always)]
-    fn radius(&self, node: u32) -> f64 {
-        self.mesh.nodes[node as usize].radius * self.stretch + self.pad
-    }
-}
-
-/// Why a traversal stopped early.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Stop {
-    /// As many pairs as asked for.
-    Limit,
-    /// The result could not grow.
-    OutOfMemory { bytes: usize },
-}
-
-/// Where pairs go.
-struct Sink<'w> {
-    out: &'w mut Vec<Pair>,
-    /// Pairs to find before stopping.
-    limit: usize,
-    stop: Option<Stop>,
-}
-
-struct Ctx<'w> {
-    sink: Sink<'w>,
+/// The query once both sides are typed: the traversal and narrow phase the mode asks for.
+struct Run<'q, 'w> {
     mode: QueryMode,
-    max_depth: u32,
-    /// Must each triangle pair check that its coordinates suit the fast predicates?
     check_domain: bool,
-    stats: QueryStats,
-    stack: &'w mut Vec<(u32, u32)>,
-    boxes_a: &'w mut Stamped<[Point; 2]>,
-    boxes_b: &'w mut Stamped<[Point; 2]>,
-    ring_a: &'w mut GatheredRing,
-    ring_b: &'w mut GatheredRing,
+    sink: &'q mut Sink<'w>,
+    stats: &'q mut QueryStats,
+    stack: &'q mut Vec<(u32, u32)>,
+    queue: &'q mut BinaryHeap<Queued>,
+    ring_a: &'q mut GatheredRing,
+    ring_b: &'q mut GatheredRing,
 }
 
-impl Sink<'_> {
-    /// Records a pair; returns whether the traversal must stop. The result grows fallibly, so
-    /// that a pathological input (say every triangle at one point) ends in an error, not an abort.
-    #[inline]
-    fn report(&mut self, pair: Pair) -> bool {
-        if self.out.len() == self.out.capacity() {
-            let extra = self.out.capacity().max(256);
-            if self.out.try_reserve(extra).is_err() {
-                let bytes = (self.out.capacity() + extra) * std::mem::size_of::<Pair>();
-                self.stop = Some(Stop::OutOfMemory { bytes });
-                return true;
+impl Run<'_, '_> {
+    fn run<'m, A: QuerySide<'m>, B: QuerySide<'m>>(self, a: &mut A, b: &mut B) {
+        let stats = self.stats;
+        match self.mode {
+            QueryMode::Triangles | QueryMode::FirstHit => {
+                let mut narrow = TrianglePairs {
+                    sink: self.sink,
+                    ring_a: self.ring_a,
+                    ring_b: self.ring_b,
+                    check_domain: self.check_domain,
+                };
+                depth_first(a, b, u32::MAX, self.stack, stats, &mut narrow);
             }
-        }
-        self.out.push(pair);
-        if self.out.len() >= self.limit {
-            self.stop = Some(Stop::Limit);
-            return true;
-        }
-        false
-    }
-}
-
-/// Depth-first over overlapping node pairs; a child pair is tested before it is pushed.
-/// Overlapping pairs descend the node with the larger sphere (a node that cannot descend never
-/// is); on equal radii both descend, so that the traversal with `a` and `b` swapped visits the
-/// mirrored pairs and the coarse modes are symmetric.
-fn traverse<A: Frame, B: Frame>(fa: &mut A, fb: &mut B, ma: &Mesh, mb: &Mesh, ctx: &mut Ctx) {
-    ctx.stack.clear();
-    ctx.stats.bv_tests += 1;
-    if ctx.sink.limit == 0 {
-        ctx.sink.stop = Some(Stop::Limit);
-        return;
-    }
-    if !overlap(&fa.centre(0), fa.radius(0), &fb.centre(0), fb.radius(0)) {
-        return;
-    }
-    ctx.stack.push((0, 0));
-    while let Some((na, nb)) = ctx.stack.pop() {
-        let node_a = &ma.nodes[na as usize];
-        let node_b = &mb.nodes[nb as usize];
-        let end_a = node_a.is_leaf() || node_a.depth >= ctx.max_depth;
-        let end_b = node_b.is_leaf() || node_b.depth >= ctx.max_depth;
-        if end_a && end_b {
-            ctx.stats.leaf_pairs += 1;
-            let stop = match ctx.mode {
-                QueryMode::Leaves | QueryMode::Depth(_) => ctx.sink.report(Pair { a: na, b: nb }),
-                QueryMode::Triangles | QueryMode::FirstHit => {
-                    ring_pair(fa, fb, ma, mb, node_a.ring_start, node_b.ring_start, ctx)
-                }
-            };
-            if stop {
-                return;
+            QueryMode::Leaves | QueryMode::Depth(_) => {
+                let max_depth = match self.mode {
+                    QueryMode::Depth(d) => d,
+                    _ => u32::MAX,
+                };
+                let mut narrow = NodePairs { sink: self.sink };
+                depth_first(a, b, max_depth, self.stack, stats, &mut narrow);
             }
-            continue;
-        }
-        let (ra, rb) = (fa.radius(na), fb.radius(nb));
-        if end_a || (!end_b && rb > ra) {
-            let ca = fa.centre(na);
-            for ch in node_b.children() {
-                ctx.stats.bv_tests += 1;
-                if overlap(&ca, ra, &fb.centre(ch), fb.radius(ch)) {
-                    ctx.stack.push((na, ch));
-                }
-            }
-        } else if end_b || ra > rb {
-            let cb = fb.centre(nb);
-            for ch in node_a.children() {
-                ctx.stats.bv_tests += 1;
-                if overlap(&fa.centre(ch), fa.radius(ch), &cb, rb) {
-                    ctx.stack.push((ch, nb));
-                }
-            }
-        } else {
-            for x in node_a.children() {
-                let (cx, rx) = (fa.centre(x), fa.radius(x));
-                for y in node_b.children() {
-                    ctx.stats.bv_tests += 1;
-                    if overlap(&cx, rx, &fb.centre(y), fb.radius(y)) {
-                        ctx.stack.push((x, y));
-                    }
-                }
+            QueryMode::Budget(budget) => {
+                let mut narrow = NodePairs { sink: self.sink };
+                best_first(a, b, budget, self.queue, stats, &mut narrow);
             }
         }
     }
 }
 
-/// Collects ring `r`'s triangles in the frame, with their boxes, unless already held.
-fn gather<F: Frame>(
-    frame: &mut F,
-    mesh: &Mesh,
-    r: u32,
-    into: &mut GatheredRing,
-    check_domain: bool,
+/// Mesh `b` of the query, not yet typed, and the query to run once it is.
+struct SideB<'m, 'w, 'q> {
+    mesh: &'m Mesh,
+    pose: Option<(&'m Pose, (f64, f64))>,
+    world: &'w mut Stamped<Point>,
+    ring_boxes: &'w mut Stamped<Aabb>,
+    run: Run<'q, 'w>,
+}
+
+/// Types side `a` by its volume kind, then side `b`.
+fn with_volumes_a<'m, P: Placement<'m>>(
+    place: P,
+    ring_boxes: &mut Stamped<Aabb>,
+    b: SideB<'m, '_, '_>,
 ) {
-    if into.ring == r {
-        return;
-    }
-    into.ring = r;
-    into.tris.clear();
-    into.lo = [f64::INFINITY; 3];
-    into.hi = [f64::NEG_INFINITY; 3];
-    let r = r as usize;
-    let range = mesh.ring_tri_start[r] as usize..mesh.ring_tri_start[r + 1] as usize;
-    for (&t, &[i, j, k]) in mesh.ring_tris[range.clone()]
-        .iter()
-        .zip(&mesh.ring_corners[range])
-    {
-        let corners = [frame.vertex(i), frame.vertex(j), frame.vertex(k)];
-        let mut lo = corners[0];
-        let mut hi = corners[0];
-        for c in &corners[1..] {
-            for a in 0..3 {
-                lo[a] = lo[a].min(c[a]);
-                hi[a] = hi[a].max(c[a]);
-            }
-        }
-        for a in 0..3 {
-            into.lo[a] = into.lo[a].min(lo[a]);
-            into.hi[a] = into.hi[a].max(hi[a]);
-        }
-        let safe = !check_domain || corners.iter().all(is_safe_point);
-        into.tris.push(Gathered {
-            index: t,
-            corners,
-            lo,
-            hi,
-            safe,
-        });
-    }
-}
-
-/// The box of ring `r`'s vertices in the frame, computed on first use in the query. Exact: the
-/// extremes of the coordinates the triangle test will see.
-fn ring_box<F: Frame>(
-    frame: &mut F,
-    mesh: &Mesh,
-    r: u32,
-    boxes: &mut Stamped<[Point; 2]>,
-) -> [Point; 2] {
-    boxes.get_or(r as usize, || {
-        let r = r as usize;
-        let c = frame.vertex(mesh.ring_centre[r]);
-        let (mut lo, mut hi) = (c, c);
-        for &v in
-            &mesh.ring_verts[mesh.ring_vert_start[r] as usize..mesh.ring_vert_start[r + 1] as usize]
-        {
-            let p = frame.vertex(v);
-            for k in 0..3 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
-        [lo, hi]
-    })
-}
-
-#[inline(always)]
-fn boxes_apart(lo1: &Point, hi1: &Point, lo2: &Point, hi2: &Point) -> bool {
-    (0..3).any(|k| hi1[k] < lo2[k] || hi2[k] < lo1[k])
-}
-
-/// Marks the triangles of `ring` whose boxes meet the box `(lo, hi)`.
-fn select(ring: &mut GatheredRing, lo: &Point, hi: &Point) {
-    ring.selected.clear();
-    for (i, t) in ring.tris.iter().enumerate() {
-        if !boxes_apart(&t.lo, &t.hi, lo, hi) {
-            ring.selected.push(i as u32);
-        }
-    }
-}
-
-/// Triangles of ring `ra` against those of ring `rb`. Boxes of exact coordinates are an exact
-/// filter (first each triangle against the other ring's box, then pair by pair); the exact test
-/// decides the rest. Returns whether to stop.
-fn ring_pair<A: Frame, B: Frame>(
-    fa: &mut A,
-    fb: &mut B,
-    ma: &Mesh,
-    mb: &Mesh,
-    ra: u32,
-    rb: u32,
-    ctx: &mut Ctx,
-) -> bool {
-    let size =
-        |m: &Mesh, r: u32| (m.ring_tri_start[r as usize + 1] - m.ring_tri_start[r as usize]) as u64;
-    ctx.stats.triangle_candidates += size(ma, ra) * size(mb, rb);
-    // Most overlapping leaf spheres hold rings whose boxes are apart (about 70% on scanned
-    // meshes): ring boxes, computed once per ring and query, settle them before any triangle is
-    // gathered.
-    let [la, ha] = ring_box(fa, ma, ra, ctx.boxes_a);
-    let [lb, hb] = ring_box(fb, mb, rb, ctx.boxes_b);
-    if boxes_apart(&la, &ha, &lb, &hb) {
-        return false;
-    }
-    gather(fa, ma, ra, ctx.ring_a, ctx.check_domain);
-    gather(fb, mb, rb, ctx.ring_b, ctx.check_domain);
-    let (ga, gb) = (&mut *ctx.ring_a, &mut *ctx.ring_b);
-    if boxes_apart(&ga.lo, &ga.hi, &gb.lo, &gb.hi) {
-        return false;
-    }
-    select(ga, &gb.lo, &gb.hi);
-    select(gb, &ga.lo, &ga.hi);
-    for &i in &ga.selected {
-        let ta = &ga.tris[i as usize];
-        for &j in &gb.selected {
-            let tb = &gb.tris[j as usize];
-            if boxes_apart(&ta.lo, &ta.hi, &tb.lo, &tb.hi) {
-                continue;
-            }
-            ctx.stats.triangle_tests += 1;
-            let hit = if ta.safe && tb.safe {
-                triangles_intersect_safe(&ta.corners, &tb.corners)
-            } else {
-                triangles_intersect(&ta.corners, &tb.corners)
+    match &place.mesh().volumes {
+        Volumes::Dvh {
+            centre_vertex,
+            spheres,
+        } => {
+            let kind = VertexSpheres {
+                centre_vertex,
+                spheres,
             };
-            if hit
-                && ctx.sink.report(Pair {
-                    a: ta.index,
-                    b: tb.index,
-                })
-            {
-                return true;
-            }
+            with_placement_b(
+                View {
+                    place,
+                    kind,
+                    ring_boxes,
+                },
+                b,
+            )
         }
+        Volumes::Sbv { spheres, .. } => with_placement_b(
+            View {
+                place,
+                kind: FreeSpheres { spheres },
+                ring_boxes,
+            },
+            b,
+        ),
+        Volumes::Aabb { boxes } => with_placement_b(
+            View {
+                place,
+                kind: Boxes { boxes },
+                ring_boxes,
+            },
+            b,
+        ),
     }
-    false
+}
+
+/// Types side `b` by its placement.
+fn with_placement_b<'m, A: QuerySide<'m>>(mut a: A, b: SideB<'m, '_, '_>) {
+    let SideB {
+        mesh,
+        pose,
+        world,
+        ring_boxes,
+        run,
+    } = b;
+    match pose {
+        None => with_volumes_b(&mut a, Local { mesh }, ring_boxes, run),
+        Some((pose, (stretch, pad))) => with_volumes_b(
+            &mut a,
+            Posed {
+                mesh,
+                pose,
+                cache: world,
+                stretch,
+                pad,
+            },
+            ring_boxes,
+            run,
+        ),
+    }
+}
+
+/// Types side `b` by its volume kind and runs the query.
+fn with_volumes_b<'m, A: QuerySide<'m>, P: Placement<'m>>(
+    a: &mut A,
+    place: P,
+    ring_boxes: &mut Stamped<Aabb>,
+    run: Run<'_, '_>,
+) {
+    match &place.mesh().volumes {
+        Volumes::Dvh {
+            centre_vertex,
+            spheres,
+        } => {
+            let kind = VertexSpheres {
+                centre_vertex,
+                spheres,
+            };
+            run.run(
+                a,
+                &mut View {
+                    place,
+                    kind,
+                    ring_boxes,
+                },
+            )
+        }
+        Volumes::Sbv { spheres, .. } => run.run(
+            a,
+            &mut View {
+                place,
+                kind: FreeSpheres { spheres },
+                ring_boxes,
+            },
+        ),
+        Volumes::Aabb { boxes } => run.run(
+            a,
+            &mut View {
+                place,
+                kind: Boxes { boxes },
+                ring_boxes,
+            },
+        ),
+    }
 }

@@ -2,9 +2,13 @@
 
 mod brute_force;
 mod collide;
+mod narrow;
 mod options;
 mod pairs;
+mod side;
+mod sink;
 mod sort;
+mod traverse;
 mod workspace;
 
 pub use brute_force::brute_force;

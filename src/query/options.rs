@@ -16,6 +16,24 @@ pub enum QueryMode {
     /// Stop descending at this depth (the root is depth 0): pairs of nodes whose spheres overlap,
     /// each node a leaf or at the depth limit. Conservative like [`QueryMode::Leaves`].
     Depth(u32),
+    /// A guaranteed cost: at most this many volume tests, plus the child tests of one node pair
+    /// (64 at most, for two octree nodes). Overlapping node pairs are opened largest volumes
+    /// first; when the budget is spent, the pairs still unopened (the frontier, counted by
+    /// [`crate::QueryStats::frontier_pairs`]) are reported along with the leaf pairs reached.
+    /// Conservative like [`QueryMode::Leaves`]: the reported pairs' triangles include every
+    /// intersecting pair. With a budget large enough to finish, exactly the pairs
+    /// [`QueryMode::Leaves`] reports. The budget must be at least 1 (the roots' test).
+    Budget(u64),
+}
+
+impl QueryMode {
+    /// Does this mode report node pairs ([`crate::PairKind::Nodes`]) rather than triangle pairs?
+    pub fn reports_nodes(self) -> bool {
+        matches!(
+            self,
+            QueryMode::Leaves | QueryMode::Depth(_) | QueryMode::Budget(_)
+        )
+    }
 }
 
 /// Options for [`crate::collide`].

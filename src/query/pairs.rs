@@ -18,8 +18,8 @@ pub enum PairKind {
     /// Triangle indices ([`crate::QueryMode::Triangles`], [`crate::QueryMode::FirstHit`]).
     #[default]
     Triangles,
-    /// Node indices ([`crate::QueryMode::Leaves`], [`crate::QueryMode::Depth`]); expand them with
-    /// [`crate::Mesh::node_triangles`].
+    /// Node indices ([`crate::QueryMode::Leaves`], [`crate::QueryMode::Depth`],
+    /// [`crate::QueryMode::Budget`]); expand them with [`crate::Mesh::node_triangles`].
     Nodes,
 }
 
@@ -78,15 +78,19 @@ impl<'a> IntoIterator for &'a Pairs {
 /// Counters of one query: the terms of the paper's cost model `T = NV·CV + NP·CP + NU·CU`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct QueryStats {
-    /// Sphere pairs tested for overlap (`NV`).
+    /// Volume pairs tested for overlap (`NV`).
     pub bv_tests: u64,
     /// Triangle pairs given to the exact test (`NP`).
     pub triangle_tests: u64,
     /// Triangle pairs of overlapping leaves, before the exact bounding-box filter that decides
     /// which go to the exact test.
     pub triangle_candidates: u64,
-    /// Overlapping pairs of terminal nodes (leaves, or nodes at the depth limit).
+    /// Overlapping pairs of terminal nodes (leaves, or nodes at the depth limit) the traversal
+    /// reached.
     pub leaf_pairs: u64,
+    /// Overlapping node pairs left unopened when [`crate::QueryMode::Budget`]'s budget ran out,
+    /// and reported as they are (0: the budget sufficed, the answer is [`crate::QueryMode::Leaves`]'s).
+    pub frontier_pairs: u64,
     /// Pairs reported.
     pub pairs: u64,
     /// Nodes recomputed by the last refit of each mesh (`NU` of the frame).

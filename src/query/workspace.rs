@@ -1,7 +1,9 @@
 //! Scratch space of a query, kept between queries so that steady state allocates nothing.
 
+use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::Point;
 use crate::geometry::tri_tri::Triangle;
+use std::collections::BinaryHeap;
 
 /// Values computed when first needed in a query (world positions of a posed mesh's vertices,
 /// boxes of rings): an entry is current when its stamp equals the query's, so starting a query
@@ -45,8 +47,7 @@ impl<T: Copy + Default> Stamped<T> {
 pub(crate) struct Gathered {
     pub index: u32,
     pub corners: Triangle,
-    pub lo: Point,
-    pub hi: Point,
+    pub bounds: Aabb,
     pub safe: bool,
 }
 
@@ -57,22 +58,48 @@ pub(crate) struct GatheredRing {
     /// The ring held, or `u32::MAX` for none.
     pub ring: u32,
     pub tris: Vec<Gathered>,
-    pub lo: Point,
-    pub hi: Point,
+    pub bounds: Aabb,
     /// Indices into `tris` of the triangles whose boxes meet the other ring's box.
     pub selected: Vec<u32>,
+}
+
+/// What a query keeps per mesh between queries.
+#[derive(Debug, Default)]
+pub(crate) struct SideSpace {
+    /// World positions of a posed mesh's vertices.
+    pub world: Stamped<Point>,
+    /// Boxes of rings' vertices in the query frame.
+    pub ring_boxes: Stamped<Aabb>,
+    pub ring: GatheredRing,
+}
+
+impl SideSpace {
+    /// Starts a query on a mesh of `vertices` vertices and `rings` rings.
+    pub fn begin(&mut self, vertices: usize, rings: usize, posed: bool) {
+        if posed {
+            self.world.begin(vertices);
+        }
+        self.ring_boxes.begin(rings);
+        self.ring.ring = u32::MAX;
+    }
 }
 
 /// Everything a query needs besides its inputs and output.
 #[derive(Debug, Default)]
 pub(crate) struct Workspace {
+    /// Node pairs still to open, depth first.
     pub stack: Vec<(u32, u32)>,
-    /// World positions of a posed mesh's vertices.
-    pub world_a: Stamped<Point>,
-    pub world_b: Stamped<Point>,
-    /// Boxes of rings' vertices in the query frame.
-    pub boxes_a: Stamped<[Point; 2]>,
-    pub boxes_b: Stamped<[Point; 2]>,
-    pub ring_a: GatheredRing,
-    pub ring_b: GatheredRing,
+    /// Node pairs still to open, largest first ([`crate::QueryMode::Budget`]).
+    pub queue: BinaryHeap<Queued>,
+    pub a: SideSpace,
+    pub b: SideSpace,
+}
+
+/// A node pair waiting in the budgeted traversal, ordered by the size of its larger volume.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub(crate) struct Queued {
+    /// The bits of the larger squared size: non-negative doubles order as their bits do.
+    pub key: u64,
+    pub a: u32,
+    pub b: u32,
 }

@@ -230,6 +230,8 @@ pub fn check_all_modes(a: &Body, b: &Body, depth: u32, pairs: &mut Pairs) -> Vec
         );
     }
 
+    check_budgets(a, b, &expected, pairs);
+
     for mode in [
         QueryMode::Leaves,
         QueryMode::Depth(depth),
@@ -283,4 +285,73 @@ pub fn check_all_modes(a: &Body, b: &Body, depth: u32, pairs: &mut Pairs) -> Vec
         );
     }
     expected
+}
+
+/// Budgeted queries: the frontier covers every exact pair at every budget, the volume tests stay
+/// within the budget plus one opening, and a budget large enough to finish gives the leaves.
+pub fn check_budgets(a: &Body, b: &Body, expected: &[Pair], pairs: &mut Pairs) {
+    let (pa, pb) = (a.pose.as_ref(), b.pose.as_ref());
+    let leaves = {
+        let stats = collide(
+            &a.mesh,
+            pa,
+            &b.mesh,
+            pb,
+            &QueryOptions::with_mode(QueryMode::Leaves),
+            pairs,
+        )
+        .expect("query");
+        (pairs.as_slice().to_vec(), stats.bv_tests)
+    };
+    let err = collide(
+        &a.mesh,
+        pa,
+        &b.mesh,
+        pb,
+        &QueryOptions::with_mode(QueryMode::Budget(0)),
+        pairs,
+    )
+    .unwrap_err();
+    assert_eq!(err, dvh::Error::ZeroBudget);
+    // Most child tests one opening can make: two octree nodes.
+    const ONE_OPENING: u64 = 64;
+    let full = leaves.1 + 1;
+    for budget in [1, 2, 9, 40, full / 7 + 1, full / 2 + 1, full, u64::MAX] {
+        let stats = collide(
+            &a.mesh,
+            pa,
+            &b.mesh,
+            pb,
+            &QueryOptions::with_mode(QueryMode::Budget(budget)),
+            pairs,
+        )
+        .expect("query");
+        assert_eq!(pairs.kind(), PairKind::Nodes);
+        assert!(
+            stats.bv_tests <= budget.saturating_add(ONE_OPENING),
+            "budget {budget}: {} volume tests",
+            stats.bv_tests
+        );
+        let nodes = pairs.as_slice().to_vec();
+        let cover = Coverage::new(&a.mesh, &b.mesh, &nodes);
+        for p in expected {
+            assert!(
+                cover.covers(p),
+                "budget {budget} misses the intersecting pair {p:?}"
+            );
+        }
+        if budget >= full {
+            assert_eq!(stats.frontier_pairs, 0, "budget {budget} ran out");
+            assert_eq!(
+                stats.bv_tests, leaves.1,
+                "budget {budget}: not the leaves' tests"
+            );
+            assert_eq!(nodes, leaves.0, "budget {budget} differs from leaves mode");
+        } else if stats.frontier_pairs == 0 {
+            assert_eq!(
+                nodes, leaves.0,
+                "a finished budget differs from leaves mode"
+            );
+        }
+    }
 }

@@ -1,0 +1,157 @@
+//! Axis-aligned boxes: the bounding volume of the AABB hierarchies, and the exact filter in front
+//! of every triangle test.
+
+use super::predicates::Point;
+
+/// A closed axis-aligned box: the points `p` with `lo[k] <= p[k] <= hi[k]` on every axis `k`.
+///
+/// Boxes of vertex coordinates are exact (minimum and maximum never round), so two such boxes
+/// that do not meet prove that nothing inside them meets. [`Aabb::EMPTY`] contains nothing and
+/// is the starting point of [`Aabb::grow`] and [`Aabb::merge`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    /// Lowest coordinate on each axis.
+    pub lo: Point,
+    /// Highest coordinate on each axis.
+    pub hi: Point,
+}
+
+impl Default for Aabb {
+    fn default() -> Self {
+        Aabb::EMPTY
+    }
+}
+
+impl Aabb {
+    /// The empty box (`lo` = +inf, `hi` = -inf): meets nothing, and is the identity of
+    /// [`Aabb::merge`].
+    pub const EMPTY: Aabb = Aabb {
+        lo: [f64::INFINITY; 3],
+        hi: [f64::NEG_INFINITY; 3],
+    };
+
+    /// The box of one point.
+    #[inline]
+    pub fn point(p: &Point) -> Aabb {
+        Aabb { lo: *p, hi: *p }
+    }
+
+    /// The smallest box holding every point (empty for none).
+    pub fn of_points<'p>(points: impl IntoIterator<Item = &'p Point>) -> Aabb {
+        let mut b = Aabb::EMPTY;
+        for p in points {
+            b.grow(p);
+        }
+        b
+    }
+
+    /// Grows the box to hold `p`.
+    #[inline(always)]
+    pub fn grow(&mut self, p: &Point) {
+        // Comparisons rather than f64::min/max: their NaN rules cost a dependency chain, and
+        // coordinates here are never NaN.
+        for (k, &x) in p.iter().enumerate() {
+            self.lo[k] = if x < self.lo[k] { x } else { self.lo[k] };
+            self.hi[k] = if x > self.hi[k] { x } else { self.hi[k] };
+        }
+    }
+
+    /// Grows the box to hold `other`.
+    #[inline(always)]
+    pub fn merge(&mut self, other: &Aabb) {
+        for k in 0..3 {
+            self.lo[k] = if other.lo[k] < self.lo[k] {
+                other.lo[k]
+            } else {
+                self.lo[k]
+            };
+            self.hi[k] = if other.hi[k] > self.hi[k] {
+                other.hi[k]
+            } else {
+                self.hi[k]
+            };
+        }
+    }
+
+    /// Do the closed boxes share a point? Exact.
+    #[inline(always)]
+    pub fn meets(&self, other: &Aabb) -> bool {
+        // `&` rather than `&&`: six comparisons without branches are cheaper than early exits.
+        (self.lo[0] <= other.hi[0])
+            & (other.lo[0] <= self.hi[0])
+            & (self.lo[1] <= other.hi[1])
+            & (other.lo[1] <= self.hi[1])
+            & (self.lo[2] <= other.hi[2])
+            & (other.lo[2] <= self.hi[2])
+    }
+
+    /// Does the closed box hold `p`?
+    #[inline]
+    pub fn contains(&self, p: &Point) -> bool {
+        (0..3).all(|k| self.lo[k] <= p[k] && p[k] <= self.hi[k])
+    }
+
+    /// Does the box hold nothing?
+    pub fn is_empty(&self) -> bool {
+        (0..3).any(|k| self.lo[k] > self.hi[k])
+    }
+
+    /// The midpoint, halves added separately so that huge coordinates cannot overflow.
+    #[inline]
+    pub fn centre(&self) -> Point {
+        [0, 1, 2].map(|k| 0.5 * self.lo[k] + 0.5 * self.hi[k])
+    }
+
+    /// Side lengths (rounded; infinite only for boxes wider than `f64::MAX`).
+    #[inline]
+    pub fn extent(&self) -> [f64; 3] {
+        [0, 1, 2].map(|k| self.hi[k] - self.lo[k])
+    }
+
+    /// The axis with the longest side (the lowest such axis on ties).
+    pub fn longest_axis(&self) -> usize {
+        let e = self.extent();
+        (0..3)
+            .max_by(|&a, &b| e[a].total_cmp(&e[b]).then(b.cmp(&a)))
+            .unwrap_or(0)
+    }
+
+    /// Square of half the diagonal: a size comparable with a sphere's squared radius (the box
+    /// lies in the ball of that radius about its centre).
+    #[inline(always)]
+    pub fn half_diagonal_squared(&self) -> f64 {
+        let (x, y, z) = (
+            self.hi[0] - self.lo[0],
+            self.hi[1] - self.lo[1],
+            self.hi[2] - self.lo[2],
+        );
+        0.25 * (x * x + y * y + z * z)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grows_merges_and_meets_as_closed_boxes() {
+        let a = Aabb::of_points(&[[0.0, 0.0, 0.0], [1.0, 2.0, -1.0]]);
+        assert_eq!(a.lo, [0.0, 0.0, -1.0]);
+        assert_eq!(a.hi, [1.0, 2.0, 0.0]);
+        // Touching along a face counts.
+        let b = Aabb::of_points(&[[1.0, 0.5, -0.5], [3.0, 1.0, 0.0]]);
+        assert!(a.meets(&b) && b.meets(&a));
+        let c = Aabb::point(&[1.0 + f64::EPSILON, 0.5, -0.5]);
+        assert!(!a.meets(&c) && !c.meets(&a));
+        let mut m = Aabb::EMPTY;
+        assert!(m.is_empty() && !m.meets(&a));
+        m.merge(&a);
+        m.merge(&c);
+        assert!(m.contains(&c.lo) && m.contains(&a.lo) && m.contains(&a.hi));
+        assert_eq!(m.longest_axis(), 1);
+        assert_eq!(a.centre(), [0.5, 1.0, -0.5]);
+        assert_eq!(a.half_diagonal_squared(), 0.25 * 6.0);
+        let huge = Aabb::of_points(&[[-f64::MAX, 0.0, 0.0], [f64::MAX, 0.0, 0.0]]);
+        assert_eq!(huge.centre(), [0.0; 3]);
+    }
+}

@@ -1,0 +1,62 @@
+//! [`BuildOptions`]: how a mesh's hierarchy is built and refit.
+
+use super::rings::LeftoverPolicy;
+use crate::tree::TreeKind;
+use crate::volume::VolumeKind;
+
+/// How a sphere's radius is computed at each refit ([`VolumeKind::Dvh`] and [`VolumeKind::Sbv`];
+/// boxes are always the exact union of their children).
+///
+/// Measured on two deforming 52K-triangle meshes with one query per refit (see
+/// `BENCHMARKS.md`), layered radii give the lower time per frame with the octree, whether contact
+/// is heavy or light and deformation small or large: the refit is about half as dear and the
+/// query only 10-15% dearer. Wrapped radii win when queries dominate (many queries per refit).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum RadiusKind {
+    /// The largest distance from the node's centre to any vertex below it: the tightest sphere
+    /// with that centre (the paper's choice).
+    Wrapped,
+    /// `max(|c - c_child| + r_child)` over the children: cheaper to refit, looser.
+    #[default]
+    Layered,
+}
+
+/// Options for [`crate::Mesh::new`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct BuildOptions {
+    /// Octree or binary tree.
+    pub tree: TreeKind,
+    /// Wrapped or layered radii (spheres only).
+    pub radius: RadiusKind,
+    /// How triangles that touch no ring centre are covered.
+    pub leftovers: LeftoverPolicy,
+    /// The bounding volume on every node: vertex-centred spheres (DVH), spheres recentred at
+    /// every refit (SBV), or axis-aligned boxes.
+    pub volume: VolumeKind,
+}
+
+impl BuildOptions {
+    /// Every distinct combination of the options, for measuring them against each other (the
+    /// radius kind only for the sphere volumes: boxes have none).
+    pub fn all() -> impl Iterator<Item = BuildOptions> {
+        let trees = [TreeKind::Octree, TreeKind::Binary];
+        let leftovers = [LeftoverPolicy::JoinAdjacent, LeftoverPolicy::ExtraRings];
+        let shapes = [
+            (VolumeKind::Dvh, RadiusKind::Layered),
+            (VolumeKind::Dvh, RadiusKind::Wrapped),
+            (VolumeKind::Sbv, RadiusKind::Layered),
+            (VolumeKind::Sbv, RadiusKind::Wrapped),
+            (VolumeKind::Aabb, RadiusKind::default()),
+        ];
+        shapes.into_iter().flat_map(move |(volume, radius)| {
+            trees.into_iter().flat_map(move |tree| {
+                leftovers.into_iter().map(move |leftovers| BuildOptions {
+                    tree,
+                    radius,
+                    leftovers,
+                    volume,
+                })
+            })
+        })
+    }
+}

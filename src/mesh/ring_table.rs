@@ -1,0 +1,73 @@
+//! [`RingTable`]: the 1-rings in leaf order, as the refit and the query read them.
+
+use super::rings::{Rings, distinct_corners};
+use crate::csr::Csr;
+
+/// The rings renumbered in leaf order (the rings below any node are a contiguous range), with
+/// their triangles and their distinct vertices.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub(crate) struct RingTable {
+    /// Ring `r` is centred on vertex `centre[r]`.
+    pub centre: Vec<u32>,
+    /// Triangles of each ring.
+    pub triangles: Csr<u32>,
+    /// Corners of `triangles.items()[i]`, stored alongside so that the query reads a ring's
+    /// triangles from one contiguous run instead of jumping through the mesh's triangle array.
+    pub corners: Vec<[u32; 3]>,
+    /// Distinct vertices of each ring's triangles other than its centre.
+    pub vertices: Csr<u32>,
+}
+
+impl RingTable {
+    /// The rings of `rings`, in the order `order` (a permutation of their indices).
+    pub fn new(
+        rings: &Rings,
+        order: &[u32],
+        triangles: &[[u32; 3]],
+        vertex_count: usize,
+    ) -> RingTable {
+        let mut centre = Vec::with_capacity(order.len());
+        let mut tris = Csr::with_capacity(order.len(), rings.triangles.items().len());
+        let mut verts = Csr::with_capacity(order.len(), 0);
+        let mut seen = vec![u32::MAX; vertex_count];
+        for (new, &old) in order.iter().enumerate() {
+            let c = rings.centre[old as usize];
+            centre.push(c);
+            seen[c as usize] = new as u32;
+            for &t in rings.triangles.row(old as usize) {
+                tris.push(t);
+                for v in distinct_corners(&triangles[t as usize]) {
+                    if seen[v as usize] != new as u32 {
+                        seen[v as usize] = new as u32;
+                        verts.push(v);
+                    }
+                }
+            }
+            tris.end_row();
+            verts.end_row();
+        }
+        let corners = tris
+            .items()
+            .iter()
+            .map(|&t| triangles[t as usize])
+            .collect();
+        RingTable {
+            centre,
+            triangles: tris,
+            corners,
+            vertices: verts,
+        }
+    }
+
+    /// Number of rings.
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.centre.len()
+    }
+
+    /// Every vertex of ring `r`: its centre first, then the others.
+    #[inline]
+    pub fn all_vertices(&self, r: usize) -> impl Iterator<Item = u32> + '_ {
+        std::iter::once(self.centre[r]).chain(self.vertices.row(r).iter().copied())
+    }
+}

@@ -1,0 +1,393 @@
+//! One mesh of a query as the traversal and the narrow phase see it: its shape, and its
+//! vertices and volumes in the query's common frame.
+//!
+//! A side is a placement (the mesh's own coordinates, or moved by a pose) times a volume kind
+//! (vertex-centred spheres, free spheres, boxes). Both are static types, so the traversal is
+//! compiled once per combination with every volume test inlined.
+
+use super::workspace::Stamped;
+use crate::geometry::aabb::Aabb;
+use crate::geometry::pose::Pose;
+use crate::geometry::predicates::Point;
+use crate::geometry::sphere::Sphere;
+use crate::mesh::Mesh;
+use crate::tree::Node;
+
+/// A bounding volume in the query frame: what the traversal tests and compares.
+pub(crate) trait Volume: Copy {
+    /// A size comparable across kinds: the squared radius of a ball that holds the volume.
+    fn size_squared(&self) -> f64;
+    /// Might this volume share a point with the ball `s`? Never `false` when it does.
+    fn meets_sphere(&self, s: &Sphere) -> bool;
+    /// Might this volume share a point with the box `b`? Never `false` when it does.
+    fn meets_box(&self, b: &Aabb) -> bool;
+    /// Might the two volumes share a point? Never `false` when they do.
+    fn overlaps<V: Volume>(&self, other: &V) -> bool;
+}
+
+impl Volume for Sphere {
+    #[inline(always)]
+    fn size_squared(&self) -> f64 {
+        self.radius * self.radius
+    }
+
+    #[inline(always)]
+    fn meets_sphere(&self, s: &Sphere) -> bool {
+        self.meets(s)
+    }
+
+    #[inline(always)]
+    fn meets_box(&self, b: &Aabb) -> bool {
+        Sphere::meets_box(self, b)
+    }
+
+    #[inline(always)]
+    fn overlaps<V: Volume>(&self, other: &V) -> bool {
+        other.meets_sphere(self)
+    }
+}
+
+impl Volume for Aabb {
+    #[inline(always)]
+    fn size_squared(&self) -> f64 {
+        self.half_diagonal_squared()
+    }
+
+    #[inline(always)]
+    fn meets_sphere(&self, s: &Sphere) -> bool {
+        s.meets_box(self)
+    }
+
+    #[inline(always)]
+    fn meets_box(&self, b: &Aabb) -> bool {
+        self.meets(b)
+    }
+
+    #[inline(always)]
+    fn overlaps<V: Volume>(&self, other: &V) -> bool {
+        other.meets_box(self)
+    }
+}
+
+/// Where a mesh's coordinates are in the query frame.
+pub(crate) trait Placement<'m> {
+    /// Are the mesh's own coordinates the frame's (no pose)?
+    const LOCAL: bool;
+    /// The mesh.
+    fn mesh(&self) -> &'m Mesh;
+    /// Vertex `v` in the frame: exactly the coordinates the triangle test sees.
+    fn vertex(&mut self, v: u32) -> Point;
+    /// A sphere centred on vertex `v`, in the frame.
+    fn vertex_sphere(&mut self, s: &Sphere, v: u32) -> Sphere;
+    /// A sphere centred anywhere, in the frame.
+    fn sphere(&self, s: &Sphere) -> Sphere;
+    /// A box, in the frame (for a pose, a box holding the moved one).
+    fn aabb(&self, b: &Aabb) -> Aabb;
+}
+
+/// A mesh whose coordinates are world coordinates.
+pub(crate) struct Local<'m> {
+    pub mesh: &'m Mesh,
+}
+
+impl<'m> Placement<'m> for Local<'m> {
+    const LOCAL: bool = true;
+
+    #[inline(always)]
+    fn mesh(&self) -> &'m Mesh {
+        self.mesh
+    }
+
+    #[inline(always)]
+    fn vertex(&mut self, v: u32) -> Point {
+        self.mesh.positions[v as usize]
+    }
+
+    #[inline(always)]
+    fn vertex_sphere(&mut self, s: &Sphere, _v: u32) -> Sphere {
+        *s
+    }
+
+    #[inline(always)]
+    fn sphere(&self, s: &Sphere) -> Sphere {
+        *s
+    }
+
+    #[inline(always)]
+    fn aabb(&self, b: &Aabb) -> Aabb {
+        *b
+    }
+}
+
+/// A mesh moved by a pose; world positions are computed on first use within a query.
+///
+/// Soundness: the triangle test sees the world coordinates [`Pose::transform_point`] computes,
+/// which are within `error` (the pose's rounding bound for the mesh's coordinates) of the exact
+/// `R p + t`. A sphere's centre moved in floating point is off by at most the same bound (it is
+/// within the mesh's coordinate range too), so widening every moved sphere by `pad = 2 error`
+/// keeps it around the coordinates the triangle test sees; spheres are also scaled by the
+/// rotation's `stretch` (its departure from orthonormality). Boxes need no widening (see
+/// [`Placement::aabb`] for [`Posed`]).
+pub(crate) struct Posed<'m, 'w> {
+    pub mesh: &'m Mesh,
+    pub pose: &'m Pose,
+    pub cache: &'w mut Stamped<Point>,
+    pub stretch: f64,
+    pub pad: f64,
+}
+
+impl<'m> Placement<'m> for Posed<'m, '_> {
+    const LOCAL: bool = false;
+
+    #[inline(always)]
+    fn mesh(&self) -> &'m Mesh {
+        self.mesh
+    }
+
+    #[inline(always)]
+    fn vertex(&mut self, v: u32) -> Point {
+        let (pose, positions) = (self.pose, &self.mesh.positions);
+        self.cache
+            .get_or(v as usize, || pose.transform_point(&positions[v as usize]))
+    }
+
+    #[inline(always)]
+    fn vertex_sphere(&mut self, s: &Sphere, v: u32) -> Sphere {
+        Sphere {
+            centre: self.vertex(v),
+            radius: s.radius * self.stretch + self.pad,
+        }
+    }
+
+    #[inline(always)]
+    fn sphere(&self, s: &Sphere) -> Sphere {
+        Sphere {
+            centre: self.pose.transform_point(&s.centre),
+            radius: s.radius * self.stretch + self.pad,
+        }
+    }
+
+    /// Each world bound is `((m_0 + m_1) + m_2) + t_i` with `m_j` the smaller (or larger) of
+    /// `R_ij lo_j` and `R_ij hi_j`: the same operations, in the same order, as
+    /// [`Pose::transform_point`] applies to a vertex. Rounded multiplication and addition are
+    /// monotone, so for every vertex `p` in the box each computed term is between the box's, and
+    /// the transformed `p` the triangle test sees lies in the computed box exactly: no widening.
+    #[inline]
+    fn aabb(&self, b: &Aabb) -> Aabb {
+        let r = self.pose.rotation();
+        let t = self.pose.translation();
+        let mut out = Aabb::EMPTY;
+        for i in 0..3 {
+            let (mut lo, mut hi) = (0.0, 0.0);
+            for (j, &rij) in r[i].iter().enumerate() {
+                let (u, v) = (rij * b.lo[j], rij * b.hi[j]);
+                let (small, large) = if u < v { (u, v) } else { (v, u) };
+                lo += small;
+                hi += large;
+            }
+            out.lo[i] = lo + t[i];
+            out.hi[i] = hi + t[i];
+        }
+        out
+    }
+}
+
+/// A volume kind as the query reads it: the per-node arrays of one mesh.
+pub(crate) trait Kind<'m>: Copy {
+    type Volume: Volume;
+    /// Is a leaf's volume, in the mesh's own coordinates, exactly the box of its ring?
+    const LEAF_IS_RING_BOX: bool;
+    /// Node `n`'s volume in the frame of `place`.
+    fn volume<P: Placement<'m>>(&self, place: &mut P, n: u32) -> Self::Volume;
+    /// Node `n`'s box (only called when [`Kind::LEAF_IS_RING_BOX`]).
+    fn leaf_box(&self, _n: u32) -> Aabb {
+        unreachable!("only box volumes are ring boxes")
+    }
+}
+
+/// The DVH's vertex-centred spheres.
+#[derive(Clone, Copy)]
+pub(crate) struct VertexSpheres<'m> {
+    pub centre_vertex: &'m [u32],
+    pub spheres: &'m [Sphere],
+}
+
+impl<'m> Kind<'m> for VertexSpheres<'m> {
+    type Volume = Sphere;
+    const LEAF_IS_RING_BOX: bool = false;
+
+    #[inline(always)]
+    fn volume<P: Placement<'m>>(&self, place: &mut P, n: u32) -> Sphere {
+        place.vertex_sphere(&self.spheres[n as usize], self.centre_vertex[n as usize])
+    }
+}
+
+/// SBV's spheres, centred anywhere.
+#[derive(Clone, Copy)]
+pub(crate) struct FreeSpheres<'m> {
+    pub spheres: &'m [Sphere],
+}
+
+impl<'m> Kind<'m> for FreeSpheres<'m> {
+    type Volume = Sphere;
+    const LEAF_IS_RING_BOX: bool = false;
+
+    #[inline(always)]
+    fn volume<P: Placement<'m>>(&self, place: &mut P, n: u32) -> Sphere {
+        place.sphere(&self.spheres[n as usize])
+    }
+}
+
+/// Axis-aligned boxes.
+#[derive(Clone, Copy)]
+pub(crate) struct Boxes<'m> {
+    pub boxes: &'m [Aabb],
+}
+
+impl<'m> Kind<'m> for Boxes<'m> {
+    type Volume = Aabb;
+    const LEAF_IS_RING_BOX: bool = true;
+
+    #[inline(always)]
+    fn volume<P: Placement<'m>>(&self, place: &mut P, n: u32) -> Aabb {
+        place.aabb(&self.boxes[n as usize])
+    }
+
+    #[inline(always)]
+    fn leaf_box(&self, n: u32) -> Aabb {
+        self.boxes[n as usize]
+    }
+}
+
+/// One mesh of a query, as the traversal and the narrow phase use it.
+pub(crate) trait QuerySide<'m> {
+    type Volume: Volume;
+    /// The mesh.
+    fn mesh(&self) -> &'m Mesh;
+    /// The shape's nodes.
+    fn nodes(&self) -> &'m [Node];
+    /// Node `n`'s volume in the frame.
+    fn volume(&mut self, n: u32) -> Self::Volume;
+    /// Vertex `v` in the frame.
+    fn vertex(&mut self, v: u32) -> Point;
+    /// The exact box, in the frame, of the vertices of the ring of leaf `n`.
+    fn ring_box(&mut self, n: u32) -> Aabb;
+}
+
+/// A mesh viewed in the query frame: a placement and a volume kind, with the cache of its ring
+/// boxes.
+pub(crate) struct View<'w, P, K> {
+    pub place: P,
+    pub kind: K,
+    pub ring_boxes: &'w mut Stamped<Aabb>,
+}
+
+impl<'m, P: Placement<'m>, K: Kind<'m>> QuerySide<'m> for View<'_, P, K> {
+    type Volume = K::Volume;
+
+    #[inline(always)]
+    fn mesh(&self) -> &'m Mesh {
+        self.place.mesh()
+    }
+
+    #[inline(always)]
+    fn nodes(&self) -> &'m [Node] {
+        &self.place.mesh().tree.nodes
+    }
+
+    #[inline(always)]
+    fn volume(&mut self, n: u32) -> K::Volume {
+        self.kind.volume(&mut self.place, n)
+    }
+
+    #[inline(always)]
+    fn vertex(&mut self, v: u32) -> Point {
+        self.place.vertex(v)
+    }
+
+    /// Boxes of unposed box volumes are the ring boxes themselves; otherwise the box is computed
+    /// on first use in the query from the vertices in the frame.
+    #[inline]
+    fn ring_box(&mut self, n: u32) -> Aabb {
+        if P::LOCAL && K::LEAF_IS_RING_BOX {
+            return self.kind.leaf_box(n);
+        }
+        let mesh = self.place.mesh();
+        let r = mesh.tree.nodes[n as usize].ring_start as usize;
+        let place = &mut self.place;
+        self.ring_boxes.get_or(r, || {
+            let mut b = Aabb::point(&place.vertex(mesh.rings.centre[r]));
+            for &v in mesh.rings.vertices.row(r) {
+                b.grow(&place.vertex(v));
+            }
+            b
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixtures::Rng;
+    use crate::{BuildOptions, VolumeKind};
+
+    /// A posed box holds the coordinates the triangle test sees for every point it bounds, even
+    /// when those points sit within an ulp of the box's faces: no widening is needed, because
+    /// the bound and the point are rounded by the same monotone operations.
+    #[test]
+    fn posed_boxes_hold_the_transformed_points() {
+        let mut rng = Rng::new(31);
+        let tri = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+        let options = BuildOptions {
+            volume: VolumeKind::Aabb,
+            ..BuildOptions::default()
+        };
+        let mesh = Mesh::new(&tri, &[0, 1, 2], &options).unwrap();
+        let mut cache = Stamped::default();
+        for trial in 0..20_000 {
+            let angle = rng.range(0.0, 6.3);
+            let axis = [
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+            ];
+            let n = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
+            let (x, y, z) = (axis[0] / n, axis[1] / n, axis[2] / n);
+            let (s, c) = angle.sin_cos();
+            let k = 1.0 - c;
+            let rotation = [
+                [c + x * x * k, x * y * k - z * s, x * z * k + y * s],
+                [y * x * k + z * s, c + y * y * k, y * z * k - x * s],
+                [z * x * k - y * s, z * y * k + x * s, c + z * z * k],
+            ];
+            let scale = [1.0, 1e3, 1e-3, 7e5][trial % 4];
+            let t = [0; 3].map(|_| rng.range(-1.0, 1.0) * scale * 10.0);
+            let pose = Pose::new(rotation, t).unwrap();
+            // Points within a few ulps of each other, so that each face of their box is within
+            // an ulp of several of them.
+            let base = [0; 3].map(|_| rng.range(-1.0, 1.0) * scale);
+            let points: Vec<Point> = (0..6)
+                .map(|_| {
+                    base.map(|b| {
+                        let ulp = f64::from_bits(b.to_bits() + 1) - b;
+                        b + ulp * (rng.below(5) as f64 - 2.0)
+                    })
+                })
+                .collect();
+            let b = Aabb::of_points(&points);
+            cache.begin(3);
+            let posed = Posed {
+                mesh: &mesh,
+                pose: &pose,
+                cache: &mut cache,
+                stretch: pose.stretch(),
+                pad: 0.0,
+            };
+            let world = posed.aabb(&b);
+            for p in &points {
+                let w = pose.transform_point(p);
+                assert!(world.contains(&w), "trial {trial}: {w:?} outside {world:?}");
+            }
+        }
+    }
+}

@@ -1,0 +1,207 @@
+//! The one traversal of two hierarchies: node pairs whose volumes overlap are opened until they
+//! are terminal, and terminal pairs go to whoever asked ([`NarrowPhase`]): the exact triangle
+//! tests, or the report of node pairs. Depth first for complete answers; largest volumes first
+//! under a budget of volume tests.
+
+use super::pairs::QueryStats;
+use super::side::{QuerySide, Volume};
+use super::workspace::Queued;
+use crate::tree::Node;
+use std::collections::BinaryHeap;
+
+/// What a traversal hands its terminal node pairs to.
+pub(crate) trait NarrowPhase<'m, A: QuerySide<'m>, B: QuerySide<'m>> {
+    /// Node `na` of `a` and node `nb` of `b`, whose volumes overlap and which the traversal opens
+    /// no further. Returns whether the traversal must stop.
+    fn visit(&mut self, a: &mut A, b: &mut B, na: u32, nb: u32, stats: &mut QueryStats) -> bool;
+}
+
+/// Which node of an overlapping pair to open.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Open {
+    /// Neither: the pair is terminal.
+    Neither,
+    A,
+    B,
+    Both,
+}
+
+/// A node is opened unless it is a leaf or at the depth limit. Of two that can be, the one with
+/// the larger volume is; on equal sizes both are, so that the traversal with the meshes swapped
+/// visits the mirrored pairs and the coarse answers are symmetric.
+#[inline(always)]
+fn open(na: &Node, size_a: f64, nb: &Node, size_b: f64, max_depth: u32) -> Open {
+    let end_a = na.is_leaf() || u32::from(na.depth) >= max_depth;
+    let end_b = nb.is_leaf() || u32::from(nb.depth) >= max_depth;
+    if end_a && end_b {
+        Open::Neither
+    } else if end_a || (!end_b && size_b > size_a) {
+        Open::B
+    } else if end_b || size_a > size_b {
+        Open::A
+    } else {
+        Open::Both
+    }
+}
+
+/// Tests the child pairs `open` makes of `(na, nb)` (volumes `va`, `vb`) and passes the
+/// overlapping ones, with their volumes, to `keep`.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn open_pair<'m, A: QuerySide<'m>, B: QuerySide<'m>>(
+    a: &mut A,
+    b: &mut B,
+    na: u32,
+    nb: u32,
+    va: &A::Volume,
+    vb: &B::Volume,
+    how: Open,
+    stats: &mut QueryStats,
+    mut keep: impl FnMut(u32, u32, &A::Volume, &B::Volume),
+) {
+    let (nodes_a, nodes_b) = (a.nodes(), b.nodes());
+    match how {
+        Open::Neither => {}
+        Open::B => {
+            for ch in nodes_b[nb as usize].children() {
+                let vc = b.volume(ch);
+                stats.bv_tests += 1;
+                if va.overlaps(&vc) {
+                    keep(na, ch, va, &vc);
+                }
+            }
+        }
+        Open::A => {
+            for ch in nodes_a[na as usize].children() {
+                let vc = a.volume(ch);
+                stats.bv_tests += 1;
+                if vc.overlaps(vb) {
+                    keep(ch, nb, &vc, vb);
+                }
+            }
+        }
+        Open::Both => {
+            for x in nodes_a[na as usize].children() {
+                let vx = a.volume(x);
+                for y in nodes_b[nb as usize].children() {
+                    let vy = b.volume(y);
+                    stats.bv_tests += 1;
+                    if vx.overlaps(&vy) {
+                        keep(x, y, &vx, &vy);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Every overlapping terminal pair, depth first: nodes are terminal when they are leaves or at
+/// depth `max_depth`. A child pair is tested before it is pushed. Returns whether the narrow
+/// phase stopped the traversal.
+pub(crate) fn depth_first<'m, A, B, N>(
+    a: &mut A,
+    b: &mut B,
+    max_depth: u32,
+    stack: &mut Vec<(u32, u32)>,
+    stats: &mut QueryStats,
+    narrow: &mut N,
+) -> bool
+where
+    A: QuerySide<'m>,
+    B: QuerySide<'m>,
+    N: NarrowPhase<'m, A, B>,
+{
+    stack.clear();
+    stats.bv_tests += 1;
+    if !a.volume(0).overlaps(&b.volume(0)) {
+        return false;
+    }
+    let (nodes_a, nodes_b) = (a.nodes(), b.nodes());
+    stack.push((0, 0));
+    while let Some((na, nb)) = stack.pop() {
+        let (va, vb) = (a.volume(na), b.volume(nb));
+        let how = open(
+            &nodes_a[na as usize],
+            va.size_squared(),
+            &nodes_b[nb as usize],
+            vb.size_squared(),
+            max_depth,
+        );
+        if how == Open::Neither {
+            stats.leaf_pairs += 1;
+            if narrow.visit(a, b, na, nb, stats) {
+                return true;
+            }
+            continue;
+        }
+        open_pair(a, b, na, nb, &va, &vb, how, stats, |x, y, _, _| {
+            stack.push((x, y))
+        });
+    }
+    false
+}
+
+/// Overlapping pairs are opened largest volume first while fewer than `budget` volume tests have
+/// been made; then the pairs still waiting (the frontier) go to the narrow phase along with the
+/// leaf pairs met on the way. The reported pairs cover every leaf pair [`depth_first`] would
+/// report (every such pair lies below a reported one), and with a large enough budget they are
+/// exactly those. At most one opening runs past the budget: `bv_tests` ends below `budget` plus
+/// the child tests of one pair. Returns whether the narrow phase stopped the traversal.
+pub(crate) fn best_first<'m, A, B, N>(
+    a: &mut A,
+    b: &mut B,
+    budget: u64,
+    queue: &mut BinaryHeap<Queued>,
+    stats: &mut QueryStats,
+    narrow: &mut N,
+) -> bool
+where
+    A: QuerySide<'m>,
+    B: QuerySide<'m>,
+    N: NarrowPhase<'m, A, B>,
+{
+    queue.clear();
+    let (ra, rb) = (a.volume(0), b.volume(0));
+    stats.bv_tests += 1;
+    if !ra.overlaps(&rb) {
+        return false;
+    }
+    let key = |sa: f64, sb: f64| sa.max(sb).to_bits();
+    queue.push(Queued {
+        key: key(ra.size_squared(), rb.size_squared()),
+        a: 0,
+        b: 0,
+    });
+    let (nodes_a, nodes_b) = (a.nodes(), b.nodes());
+    while let Some(Queued { a: na, b: nb, .. }) = queue.pop() {
+        let (node_a, node_b) = (&nodes_a[na as usize], &nodes_b[nb as usize]);
+        let terminal = node_a.is_leaf() && node_b.is_leaf();
+        if terminal || stats.bv_tests >= budget {
+            if terminal {
+                stats.leaf_pairs += 1;
+            } else {
+                stats.frontier_pairs += 1;
+            }
+            if narrow.visit(a, b, na, nb, stats) {
+                return true;
+            }
+            continue;
+        }
+        let (va, vb) = (a.volume(na), b.volume(nb));
+        let how = open(
+            node_a,
+            va.size_squared(),
+            node_b,
+            vb.size_squared(),
+            u32::MAX,
+        );
+        open_pair(a, b, na, nb, &va, &vb, how, stats, |x, y, vx, vy| {
+            queue.push(Queued {
+                key: key(vx.size_squared(), vy.size_squared()),
+                a: x,
+                b: y,
+            })
+        });
+    }
+    false
+}

@@ -1,0 +1,9 @@
+//! The hierarchy's shape: which nodes are the children of which, and which rings lie below each.
+//! Bounding volumes live apart from it ([`crate::volume`]), so every volume kind shares one
+//! shape, one builder and one traversal.
+
+mod shape;
+mod tree_build;
+
+pub(crate) use shape::{Node, Tree};
+pub use tree_build::TreeKind;

@@ -1,0 +1,107 @@
+//! Bounding volumes on a [`Tree`](crate::tree::Tree)'s nodes, one array per kind, and their refit.
+//! The shape, the builder and the traversal are shared; only what a node's volume is and how a
+//! refit recomputes it differ between the kinds.
+
+mod boxes;
+mod dvh_centres;
+mod spheres;
+
+use crate::geometry::aabb::Aabb;
+use crate::geometry::predicates::Point;
+use crate::geometry::sphere::Sphere;
+use crate::mesh::{RadiusKind, RefitStats, RingTable};
+use crate::tree::Tree;
+pub(crate) use dvh_centres::assign_centres;
+
+/// The bounding volume on every node of a mesh's hierarchy.
+///
+/// All three share the 1-ring leaves and the tree builders, so comparing them isolates the
+/// volume. Measured on the paper's scenes in `BENCHMARKS.md`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum VolumeKind {
+    /// The paper's DVH: spheres centred on mesh vertices chosen at build (a leaf on its ring's
+    /// centre, an inner node on the vertex below it nearest to their mean), so a refit copies
+    /// the centres and recomputes radii only. Rotation-invariant: a pose moves a sphere without
+    /// loosening it.
+    #[default]
+    Dvh,
+    /// A standard sphere tree (the paper's SBV): every refit recomputes each centre, as the
+    /// midpoint of the box of the vertices below the node, and then its radius. The midpoint is
+    /// found bottom-up from the children's boxes in constant time per node and, unlike the mean
+    /// of the vertices, is not pulled towards densely sampled parts, which would lengthen the
+    /// radius to the sparse ones.
+    Sbv,
+    /// Axis-aligned boxes of the vertices below each node, refit bottom-up (a leaf's box from
+    /// its ring's vertices, an inner node's as the union of its children's). Exact and the
+    /// tightest of the three on deforming meshes; a pose must widen each box to the axis-aligned
+    /// box of the rotated one.
+    Aabb,
+}
+
+/// The volumes of one mesh, indexed by node.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Volumes {
+    /// Node `n`'s sphere is centred on vertex `centre_vertex[n]`.
+    Dvh {
+        centre_vertex: Vec<u32>,
+        spheres: Vec<Sphere>,
+    },
+    /// `boxes` holds each node's box of vertices from the last refit: the centres' source.
+    Sbv {
+        spheres: Vec<Sphere>,
+        boxes: Vec<Aabb>,
+    },
+    Aabb {
+        boxes: Vec<Aabb>,
+    },
+}
+
+impl Volumes {
+    /// Storage for `node_count` nodes of `kind`, before the first refit. DVH centres are given.
+    pub fn new(kind: VolumeKind, node_count: usize, centre_vertex: Vec<u32>) -> Volumes {
+        match kind {
+            VolumeKind::Dvh => Volumes::Dvh {
+                centre_vertex,
+                spheres: vec![Sphere::default(); node_count],
+            },
+            VolumeKind::Sbv => Volumes::Sbv {
+                spheres: vec![Sphere::default(); node_count],
+                boxes: vec![Aabb::EMPTY; node_count],
+            },
+            VolumeKind::Aabb => Volumes::Aabb {
+                boxes: vec![Aabb::EMPTY; node_count],
+            },
+        }
+    }
+
+    /// Recomputes every volume from the current positions. Allocates nothing: `stack` has room
+    /// for the wrapped-radius search (sized at build).
+    pub fn refit(&mut self, input: &RefitInput, stack: &mut Vec<u32>) -> RefitStats {
+        match self {
+            Volumes::Dvh {
+                centre_vertex,
+                spheres,
+            } => spheres::refit_dvh(centre_vertex, spheres, input, stack),
+            Volumes::Sbv { spheres, boxes } => spheres::refit_sbv(spheres, boxes, input, stack),
+            Volumes::Aabb { boxes } => boxes::refit_aabb(boxes, input),
+        }
+    }
+
+    /// Which kind these are.
+    pub fn kind(&self) -> VolumeKind {
+        match self {
+            Volumes::Dvh { .. } => VolumeKind::Dvh,
+            Volumes::Sbv { .. } => VolumeKind::Sbv,
+            Volumes::Aabb { .. } => VolumeKind::Aabb,
+        }
+    }
+}
+
+/// What a refit reads: the shape, the rings, the new positions, and the radius kind.
+#[derive(Clone, Copy)]
+pub(crate) struct RefitInput<'a> {
+    pub tree: &'a Tree,
+    pub rings: &'a RingTable,
+    pub positions: &'a [Point],
+    pub radius: RadiusKind,
+}

@@ -1,0 +1,170 @@
+//! Refitting sphere volumes: DVH (centres fixed on vertices, radii recomputed) and SBV (centres
+//! and radii recomputed).
+
+use super::RefitInput;
+use crate::geometry::aabb::Aabb;
+use crate::geometry::predicates::Point;
+use crate::geometry::sphere::{Sphere, distance_squared, round_up};
+use crate::mesh::{RadiusKind, RefitStats};
+
+/// Largest squared distance from `c` to the listed vertices (0 for none).
+#[inline]
+fn farthest_from(c: &Point, vertices: &[u32], positions: &[Point]) -> f64 {
+    let mut far = 0.0f64;
+    for &v in vertices {
+        let d = distance_squared(c, &positions[v as usize]);
+        // Not f64::max: its NaN rules cost a dependency chain; distances are never NaN.
+        far = if d > far { d } else { far };
+    }
+    far
+}
+
+/// DVH: every centre is copied from its vertex, then every radius recomputed, children before
+/// parents (children have higher indices).
+pub(super) fn refit_dvh(
+    centre_vertex: &[u32],
+    spheres: &mut [Sphere],
+    input: &RefitInput,
+    stack: &mut Vec<u32>,
+) -> RefitStats {
+    let RefitInput {
+        tree,
+        rings,
+        positions,
+        radius,
+    } = *input;
+    for (s, &v) in spheres.iter_mut().zip(centre_vertex) {
+        s.centre = positions[v as usize];
+    }
+    let mut evaluations = 0u64;
+    for i in (0..spheres.len()).rev() {
+        let node = &tree.nodes[i];
+        spheres[i].radius = if node.is_leaf() {
+            // The ring's centre is the sphere's: only the other vertices can be farther.
+            let verts = rings.vertices.row(node.ring_start as usize);
+            evaluations += verts.len() as u64;
+            round_up(farthest_from(&spheres[i].centre, verts, positions).sqrt())
+        } else {
+            match radius {
+                RadiusKind::Wrapped => wrapped::<true>(i, spheres, input, stack, &mut evaluations),
+                RadiusKind::Layered => layered(i, spheres, input, &mut evaluations),
+            }
+        };
+    }
+    RefitStats {
+        nodes_refit: spheres.len() as u64,
+        distance_evaluations: evaluations,
+    }
+}
+
+/// SBV: every node's box of vertices bottom-up, its midpoint as the centre, then the radius.
+pub(super) fn refit_sbv(
+    spheres: &mut [Sphere],
+    boxes: &mut [Aabb],
+    input: &RefitInput,
+    stack: &mut Vec<u32>,
+) -> RefitStats {
+    let RefitInput {
+        tree,
+        rings,
+        positions,
+        radius,
+    } = *input;
+    let mut evaluations = 0u64;
+    for i in (0..spheres.len()).rev() {
+        let node = &tree.nodes[i];
+        if node.is_leaf() {
+            let r = node.ring_start as usize;
+            let b = Aabb::of_points(rings.all_vertices(r).map(|v| &positions[v as usize]));
+            let c = b.centre();
+            let verts = rings.vertices.row(r);
+            evaluations += verts.len() as u64 + 1;
+            let far = farthest_from(&c, verts, positions)
+                .max(distance_squared(&c, &positions[rings.centre[r] as usize]));
+            boxes[i] = b;
+            spheres[i] = Sphere {
+                centre: c,
+                radius: round_up(far.sqrt()),
+            };
+        } else {
+            let mut b = Aabb::EMPTY;
+            for ch in node.children() {
+                b.merge(&boxes[ch as usize]);
+            }
+            boxes[i] = b;
+            spheres[i].centre = b.centre();
+            spheres[i].radius = match radius {
+                RadiusKind::Wrapped => wrapped::<false>(i, spheres, input, stack, &mut evaluations),
+                RadiusKind::Layered => layered(i, spheres, input, &mut evaluations),
+            };
+        }
+    }
+    RefitStats {
+        nodes_refit: spheres.len() as u64,
+        distance_evaluations: evaluations,
+    }
+}
+
+/// `max(|c - c_child| + r_child)` over the children of node `i`, rounded up.
+fn layered(i: usize, spheres: &[Sphere], input: &RefitInput, evaluations: &mut u64) -> f64 {
+    let node = &input.tree.nodes[i];
+    let c = spheres[i].centre;
+    *evaluations += u64::from(node.child_count);
+    let reach = node
+        .children()
+        .map(|ch| {
+            let s = &spheres[ch as usize];
+            distance_squared(&c, &s.centre).sqrt() + s.radius
+        })
+        .fold(0.0f64, f64::max);
+    round_up(reach)
+}
+
+/// Farthest vertex below node `i` from its centre, by branch and bound over the subtree: a
+/// subtree is skipped when its sphere cannot hold a vertex farther than the best found. With
+/// `SEEDED` (DVH), the centres of the nodes below are themselves vertices below, so they seed the
+/// bound; otherwise (SBV) only the rings' vertices do, each ring's centre included.
+///
+/// Rounding: every distance here is a floating-point estimate within a few ulps of the truth,
+/// and a subtree is only skipped when its estimated reach is at most the best estimate, so the
+/// true farthest distance is within a few ulps of the result, which [`round_up`] covers.
+fn wrapped<const SEEDED: bool>(
+    i: usize,
+    spheres: &[Sphere],
+    input: &RefitInput,
+    stack: &mut Vec<u32>,
+    evaluations: &mut u64,
+) -> f64 {
+    let (tree, rings, positions) = (input.tree, input.rings, input.positions);
+    let c = spheres[i].centre;
+    let mut best = 0.0f64;
+    stack.clear();
+    stack.extend(tree.nodes[i].children());
+    while let Some(x) = stack.pop() {
+        let s = &spheres[x as usize];
+        // Measured: a square root per node is cheaper than the branches of comparing squares.
+        let d = distance_squared(&c, &s.centre).sqrt();
+        *evaluations += 1;
+        if SEEDED {
+            best = best.max(d);
+        }
+        if d + s.radius <= best {
+            continue;
+        }
+        let node = &tree.nodes[x as usize];
+        if node.is_leaf() {
+            let r = node.ring_start as usize;
+            let verts = rings.vertices.row(r);
+            *evaluations += verts.len() as u64;
+            let mut far = farthest_from(&c, verts, positions);
+            if !SEEDED {
+                *evaluations += 1;
+                far = far.max(distance_squared(&c, &positions[rings.centre[r] as usize]));
+            }
+            best = best.max(far.sqrt());
+        } else {
+            stack.extend(node.children());
+        }
+    }
+    round_up(best)
+}
