@@ -15,6 +15,7 @@
 use num_bigint::BigInt;
 use num_traits::Signed;
 use num_traits::Zero;
+use std::cell::Cell;
 
 /// A point in space.
 pub type Point = [f64; 3];
@@ -158,6 +159,97 @@ impl Orient for Adaptive {
         }
         let c2 = |p: [f64; 2]| robust::Coord { x: p[0], y: p[1] };
         sign_of(robust::orient2d(c2(a), c2(b), c2(c)))
+    }
+}
+
+thread_local! {
+    /// Set by [`FilterProbe`] when a predicate's floating-point stage leaves its sign undecided.
+    static UNSETTLED: Cell<bool> = const { Cell::new(false) };
+}
+
+/// Shewchuk's error bound for the floating-point `orient2d` (`ccwerrboundA`).
+const ORIENT2D_FILTER: f64 = (3.0 + 16.0 * HALF_ULP) * HALF_ULP;
+
+/// The adaptive predicates, recording whether any sign needed more than the floating-point
+/// stage (the adaptive stages): how often exactness costs extra arithmetic. Signs decided by
+/// exact shortcuts (coincident points, exactly zero products) count as settled, as they cost
+/// nothing either. Diagnostics only; the queries use [`Adaptive`].
+pub(crate) struct FilterProbe;
+
+impl FilterProbe {
+    /// Clears the record; returns whether a sign was left undecided since the last call.
+    pub fn take() -> bool {
+        UNSETTLED.with(|u| u.replace(false))
+    }
+
+    fn unsettled() {
+        UNSETTLED.with(|u| u.set(true));
+    }
+}
+
+impl Orient for FilterProbe {
+    fn orient3d(a: &Point, b: &Point, c: &Point, d: &Point) -> Sign {
+        let (adx, ady, adz) = (a[0] - d[0], a[1] - d[1], a[2] - d[2]);
+        let (bdx, bdy, bdz) = (b[0] - d[0], b[1] - d[1], b[2] - d[2]);
+        let (cdx, cdy, cdz) = (c[0] - d[0], c[1] - d[1], c[2] - d[2]);
+        let (bdxcdy, cdxbdy) = (bdx * cdy, cdx * bdy);
+        let (cdxady, adxcdy) = (cdx * ady, adx * cdy);
+        let (adxbdy, bdxady) = (adx * bdy, bdx * ady);
+        let det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
+        let permanent = (bdxcdy.abs() + cdxbdy.abs()) * adz.abs()
+            + (cdxady.abs() + adxcdy.abs()) * bdz.abs()
+            + (adxbdy.abs() + bdxady.abs()) * cdz.abs();
+        let bound = ORIENT3D_FILTER * permanent;
+        if det.abs() <= bound && !(permanent == 0.0 || a == b || a == c || b == c) {
+            FilterProbe::unsettled();
+        }
+        Adaptive::orient3d(a, b, c, d)
+    }
+
+    /// [`Adaptive::plane_sides`]'s per-triangle filter; what it leaves goes to `orient3d` above.
+    fn plane_sides(t: &[Point; 3], points: &[Point; 3]) -> [Sign; 3] {
+        let a = &t[0];
+        let e1 = [t[1][0] - a[0], t[1][1] - a[1], t[1][2] - a[2]];
+        let e2 = [t[2][0] - a[0], t[2][1] - a[1], t[2][2] - a[2]];
+        let n = [
+            e1[1] * e2[2] - e1[2] * e2[1],
+            e1[2] * e2[0] - e1[0] * e2[2],
+            e1[0] * e2[1] - e1[1] * e2[0],
+        ];
+        let k = [
+            (e1[1] * e2[2]).abs() + (e1[2] * e2[1]).abs(),
+            (e1[2] * e2[0]).abs() + (e1[0] * e2[2]).abs(),
+            (e1[0] * e2[1]).abs() + (e1[1] * e2[0]).abs(),
+        ];
+        points.map(|p| {
+            let f = [p[0] - a[0], p[1] - a[1], p[2] - a[2]];
+            let det = f[0] * n[0] + f[1] * n[1] + f[2] * n[2];
+            let bound =
+                ORIENT3D_FILTER * (f[0].abs() * k[0] + f[1].abs() * k[1] + f[2].abs() * k[2]);
+            if det.abs() > bound || t.contains(&p) {
+                Adaptive::plane_sides(t, &[p; 3])[0]
+            } else {
+                Self::orient3d(&t[0], &t[1], &t[2], &p)
+            }
+        })
+    }
+
+    fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
+        // Shewchuk's first stage: opposite-signed or zero terms decide the sign exactly.
+        let detleft = (a[0] - c[0]) * (b[1] - c[1]);
+        let detright = (a[1] - c[1]) * (b[0] - c[0]);
+        let det = detleft - detright;
+        let sum = if detleft > 0.0 && detright > 0.0 {
+            Some(detleft + detright)
+        } else if detleft < 0.0 && detright < 0.0 {
+            Some(-detleft - detright)
+        } else {
+            None
+        };
+        if sum.is_some_and(|s| det.abs() < ORIENT2D_FILTER * s) && a != b {
+            FilterProbe::unsettled();
+        }
+        Adaptive::orient2d(a, b, c)
     }
 }
 

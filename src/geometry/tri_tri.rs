@@ -29,7 +29,7 @@
 //!   plane is tested with three signs (its line against the other's edges); one that lies in the
 //!   plane is tested in a coordinate plane onto which the triangle projects one-to-one.
 
-use super::predicates::{Adaptive, BigExact, Orient, Point, Sign, is_safe_point};
+use super::predicates::{Adaptive, BigExact, FilterProbe, Orient, Point, Sign, is_safe_point};
 
 /// A triangle as its three corner points.
 pub type Triangle = [Point; 3];
@@ -44,6 +44,19 @@ pub fn triangles_intersect(t1: &Triangle, t2: &Triangle) -> bool {
     } else {
         intersect::<BigExact>(t1, t2)
     }
+}
+
+/// Diagnostics, for measuring what exactness costs: [`triangles_intersect`]'s answer, and whether
+/// the floating-point stage of every orientation predicate it evaluated decided its sign, so that
+/// no adaptive (or big-integer) arithmetic ran. Coordinates outside the adaptive predicates' safe
+/// range are never settled. Slower than [`triangles_intersect`]; not for production queries.
+pub fn settled_by_filter(t1: &Triangle, t2: &Triangle) -> (bool, bool) {
+    if !t1.iter().chain(t2.iter()).all(is_safe_point) {
+        return (intersect::<BigExact>(t1, t2), false);
+    }
+    FilterProbe::take();
+    let hit = intersect::<FilterProbe>(t1, t2);
+    (hit, !FilterProbe::take())
 }
 
 /// [`triangles_intersect`] for callers that know every coordinate is safe
@@ -319,6 +332,38 @@ mod tests {
 
     fn tri(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> Triangle {
         [a, b, c]
+    }
+
+    #[test]
+    fn the_filter_settles_clear_pairs_and_not_touching_ones() {
+        let t = tri([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+        let through = tri([0.2, 0.3, -1.0], [0.25, 0.2, 1.0], [0.9, 0.8, 0.5]);
+        assert_eq!(settled_by_filter(&t, &through), (true, true));
+        // A corner of one exactly on the face of the other (the plane x + y + z = 1), not a
+        // shared corner: the plane side is exactly zero, which only exact arithmetic can tell.
+        let slanted = tri([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]);
+        let touching = tri([0.25, 0.25, 0.5], [1.0, 1.0, 1.0], [1.0, 0.5, 1.0]);
+        assert_eq!(settled_by_filter(&slanted, &touching), (true, false));
+        // Shared corners are settled combinatorially.
+        let fan = tri([0.0, 0.0, 0.0], [0.0, -1.0, 0.5], [-1.0, 0.0, 0.5]);
+        assert_eq!(settled_by_filter(&t, &fan), (true, true));
+        let huge = tri([1e100, 0.0, 0.0], [1e100, 1.0, 0.0], [1e100, 0.0, 1.0]);
+        assert!(!settled_by_filter(&t, &huge).1);
+        // The answer is always the exact test's, settled or not.
+        let mut rng = crate::fixtures::Rng::new(3);
+        let mut settled = 0;
+        for _ in 0..5000 {
+            let mut corner = || [0; 3].map(|_| (rng.below(5) as f64 - 2.0) * 0.5);
+            let (a, b) = (
+                [corner(), corner(), corner()],
+                [corner(), corner(), corner()],
+            );
+            let (hit, quick) = settled_by_filter(&a, &b);
+            assert_eq!(hit, triangles_intersect(&a, &b), "{a:?} {b:?}");
+            settled += usize::from(quick);
+        }
+        // Small integer grids are full of exact contacts; many, not all, are settled cheaply.
+        assert!((500..5000).contains(&settled), "{settled}");
     }
 
     /// Asserts the expected answer under every vertex order and argument order, and through both

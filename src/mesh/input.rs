@@ -23,64 +23,139 @@ pub(crate) fn scan_positions(positions: &[f64]) -> Result<Extent> {
     if count > u32::MAX as usize {
         return Err(Error::TooManyVertices { count });
     }
-    // One branch-free pass, which the compiler vectorises (every refit pays for it); the first
-    // bad value is looked for only when there is one.
-    let mut largest = 0.0f64;
-    let mut smallest_nonzero = f64::INFINITY;
-    let mut finite = true;
-    for &v in positions {
-        let a = v.abs();
-        finite &= a <= f64::MAX;
-        largest = if a > largest { a } else { largest };
-        let nonzero = if a == 0.0 { f64::INFINITY } else { a };
-        smallest_nonzero = if nonzero < smallest_nonzero {
-            nonzero
-        } else {
-            smallest_nonzero
-        };
-    }
-    if !finite {
-        let i = positions
-            .iter()
-            .position(|v| !v.is_finite())
-            .expect("a non-finite value");
-        return Err(Error::NonFiniteCoordinate {
-            vertex: i / 3,
-            axis: i % 3,
-            value: positions[i],
-        });
-    }
-    Ok(Extent {
-        max_abs: largest,
-        safe: largest <= SAFE_MAX && smallest_nonzero >= SAFE_MIN,
-    })
-}
-
-/// [`scan_positions`] for points read one by one.
-pub(crate) fn scan_points(count: usize, position: impl Fn(usize) -> Point) -> Result<Extent> {
-    let mut largest = 0.0f64;
-    let mut smallest_nonzero = f64::INFINITY;
-    for i in 0..count {
-        let p = position(i);
-        for (axis, &v) in p.iter().enumerate() {
-            if !v.is_finite() {
-                return Err(Error::NonFiniteCoordinate {
-                    vertex: i,
-                    axis,
-                    value: v,
-                });
-            }
-            let a = v.abs();
-            largest = largest.max(a);
-            if a != 0.0 {
-                smallest_nonzero = smallest_nonzero.min(a);
-            }
+    let mut scan = Scan::new();
+    let chunks = positions.chunks_exact(SCAN_LANES);
+    let tail = chunks.remainder();
+    for c in chunks {
+        for (lane, &v) in c.iter().enumerate() {
+            scan.fold(lane, v);
         }
     }
-    Ok(Extent {
-        max_abs: largest,
-        safe: largest <= SAFE_MAX && smallest_nonzero >= SAFE_MIN,
-    })
+    for (lane, &v) in tail.iter().enumerate() {
+        scan.fold(lane, v);
+    }
+    if !scan.finite() {
+        return Err(first_non_finite(count, |v| {
+            [positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]]
+        }));
+    }
+    Ok(scan.extent())
+}
+
+/// Lanes of [`Scan`]: two vertices' coordinates, so that no running extreme waits on the last.
+const SCAN_LANES: usize = 6;
+
+/// A running check of coordinates: largest magnitude, smallest non-zero magnitude, and a sum of
+/// `v - v` (0 for a finite value, NaN otherwise, and a NaN stays), in independent lanes that
+/// the compiler keeps in SIMD registers.
+struct Scan {
+    largest: [f64; SCAN_LANES],
+    smallest: [f64; SCAN_LANES],
+    poison: [f64; SCAN_LANES],
+}
+
+impl Scan {
+    fn new() -> Scan {
+        Scan {
+            largest: [0.0; SCAN_LANES],
+            smallest: [f64::INFINITY; SCAN_LANES],
+            poison: [0.0; SCAN_LANES],
+        }
+    }
+
+    #[inline(always)]
+    fn fold(&mut self, k: usize, v: f64) {
+        let a = v.abs();
+        self.largest[k] = if a > self.largest[k] {
+            a
+        } else {
+            self.largest[k]
+        };
+        let nonzero = if a == 0.0 { f64::INFINITY } else { a };
+        self.smallest[k] = if nonzero < self.smallest[k] {
+            nonzero
+        } else {
+            self.smallest[k]
+        };
+        // Zero for a finite value, NaN for infinity or NaN: the point of the expression.
+        #[allow(clippy::eq_op)]
+        let poisoned = v - v;
+        self.poison[k] += poisoned;
+    }
+
+    fn finite(&self) -> bool {
+        self.poison.iter().all(|p| *p == 0.0)
+    }
+
+    fn extent(&self) -> Extent {
+        let largest = self.largest.into_iter().fold(0.0f64, f64::max);
+        let smallest = self.smallest.into_iter().fold(f64::INFINITY, f64::min);
+        Extent {
+            max_abs: largest,
+            safe: largest <= SAFE_MAX && smallest >= SAFE_MIN,
+        }
+    }
+}
+
+/// The first non-finite coordinate, as an error (there must be one).
+fn first_non_finite(count: usize, position: impl Fn(usize) -> Point) -> Error {
+    for vertex in 0..count {
+        let p = position(vertex);
+        if let Some(axis) = p.iter().position(|v| !v.is_finite()) {
+            return Error::NonFiniteCoordinate {
+                vertex,
+                axis,
+                value: p[axis],
+            };
+        }
+    }
+    unreachable!("a non-finite coordinate was seen")
+}
+
+/// Checks every coordinate of a flat `x, y, z` array of `out.len()` vertices (its length checked
+/// by the caller) and copies it to `out`, in one pass. On error, `out` holds garbage: the caller
+/// writes into a spare buffer.
+pub(crate) fn store_positions(input: &[f64], out: &mut [Point]) -> Result<Extent> {
+    debug_assert_eq!(input.len(), 3 * out.len());
+    let mut scan = Scan::new();
+    let pairs = input.chunks_exact(SCAN_LANES);
+    let tail = pairs.remainder();
+    let (two, last) = out.split_at_mut(out.len() & !1);
+    for (c, o) in pairs.zip(two.chunks_exact_mut(2)) {
+        for (lane, &v) in c.iter().enumerate() {
+            scan.fold(lane, v);
+        }
+        o[0] = [c[0], c[1], c[2]];
+        o[1] = [c[3], c[4], c[5]];
+    }
+    if let ([x, y, z], [o]) = (tail, last) {
+        for (lane, v) in [*x, *y, *z].into_iter().enumerate() {
+            scan.fold(lane, v);
+        }
+        *o = [*x, *y, *z];
+    }
+    if !scan.finite() {
+        return Err(first_non_finite(out.len(), |v| {
+            [input[3 * v], input[3 * v + 1], input[3 * v + 2]]
+        }));
+    }
+    Ok(scan.extent())
+}
+
+/// [`store_positions`] for points read one by one (`out.len()` of them).
+pub(crate) fn store_points(position: impl Fn(usize) -> Point, out: &mut [Point]) -> Result<Extent> {
+    let mut scan = Scan::new();
+    for (v, o) in out.iter_mut().enumerate() {
+        let p = position(v);
+        for (lane, &x) in p.iter().enumerate() {
+            scan.fold(lane, x);
+        }
+        *o = p;
+    }
+    if !scan.finite() {
+        return Err(first_non_finite(out.len(), position));
+    }
+    Ok(scan.extent())
 }
 
 /// Checks a flat triangle index array against `vertex_count`.

@@ -61,9 +61,12 @@ pub struct NodeView {
 /// recomputes the volumes (for the default DVH volumes, radii only: centres are mesh vertices
 /// and move with them). Queries take `&Mesh`, so any number of threads may query one mesh at
 /// once; a refit needs `&mut`.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct Mesh {
     pub(crate) positions: Vec<Point>,
+    /// Where a refit writes the new positions while it checks them; swapped with `positions`
+    /// once they are all valid.
+    pub(crate) spare: Vec<Point>,
     pub(crate) triangles: Vec<[u32; 3]>,
     pub(crate) options: BuildOptions,
     pub(crate) rings: RingTable,
@@ -76,6 +79,24 @@ pub struct Mesh {
     pub(crate) last_refit: RefitStats,
     /// Stack for the wrapped-radius search, sized at build so refits never allocate.
     pub(crate) scratch: Vec<u32>,
+}
+
+/// Everything but the scratch space (the spare positions a refit writes before it knows they are
+/// valid, the refit's stack), which holds nothing of the mesh's state.
+impl std::fmt::Debug for Mesh {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Mesh")
+            .field("positions", &self.positions)
+            .field("triangles", &self.triangles)
+            .field("options", &self.options)
+            .field("rings", &self.rings)
+            .field("tree", &self.tree)
+            .field("volumes", &self.volumes)
+            .field("max_abs", &self.max_abs)
+            .field("safe", &self.safe)
+            .field("last_refit", &self.last_refit)
+            .finish_non_exhaustive()
+    }
 }
 
 impl Mesh {

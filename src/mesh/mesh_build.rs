@@ -59,15 +59,17 @@ impl Mesh {
         let centres: Vec<Point> = rings.centre.iter().map(|&v| points[v as usize]).collect();
         let (tree, order) = Tree::build(&centres, options.tree);
         let rings = RingTable::new(&rings, &order, &tris, vertex_count);
+        let positions = points;
         let centre_vertex = match options.volume {
-            VolumeKind::Dvh => assign_centres(&tree, &rings, &points),
+            VolumeKind::Dvh => assign_centres(&tree, &rings, &positions),
             VolumeKind::Sbv | VolumeKind::Aabb => Vec::new(),
         };
         let volumes = Volumes::new(options.volume, tree.len(), centre_vertex);
         // The wrapped-radius search pushes at most the fan-out per level.
         let scratch = Vec::with_capacity(options.tree.max_children() * (tree.levels() + 1));
         let mut mesh = Mesh {
-            positions: points,
+            spare: positions.clone(),
+            positions,
             triangles: tris,
             options: *options,
             rings,
@@ -129,6 +131,35 @@ mod tests {
                 s.levels,
                 s.rings
             );
+        }
+    }
+
+    #[test]
+    fn positions_and_centres_of_unusual_numberings() {
+        // A strip whose vertices are numbered backwards, with two vertices no triangle uses.
+        let points: Vec<Point> = (0..40).map(|i| [i as f64, (i % 3) as f64, 0.5]).collect();
+        let (p, mut t) = strip(&points);
+        t.iter_mut().for_each(|v| *v = 39 - *v);
+        let mut p = p;
+        p.extend_from_slice(&[7.0, 7.0, 7.0, -7.0, 0.0, 1.0]);
+        for options in BuildOptions::all() {
+            let mut mesh = Mesh::new(&p, &t, &options).unwrap();
+            let moved: Vec<f64> = p.iter().enumerate().map(|(i, x)| x + i as f64).collect();
+            mesh.refit(&moved).unwrap();
+            mesh.validate().unwrap();
+            assert_eq!(mesh.positions().as_flattened(), &moved[..]);
+            // Leaves in ring order: ordered by where their triangles sit in the root's.
+            let mut leaves: Vec<u32> = (0..mesh.node_count() as u32)
+                .filter(|&n| mesh.node(n).children.is_empty())
+                .collect();
+            leaves.sort_by_key(|&n| mesh.node_triangles(n).as_ptr() as usize);
+            for (&leaf, &c) in leaves.iter().zip(mesh.ring_centres()) {
+                let tris = mesh.node_triangles(leaf);
+                assert!(tris.iter().any(|&x| t[3 * x as usize..][..3].contains(&c)));
+                if let Some(cv) = mesh.node(leaf).centre_vertex {
+                    assert_eq!(cv, c);
+                }
+            }
         }
     }
 

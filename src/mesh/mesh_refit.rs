@@ -1,6 +1,6 @@
 //! Refitting a [`Mesh`] to new vertex positions: the volumes only, no allocation.
 
-use super::input::{scan_points, scan_positions};
+use super::input::{Extent, store_points, store_positions};
 use super::mesh::{Mesh, RefitStats};
 use crate::error::{Error, Result};
 use crate::geometry::predicates::Point;
@@ -8,7 +8,9 @@ use crate::volume::RefitInput;
 
 impl Mesh {
     /// Takes new positions for every vertex (`x, y, z` each, same vertex count as at build) and
-    /// recomputes every volume. For the DVH's spheres that is the radii only: their centres are
+    /// recomputes every volume. The input is read once, in order: checked and stored in one
+    /// pass (into a spare buffer, so that a failure changes nothing), then the volumes are
+    /// computed from the stored copy. For the DVH's spheres that is the radii only: their centres are
     /// mesh vertices, so they move with the positions.
     ///
     /// Errors: [`Error::VertexCountMismatch`], [`Error::PositionsLength`],
@@ -31,20 +33,13 @@ impl Mesh {
                 got: positions.len() / 3,
             });
         }
-        let extent = scan_positions(positions)?;
-        for (dst, src) in self.positions.iter_mut().zip(positions.chunks_exact(3)) {
-            *dst = [src[0], src[1], src[2]];
-        }
-        self.max_abs = extent.max_abs;
-        self.safe = extent.safe;
-        self.last_refit = self.update_volumes();
-        Ok(self.last_refit)
+        let extent = store_positions(positions, &mut self.spare)?;
+        Ok(self.fit_stored(extent))
     }
 
     /// [`Mesh::refit`] with each vertex's coordinates given by `position(i)` for `i` in
     /// `0..vertex_count`, for positions stored in another layout (interleaved, `f32`, ...). Each
-    /// vertex is read twice: once to check every value, once to store it, so a failure leaves the
-    /// mesh untouched and nothing is allocated.
+    /// vertex is read once; a failure leaves the mesh untouched; nothing is allocated.
     pub fn refit_with(
         &mut self,
         vertex_count: usize,
@@ -56,14 +51,8 @@ impl Mesh {
                 got: vertex_count,
             });
         }
-        let extent = scan_points(vertex_count, &position)?;
-        for (i, dst) in self.positions.iter_mut().enumerate() {
-            *dst = position(i);
-        }
-        self.max_abs = extent.max_abs;
-        self.safe = extent.safe;
-        self.last_refit = self.update_volumes();
-        Ok(self.last_refit)
+        let extent = store_points(position, &mut self.spare)?;
+        Ok(self.fit_stored(extent))
     }
 
     /// [`Mesh::refit`] from points.
@@ -71,14 +60,23 @@ impl Mesh {
         self.refit(positions.as_flattened())
     }
 
+    /// Makes the checked positions in the spare buffer current and recomputes every volume.
+    fn fit_stored(&mut self, extent: Extent) -> RefitStats {
+        std::mem::swap(&mut self.positions, &mut self.spare);
+        self.max_abs = extent.max_abs;
+        self.safe = extent.safe;
+        self.last_refit = self.update_volumes();
+        self.last_refit
+    }
+
     /// Recomputes every volume from the current positions.
     pub(crate) fn update_volumes(&mut self) -> RefitStats {
         let input = RefitInput {
             tree: &self.tree,
             rings: &self.rings,
-            positions: &self.positions,
             radius: self.options.radius,
         };
-        self.volumes.refit(&input, &mut self.scratch)
+        self.volumes
+            .refit(&input, &self.positions, &mut self.scratch)
     }
 }

@@ -49,6 +49,12 @@ impl Mesh {
             "cached coordinate extent is stale"
         );
         ensure!(
+            self.spare.len() == self.positions.len(),
+            "spare positions: {} for {} vertices",
+            self.spare.len(),
+            self.positions.len()
+        );
+        ensure!(
             self.scratch.capacity() >= self.options.tree.max_children() * self.tree.levels(),
             "refit stack not preallocated"
         );
@@ -90,6 +96,7 @@ impl Mesh {
                 "triangle {t} = {tri:?} out of range ({nv} vertices)"
             );
         }
+        let corners_of = |t: u32| self.triangles[t as usize];
         let mut covered = vec![0u32; nt];
         let mut in_ring = vec![u32::MAX; nv];
         let mut corner_of = vec![u32::MAX; nv];
@@ -111,11 +118,11 @@ impl Mesh {
                 let t = rings.triangles.items()[k];
                 ensure!((t as usize) < nt, "ring {r} triangle {t} out of range");
                 ensure!(
-                    rings.corners[k] == self.triangles[t as usize],
+                    rings.corners[k] == corners_of(t),
                     "ring {r}: stored corners of triangle {t} are stale"
                 );
                 covered[t as usize] += 1;
-                for v in distinct_corners(&self.triangles[t as usize]) {
+                for v in distinct_corners(&corners_of(t)) {
                     ensure!(
                         in_ring[v as usize] == r as u32,
                         "ring {r}: vertex {v} of triangle {t} missing from its vertex list"

@@ -6,7 +6,7 @@
 use super::pairs::QueryStats;
 use super::side::{QuerySide, Volume};
 use super::workspace::Queued;
-use crate::tree::Node;
+use crate::tree::{MAX_CHILDREN, Node};
 use std::collections::BinaryHeap;
 
 /// What a traversal hands its terminal node pairs to.
@@ -166,42 +166,60 @@ where
     if !ra.overlaps(&rb) {
         return false;
     }
+    let (nodes_a, nodes_b) = (a.nodes(), b.nodes());
     let key = |sa: f64, sb: f64| sa.max(sb).to_bits();
-    queue.push(Queued {
+    // Leaf pairs cost no test: they are reported when found rather than queued.
+    let mut found = [Queued { key: 0, a: 0, b: 0 }; MAX_CHILDREN * MAX_CHILDREN];
+    found[0] = Queued {
         key: key(ra.size_squared(), rb.size_squared()),
         a: 0,
         b: 0,
-    });
-    let (nodes_a, nodes_b) = (a.nodes(), b.nodes());
-    while let Some(Queued { a: na, b: nb, .. }) = queue.pop() {
-        let (node_a, node_b) = (&nodes_a[na as usize], &nodes_b[nb as usize]);
-        let terminal = node_a.is_leaf() && node_b.is_leaf();
-        if terminal || stats.bv_tests >= budget {
-            if terminal {
+    };
+    let mut len = 1;
+    loop {
+        for q in &found[..len] {
+            if nodes_a[q.a as usize].is_leaf() && nodes_b[q.b as usize].is_leaf() {
                 stats.leaf_pairs += 1;
+                if narrow.visit(a, b, q.a, q.b, stats) {
+                    return true;
+                }
             } else {
-                stats.frontier_pairs += 1;
+                queue.push(*q);
             }
+        }
+        len = 0;
+        let Some(Queued { a: na, b: nb, .. }) = queue.pop() else {
+            return false;
+        };
+        if stats.bv_tests >= budget {
+            // The frontier: this pair and every one still queued.
+            stats.frontier_pairs += 1;
             if narrow.visit(a, b, na, nb, stats) {
                 return true;
             }
-            continue;
+            while let Some(q) = queue.pop() {
+                stats.frontier_pairs += 1;
+                if narrow.visit(a, b, q.a, q.b, stats) {
+                    return true;
+                }
+            }
+            return false;
         }
         let (va, vb) = (a.volume(na), b.volume(nb));
         let how = open(
-            node_a,
+            &nodes_a[na as usize],
             va.size_squared(),
-            node_b,
+            &nodes_b[nb as usize],
             vb.size_squared(),
             u32::MAX,
         );
         open_pair(a, b, na, nb, &va, &vb, how, stats, |x, y, vx, vy| {
-            queue.push(Queued {
+            found[len] = Queued {
                 key: key(vx.size_squared(), vy.size_squared()),
                 a: x,
                 b: y,
-            })
+            };
+            len += 1;
         });
     }
-    false
 }

@@ -30,11 +30,13 @@ impl Node {
     }
 }
 
-/// The shape of a hierarchy over rings: node 0 is the root; nodes are numbered breadth-first, so
-/// every child comes after its parent and a reverse sweep visits children before parents.
+/// The shape of a hierarchy over rings: node 0 is the root; every child comes after its parent,
+/// so a reverse sweep visits children before parents.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub(crate) struct Tree {
     pub nodes: Vec<Node>,
+    /// The leaf node of each ring (rings in leaf order).
+    pub leaf_of_ring: Vec<u32>,
 }
 
 impl Tree {

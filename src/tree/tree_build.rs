@@ -20,6 +20,8 @@ pub enum TreeKind {
 const OCTANTS: usize = 8;
 /// Children of a binary node.
 const HALVES: usize = 2;
+/// Most children any node has.
+pub(crate) const MAX_CHILDREN: usize = OCTANTS;
 
 impl TreeKind {
     /// Most children a node can have.
@@ -39,8 +41,9 @@ const IMBALANCE: usize = 16;
 
 impl Tree {
     /// Splits the rings top-down by their centres until each node holds one ring. Returns the
-    /// tree (breadth-first: children contiguous and after their parent) and the order of the
-    /// rings that makes every node's rings a contiguous range (leaf order).
+    /// tree (children contiguous and after their parent, blocks of children in depth-first
+    /// order) and the order of the rings that makes every node's rings a contiguous range (leaf
+    /// order).
     pub(crate) fn build(centres: &[Point], kind: TreeKind) -> (Tree, Vec<u32>) {
         let count = centres.len() as u32;
         let mut order: Vec<u32> = (0..count).collect();
@@ -51,8 +54,12 @@ impl Tree {
         }];
         let mut bounds = Vec::with_capacity(OCTANTS + 1);
         let mut scratch = Vec::new();
-        let mut i = 0;
-        while i < nodes.len() {
+        // Depth first, each node's children allocated together when it is split: children stay
+        // contiguous and after their parent, and the blocks follow the leaf order, so that the
+        // leaves of neighbouring rings (and the nodes a depth-first traversal visits in turn)
+        // are close in memory.
+        let mut pending = vec![0usize];
+        while let Some(i) = pending.pop() {
             let (s, e) = (nodes[i].ring_start as usize, nodes[i].ring_end as usize);
             if e - s > 1 {
                 bounds.clear();
@@ -74,12 +81,24 @@ impl Tree {
                 }
                 nodes[i].first_child = first;
                 nodes[i].child_count = (bounds.len() - 1) as u16;
+                pending.extend((first as usize..nodes.len()).rev());
             } else {
                 nodes[i].first_child = nodes[i].ring_start;
             }
-            i += 1;
         }
-        (Tree { nodes }, order)
+        let mut leaf_of_ring = vec![0; order.len()];
+        for (i, n) in nodes.iter().enumerate() {
+            if n.is_leaf() {
+                leaf_of_ring[n.ring_start as usize] = i as u32;
+            }
+        }
+        (
+            Tree {
+                nodes,
+                leaf_of_ring,
+            },
+            order,
+        )
     }
 }
 

@@ -74,16 +74,24 @@ impl Volumes {
         }
     }
 
-    /// Recomputes every volume from the current positions. Allocates nothing: `stack` has room
-    /// for the wrapped-radius search (sized at build).
-    pub fn refit(&mut self, input: &RefitInput, stack: &mut Vec<u32>) -> RefitStats {
+    /// Recomputes every volume from `positions`: the leaves ring by ring in leaf order (whose
+    /// vertices the internal numbering keeps close together in memory), then the inner nodes.
+    /// Allocates nothing: `stack` has room for the wrapped-radius search (sized at build).
+    pub fn refit(
+        &mut self,
+        input: &RefitInput,
+        positions: &[Point],
+        stack: &mut Vec<u32>,
+    ) -> RefitStats {
         match self {
             Volumes::Dvh {
                 centre_vertex,
                 spheres,
-            } => spheres::refit_dvh(centre_vertex, spheres, input, stack),
-            Volumes::Sbv { spheres, boxes } => spheres::refit_sbv(spheres, boxes, input, stack),
-            Volumes::Aabb { boxes } => boxes::refit_aabb(boxes, input),
+            } => spheres::refit_dvh(centre_vertex, spheres, input, positions, stack),
+            Volumes::Sbv { spheres, boxes } => {
+                spheres::refit_sbv(spheres, boxes, input, positions, stack)
+            }
+            Volumes::Aabb { boxes } => boxes::refit_aabb(boxes, input, positions),
         }
     }
 
@@ -97,11 +105,10 @@ impl Volumes {
     }
 }
 
-/// What a refit reads: the shape, the rings, the new positions, and the radius kind.
+/// What a refit reads besides the positions: the shape, the rings, and the radius kind.
 #[derive(Clone, Copy)]
 pub(crate) struct RefitInput<'a> {
     pub tree: &'a Tree,
     pub rings: &'a RingTable,
-    pub positions: &'a [Point],
     pub radius: RadiusKind,
 }

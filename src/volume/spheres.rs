@@ -19,36 +19,42 @@ fn farthest_from(c: &Point, vertices: &[u32], positions: &[Point]) -> f64 {
     far
 }
 
-/// DVH: every centre is copied from its vertex, then every radius recomputed, children before
-/// parents (children have higher indices).
+/// DVH: leaves in ring order, then inner nodes, children before parents (children have higher
+/// indices). Centres are copied from their vertices; radii recomputed.
 pub(super) fn refit_dvh(
     centre_vertex: &[u32],
     spheres: &mut [Sphere],
     input: &RefitInput,
+    positions: &[Point],
     stack: &mut Vec<u32>,
 ) -> RefitStats {
     let RefitInput {
         tree,
         rings,
-        positions,
         radius,
     } = *input;
-    for (s, &v) in spheres.iter_mut().zip(centre_vertex) {
-        s.centre = positions[v as usize];
-    }
     let mut evaluations = 0u64;
+    for r in 0..rings.len() {
+        let leaf = tree.leaf_of_ring[r] as usize;
+        // The ring's centre is the sphere's: only the other vertices can be farther.
+        let c = positions[rings.centre[r] as usize];
+        let verts = rings.vertices.row(r);
+        evaluations += verts.len() as u64;
+        spheres[leaf] = Sphere {
+            centre: c,
+            radius: round_up(farthest_from(&c, verts, positions).sqrt()),
+        };
+    }
     for i in (0..spheres.len()).rev() {
-        let node = &tree.nodes[i];
-        spheres[i].radius = if node.is_leaf() {
-            // The ring's centre is the sphere's: only the other vertices can be farther.
-            let verts = rings.vertices.row(node.ring_start as usize);
-            evaluations += verts.len() as u64;
-            round_up(farthest_from(&spheres[i].centre, verts, positions).sqrt())
-        } else {
-            match radius {
-                RadiusKind::Wrapped => wrapped::<true>(i, spheres, input, stack, &mut evaluations),
-                RadiusKind::Layered => layered(i, spheres, input, &mut evaluations),
+        if tree.nodes[i].is_leaf() {
+            continue;
+        }
+        spheres[i].centre = positions[centre_vertex[i] as usize];
+        spheres[i].radius = match radius {
+            RadiusKind::Wrapped => {
+                wrapped::<true>(i, spheres, input, positions, stack, &mut evaluations)
             }
+            RadiusKind::Layered => layered(i, spheres, input, &mut evaluations),
         };
     }
     RefitStats {
@@ -62,42 +68,46 @@ pub(super) fn refit_sbv(
     spheres: &mut [Sphere],
     boxes: &mut [Aabb],
     input: &RefitInput,
+    positions: &[Point],
     stack: &mut Vec<u32>,
 ) -> RefitStats {
     let RefitInput {
         tree,
         rings,
-        positions,
         radius,
     } = *input;
     let mut evaluations = 0u64;
+    for r in 0..rings.len() {
+        let leaf = tree.leaf_of_ring[r] as usize;
+        let b = Aabb::of_points(rings.all_vertices(r).map(|v| &positions[v as usize]));
+        let c = b.centre();
+        let verts = rings.vertices.row(r);
+        evaluations += verts.len() as u64 + 1;
+        let far = farthest_from(&c, verts, positions)
+            .max(distance_squared(&c, &positions[rings.centre[r] as usize]));
+        boxes[leaf] = b;
+        spheres[leaf] = Sphere {
+            centre: c,
+            radius: round_up(far.sqrt()),
+        };
+    }
     for i in (0..spheres.len()).rev() {
         let node = &tree.nodes[i];
         if node.is_leaf() {
-            let r = node.ring_start as usize;
-            let b = Aabb::of_points(rings.all_vertices(r).map(|v| &positions[v as usize]));
-            let c = b.centre();
-            let verts = rings.vertices.row(r);
-            evaluations += verts.len() as u64 + 1;
-            let far = farthest_from(&c, verts, positions)
-                .max(distance_squared(&c, &positions[rings.centre[r] as usize]));
-            boxes[i] = b;
-            spheres[i] = Sphere {
-                centre: c,
-                radius: round_up(far.sqrt()),
-            };
-        } else {
-            let mut b = Aabb::EMPTY;
-            for ch in node.children() {
-                b.merge(&boxes[ch as usize]);
-            }
-            boxes[i] = b;
-            spheres[i].centre = b.centre();
-            spheres[i].radius = match radius {
-                RadiusKind::Wrapped => wrapped::<false>(i, spheres, input, stack, &mut evaluations),
-                RadiusKind::Layered => layered(i, spheres, input, &mut evaluations),
-            };
+            continue;
         }
+        let mut b = Aabb::EMPTY;
+        for ch in node.children() {
+            b.merge(&boxes[ch as usize]);
+        }
+        boxes[i] = b;
+        spheres[i].centre = b.centre();
+        spheres[i].radius = match radius {
+            RadiusKind::Wrapped => {
+                wrapped::<false>(i, spheres, input, positions, stack, &mut evaluations)
+            }
+            RadiusKind::Layered => layered(i, spheres, input, &mut evaluations),
+        };
     }
     RefitStats {
         nodes_refit: spheres.len() as u64,
@@ -132,10 +142,11 @@ fn wrapped<const SEEDED: bool>(
     i: usize,
     spheres: &[Sphere],
     input: &RefitInput,
+    positions: &[Point],
     stack: &mut Vec<u32>,
     evaluations: &mut u64,
 ) -> f64 {
-    let (tree, rings, positions) = (input.tree, input.rings, input.positions);
+    let (tree, rings) = (input.tree, input.rings);
     let c = spheres[i].centre;
     let mut best = 0.0f64;
     stack.clear();

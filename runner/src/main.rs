@@ -1,0 +1,311 @@
+//! dvh-runner: the paper's experiment and the knob measurements, with FCL and parry measured in
+//! the same run, as tables (printed, and written as Markdown and CSV) and SVG plots.
+//!
+//! ```text
+//! dvh-runner [paper|knobs|exactness|all|checksums] [--full] [--scene NAME]... [--frames N]
+//!            [--knob-frames N] [--out DIR]
+//! ```
+//!
+//! - `paper`: the paper's three scenes (or those named): every method (dvh with each volume x
+//!   tree x radius kind, FCL's two configurations, parry) refits every object and queries every
+//!   object pair, every frame; medians per frame, counters, pairs against the exact ones, ratios,
+//!   and the time-per-frame figures.
+//! - `knobs`: every volume x tree x radius kind and every query mode (exact, first hit, leaves,
+//!   each depth, budgets) on the paper's scenes and the dense-contact ones: time per frame,
+//!   recall, precision, object-level answers, the time/precision plot and the budget plot.
+//! - `exactness`: on the exact query's candidate pairs, the share the floating-point filter
+//!   leaves undecided, and Möller's floating-point test against the exact one.
+//! - `all`: the three; `checksums`: a hash of every scene's world coordinates at its first and
+//!   last frame, to compare with the cross-check harness's (`dvh_cross_check --checksums`).
+//!
+//! Without `--full`, small meshes and few frames (the short run the test suite makes); with it,
+//! the paper's sizes and 200 frames. Debian's CGAL demo meshes are used when installed
+//! (`libcgal-demo`), built-in meshes otherwise. Output goes to `--out` (default
+//! `target/dvh-runner`): `summary.md`, CSV files and SVG plots.
+
+mod exactness;
+#[cfg(fcl)]
+mod fcl;
+mod knobs;
+mod method;
+mod moller;
+mod paper;
+mod peer_parry;
+mod plot;
+mod report;
+mod scene;
+
+use method::Method;
+use scene::{Scene, Size};
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Command {
+    Paper,
+    Knobs,
+    Exactness,
+    All,
+    Checksums,
+}
+
+struct Args {
+    command: Command,
+    size: Size,
+    scenes: Vec<String>,
+    knob_frames: usize,
+    out: PathBuf,
+}
+
+fn usage() -> String {
+    "usage: dvh-runner [paper|knobs|exactness|all|checksums] [--full] [--scene NAME]... \
+     [--frames N] [--knob-frames N] [--out DIR]"
+        .to_string()
+}
+
+fn parse() -> Result<Args, String> {
+    let mut args = Args {
+        command: Command::All,
+        size: Size {
+            full: false,
+            frames: 0,
+        },
+        scenes: Vec::new(),
+        knob_frames: 0,
+        out: PathBuf::from("target/dvh-runner"),
+    };
+    let mut it = std::env::args().skip(1);
+    while let Some(a) = it.next() {
+        let mut value = |name: &str| it.next().ok_or(format!("{name} needs a value"));
+        match a.as_str() {
+            "paper" => args.command = Command::Paper,
+            "knobs" => args.command = Command::Knobs,
+            "exactness" => args.command = Command::Exactness,
+            "all" => args.command = Command::All,
+            "checksums" => args.command = Command::Checksums,
+            "--full" => args.size.full = true,
+            "--scene" => args.scenes.push(value("--scene")?),
+            "--frames" => {
+                args.size.frames = value("--frames")?
+                    .parse()
+                    .map_err(|e| format!("--frames: {e}"))?
+            }
+            "--knob-frames" => {
+                args.knob_frames = value("--knob-frames")?
+                    .parse()
+                    .map_err(|e| format!("--knob-frames: {e}"))?
+            }
+            "--out" => args.out = PathBuf::from(value("--out")?),
+            "-h" | "--help" => return Err(usage()),
+            other => return Err(format!("unknown argument {other:?}\n{}", usage())),
+        }
+    }
+    for s in &args.scenes {
+        if !scene::ALL.contains(&s.as_str()) {
+            return Err(format!("unknown scene {s:?}: one of {:?}", scene::ALL));
+        }
+    }
+    Ok(args)
+}
+
+/// `count` frames spread evenly over the scene's run.
+fn spread(scene: &Scene, count: usize) -> Vec<usize> {
+    let count = count.clamp(1, scene.frames);
+    (0..count).map(|k| k * scene.frames / count).collect()
+}
+
+/// The methods of the paper's comparison: dvh with every volume x tree x radius kind first (the
+/// first is exact and serves as the reference), then the peers.
+fn methods() -> Vec<Box<dyn Method>> {
+    let mut all: Vec<Box<dyn Method>> = knobs::options()
+        .into_iter()
+        .map(|o| Box::new(method::Dvh::new(o)) as Box<dyn Method>)
+        .collect();
+    #[cfg(fcl)]
+    {
+        all.push(Box::new(fcl::Fcl::new(fcl::Kind::Obbrss)));
+        all.push(Box::new(fcl::Fcl::new(fcl::Kind::Aabb)));
+    }
+    all.push(Box::new(peer_parry::Parry::default()));
+    all
+}
+
+fn heading(summary: &mut String, scene: &Scene) {
+    let _ = writeln!(
+        summary,
+        "\n### {}: {}, {} frames{}\n",
+        scene.name,
+        scene.description,
+        scene.frames,
+        if scene.built_in {
+            " (built-in meshes: Debian's CGAL data is not installed)"
+        } else {
+            ""
+        }
+    );
+}
+
+fn run(args: &Args) -> Result<bool, Box<dyn std::error::Error>> {
+    std::fs::create_dir_all(&args.out)?;
+    let mut summary = String::new();
+    let mut ok = true;
+    let pick = |defaults: &[&'static str]| -> Vec<String> {
+        if args.scenes.is_empty() {
+            defaults.iter().map(|s| s.to_string()).collect()
+        } else {
+            args.scenes.clone()
+        }
+    };
+    let _ = writeln!(
+        summary,
+        "# dvh-runner {} run, dvh {}{}",
+        if args.size.full { "full" } else { "short" },
+        env!("CARGO_PKG_VERSION"),
+        if cfg!(fcl) {
+            ""
+        } else {
+            " (FCL not installed: not measured)"
+        }
+    );
+
+    if args.command == Command::Checksums {
+        for name in pick(&scene::ALL) {
+            let s = scene::make(&name, args.size).expect("a known scene");
+            let mut world = vec![Vec::new(); s.objects.len()];
+            for f in [0, s.frames - 1] {
+                s.world(f, &mut world);
+                println!("{} frame {f}: {:016x}", s.name, scene::checksum(&world));
+            }
+        }
+        return Ok(true);
+    }
+
+    if matches!(args.command, Command::Paper | Command::All) {
+        let _ = writeln!(summary, "\n## The paper's scenes, every method\n");
+        for name in pick(&scene::PAPER) {
+            let s = scene::make(&name, args.size).expect("a known scene");
+            eprintln!(
+                "paper: {} ({} triangles, {} frames)",
+                s.name,
+                s.triangles(),
+                s.frames
+            );
+            let mut ms = methods();
+            let runs = paper::run(&s, &mut ms);
+            let table = paper::table(&runs);
+            heading(&mut summary, &s);
+            summary.push_str(&table.markdown());
+            println!("\n{}: {}\n{}", s.name, s.description, table.markdown());
+            table.write_csv(&args.out.join(format!("paper-{}.csv", s.name)))?;
+            plot::paper_figure(
+                &args.out.join(format!("paper-{}.svg", s.name)),
+                s.name,
+                &runs,
+            )?;
+            plot::peers_figure(
+                &args.out.join(format!("peers-{}.svg", s.name)),
+                s.name,
+                &runs,
+            )?;
+            for r in runs.iter().filter(|r| r.name.starts_with("dvh")) {
+                if r.missed != 0 || r.extra != 0 {
+                    eprintln!(
+                        "ERROR: {} differs from the exact pairs on {}: {} missed, {} extra",
+                        r.name, s.name, r.missed, r.extra
+                    );
+                    ok = false;
+                }
+            }
+        }
+    }
+
+    if matches!(args.command, Command::Knobs | Command::All) {
+        let _ = writeln!(summary, "\n## What each knob buys\n");
+        let frames = if args.knob_frames > 0 {
+            args.knob_frames
+        } else if args.size.full {
+            20
+        } else {
+            2
+        };
+        let mut all_rows = Vec::new();
+        for name in pick(&scene::ALL) {
+            let s = scene::make(&name, args.size).expect("a known scene");
+            let chosen = spread(&s, frames);
+            eprintln!(
+                "knobs: {} ({} frames of {})",
+                s.name,
+                chosen.len(),
+                s.frames
+            );
+            let rows = knobs::run(&s, &chosen, &knobs::options());
+            heading(&mut summary, &s);
+            let options = knobs::options_table(&rows);
+            let modes = knobs::modes_table(&rows, &dvh::BuildOptions::default());
+            let _ = writeln!(summary, "Per option:\n\n{}", options.markdown());
+            let _ = writeln!(
+                summary,
+                "\nEvery mode, default options:\n\n{}",
+                modes.markdown()
+            );
+            println!("\n{} per option\n{}", s.name, options.markdown());
+            println!(
+                "{} every mode, default options\n{}",
+                s.name,
+                modes.markdown()
+            );
+            plot::pareto_figure(
+                &args.out.join(format!("pareto-{}.svg", s.name)),
+                s.name,
+                &rows,
+            )?;
+            all_rows.extend(rows);
+        }
+        knobs::full_table(&all_rows).write_csv(&args.out.join("knobs.csv"))?;
+        plot::budget_figure(
+            &args.out.join("budget.svg"),
+            &all_rows,
+            &dvh::BuildOptions::default(),
+        )?;
+    }
+
+    if matches!(args.command, Command::Exactness | Command::All) {
+        let frames = if args.size.full { 5 } else { 2 };
+        let mut results = Vec::new();
+        for name in pick(&scene::ALL) {
+            let s = scene::make(&name, args.size).expect("a known scene");
+            eprintln!("exactness: {}", s.name);
+            results.push(exactness::run(&s, &spread(&s, frames)));
+        }
+        let table = exactness::table(&results);
+        let _ = writeln!(
+            summary,
+            "\n## What exactness costs (default options, {frames} frames per scene)\n\n{}",
+            table.markdown()
+        );
+        println!("\nexactness\n{}", table.markdown());
+    }
+
+    std::fs::write(args.out.join("summary.md"), summary)?;
+    eprintln!("wrote {}", args.out.display());
+    Ok(ok)
+}
+
+fn main() -> ExitCode {
+    let args = match parse() {
+        Ok(a) => a,
+        Err(e) => {
+            eprintln!("{e}");
+            return ExitCode::from(2);
+        }
+    };
+    match run(&args) {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::FAILURE,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
