@@ -148,15 +148,15 @@ static void test_versions_and_names(void) {
 static void test_defaults(void) {
     DvhBuildOptions b = dvh_build_options_default();
     DvhQueryOptions q = dvh_query_options_default();
-    DvhBuildOptions zero_b;
+    DvhBuildOptions r = dvh_build_options_rigid();
     DvhQueryOptions zero_q;
     CHECK(b.tree == DVH_TREE_KIND_OCTREE && b.radius == DVH_RADIUS_KIND_LAYERED &&
-          b.leftovers == DVH_LEFTOVER_POLICY_JOIN_ADJACENT && b.volume == DVH_VOLUME_KIND_DVH);
+          b.leftovers == DVH_LEFTOVER_POLICY_JOIN_ADJACENT && b.volume == DVH_VOLUME_KIND_AABB);
+    CHECK(r.tree == DVH_TREE_KIND_OCTREE && r.radius == DVH_RADIUS_KIND_WRAPPED &&
+          r.leftovers == DVH_LEFTOVER_POLICY_JOIN_ADJACENT && r.volume == DVH_VOLUME_KIND_SBV);
     CHECK(q.mode == DVH_QUERY_MODE_TRIANGLES && q.max_pairs == 0 && q.budget == 0);
-    /* The header's growth rule: zeroed options are the defaults. */
-    memset(&zero_b, 0, sizeof zero_b);
+    /* Zeroed query options are the defaults. */
     memset(&zero_q, 0, sizeof zero_q);
-    CHECK(memcmp(&zero_b, &b, sizeof b) == 0);
     CHECK(memcmp(&zero_q, &q, sizeof q) == 0);
 }
 

@@ -60,6 +60,7 @@ lib.dvh_mesh_create.argtypes = [
     ctypes.POINTER(DvhBuildOptions), ctypes.POINTER(MeshPtr),
 ]
 lib.dvh_build_options_default.restype = DvhBuildOptions
+lib.dvh_build_options_rigid.restype = DvhBuildOptions
 lib.dvh_query_options_default.restype = DvhQueryOptions
 lib.dvh_mesh_refit.restype = DvhStatus
 lib.dvh_mesh_refit.argtypes = [MeshPtr, ctypes.POINTER(ctypes.c_double), ctypes.c_size_t]
@@ -169,9 +170,11 @@ def main():
     check(lib.dvh_collide(sheet, None, tent, None, ctypes.byref(options), pairs, None) == DVH_STATUS_INVALID_ARGUMENT, "zero budget refused")
     check("budget = 0" in last_error(), "zero budget message: " + last_error())
 
-    # Box and SBV volumes give the same exact pairs, against each other too.
+    # Box, SBV and DVH volumes give the same exact pairs, against each other too.
     build = lib.dvh_build_options_default()
-    check(build.volume == DVH_VOLUME_KIND_DVH, "default volume kind")
+    check(build.volume == DVH_VOLUME_KIND_AABB, "default volume kind")
+    rigid = lib.dvh_build_options_rigid()
+    check(rigid.volume == DVH_VOLUME_KIND_SBV and rigid.radius == 1, "rigid options")
     build.volume = DVH_VOLUME_KIND_AABB
     status, sheet_boxes = create(sheet_pos, sheet_tris, build)
     build.volume = DVH_VOLUME_KIND_SBV
@@ -179,6 +182,11 @@ def main():
     check(status == status2 == DVH_STATUS_OK, "box and SBV meshes created")
     lib.dvh_collide(sheet_boxes, None, tent_sbv, None, None, pairs, None)
     check(pairs_of(pairs) == exact, "boxes against SBV spheres: the same exact pairs")
+    build.volume = DVH_VOLUME_KIND_DVH
+    status, tent_dvh = create(tent_pos, tent_tris, build)
+    lib.dvh_collide(sheet_boxes, None, tent_dvh, None, None, pairs, None)
+    check(status == DVH_STATUS_OK and pairs_of(pairs) == exact, "boxes against DVH spheres: the same exact pairs")
+    lib.dvh_mesh_free(tent_dvh)
     build.volume = 9
     status, bad = create(tent_pos, tent_tris, build)
     check(status == DVH_STATUS_INVALID_ARGUMENT and "options->volume = 9" in last_error(), "volume kind out of range: " + last_error())

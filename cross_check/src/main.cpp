@@ -8,7 +8,9 @@
 // difference, and a sample of the agreed pairs. dvh must agree with CGAL on every judged pair and
 // its posed answers must equal its world-coordinate answers; FCL's errors are counted.
 //
-// Usage: dvh_cross_check [--full] [--frames N] [--scene NAME] --data DIR [--out DIR]
+// Usage: dvh_cross_check [--full] [--frames N] [--scene NAME] [--checksums] --data DIR [--out DIR]
+// (--checksums prints a hash of every scene's world coordinates at its first and last frame and
+// exits: the benchmark runner's port of the scenes must print the same.)
 
 #include <dvh.h>
 #include <fcl/fcl.h>
@@ -320,11 +322,32 @@ void write_outputs(const std::string& dir, const std::vector<FrameRow>& rows, co
     json << "]\n";
 }
 
+// FNV-1a over the bytes of every world coordinate of every object at time t: the benchmark
+// runner (dvh-runner checksums) computes the same over its port of the scenes.
+uint64_t world_checksum(xc::Scene& scene, double t) {
+    uint64_t h = 0xcbf29ce484222325ULL;
+    std::vector<double> local, world;
+    for (auto& o : scene.objects) {
+        if (o.deforms)
+            o.morph.apply(o.rest.pos, t, local);
+        else
+            local = o.rest.pos;
+        xc::apply_pose(o.motion(t), local, world);
+        for (double x : world) {
+            uint64_t bits;
+            std::memcpy(&bits, &x, sizeof bits);
+            for (int k = 0; k < 8; k++) h = (h ^ ((bits >> (8 * k)) & 0xff)) * 0x100000001b3ULL;
+        }
+    }
+    return h;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     xc::SceneOptions options;
     std::string out_dir, only;
+    bool checksums = false;
     for (int i = 1; i < argc; i++) {
         std::string a = argv[i];
         auto value = [&]() -> std::string {
@@ -336,14 +359,29 @@ int main(int argc, char** argv) {
         else if (a == "--data") options.data_dir = value();
         else if (a == "--out") out_dir = value();
         else if (a == "--scene") only = value();
+        else if (a == "--checksums") checksums = true;
         else {
-            std::fprintf(stderr, "usage: %s [--full] [--frames N] [--scene NAME] --data DIR [--out DIR]\n", argv[0]);
+            std::fprintf(stderr, "usage: %s [--full] [--frames N] [--scene NAME] [--checksums] --data DIR [--out DIR]\n", argv[0]);
             return 2;
         }
     }
     if (options.data_dir.empty()) {
         std::fprintf(stderr, "--data DIR (the unpacked CGAL demo meshes) is required\n");
         return 2;
+    }
+    if (checksums) {
+        try {
+            for (auto& scene : xc::make_scenes(options)) {
+                if (!only.empty() && scene.name != only) continue;
+                for (int f : {0, scene.frames - 1})
+                    std::printf("%s frame %d: %016llx\n", scene.name.c_str(), f,
+                                (unsigned long long)world_checksum(scene, (double)f / scene.frames));
+            }
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "error: %s\n", e.what());
+            return 2;
+        }
+        return 0;
     }
     std::printf("dvh %s against FCL %s, judged by CGAL; %s run\n", dvh_version(), FCL_VERSION, options.full ? "full" : "short");
     std::vector<FrameRow> all_rows;

@@ -2,7 +2,7 @@
 //! the same run, as tables (printed, and written as Markdown and CSV) and SVG plots.
 //!
 //! ```text
-//! dvh-runner [paper|knobs|exactness|all|checksums] [--full] [--scene NAME]... [--frames N]
+//! dvh-runner [paper|knobs|exactness|rigid|all|checksums] [--full] [--scene NAME]... [--frames N]
 //!            [--knob-frames N] [--out DIR]
 //! ```
 //!
@@ -15,7 +15,9 @@
 //!   recall, precision, object-level answers, the time/precision plot and the budget plot.
 //! - `exactness`: on the exact query's candidate pairs, the share the floating-point filter
 //!   leaves undecided, and Möller's floating-point test against the exact one.
-//! - `all`: the three; `checksums`: a hash of every scene's world coordinates at its first and
+//! - `rigid`: the first scene's objects rigid (never refit), placed by poses: each volume kind's
+//!   query time, for the other kind of scene.
+//! - `all`: all of these; `checksums`: a hash of every scene's world coordinates at its first and
 //!   last frame, to compare with the cross-check harness's (`dvh_cross_check --checksums`).
 //!
 //! Without `--full`, small meshes and few frames (the short run the test suite makes); with it,
@@ -33,6 +35,7 @@ mod paper;
 mod peer_parry;
 mod plot;
 mod report;
+mod rigid;
 mod scene;
 
 use method::Method;
@@ -46,6 +49,7 @@ enum Command {
     Paper,
     Knobs,
     Exactness,
+    Rigid,
     All,
     Checksums,
 }
@@ -59,7 +63,7 @@ struct Args {
 }
 
 fn usage() -> String {
-    "usage: dvh-runner [paper|knobs|exactness|all|checksums] [--full] [--scene NAME]... \
+    "usage: dvh-runner [paper|knobs|exactness|rigid|all|checksums] [--full] [--scene NAME]... \
      [--frames N] [--knob-frames N] [--out DIR]"
         .to_string()
 }
@@ -82,6 +86,7 @@ fn parse() -> Result<Args, String> {
             "paper" => args.command = Command::Paper,
             "knobs" => args.command = Command::Knobs,
             "exactness" => args.command = Command::Exactness,
+            "rigid" => args.command = Command::Rigid,
             "all" => args.command = Command::All,
             "checksums" => args.command = Command::Checksums,
             "--full" => args.size.full = true,
@@ -102,8 +107,8 @@ fn parse() -> Result<Args, String> {
         }
     }
     for s in &args.scenes {
-        if !scene::ALL.contains(&s.as_str()) {
-            return Err(format!("unknown scene {s:?}: one of {:?}", scene::ALL));
+        if !scene::EVERY.contains(&s.as_str()) {
+            return Err(format!("unknown scene {s:?}: one of {:?}", scene::EVERY));
         }
     }
     Ok(args)
@@ -170,7 +175,7 @@ fn run(args: &Args) -> Result<bool, Box<dyn std::error::Error>> {
     );
 
     if args.command == Command::Checksums {
-        for name in pick(&scene::ALL) {
+        for name in pick(&scene::EVERY) {
             let s = scene::make(&name, args.size).expect("a known scene");
             let mut world = vec![Vec::new(); s.objects.len()];
             for f in [0, s.frames - 1] {
@@ -225,7 +230,7 @@ fn run(args: &Args) -> Result<bool, Box<dyn std::error::Error>> {
         let frames = if args.knob_frames > 0 {
             args.knob_frames
         } else if args.size.full {
-            20
+            8
         } else {
             2
         };
@@ -270,10 +275,23 @@ fn run(args: &Args) -> Result<bool, Box<dyn std::error::Error>> {
         )?;
     }
 
+    if matches!(args.command, Command::Rigid | Command::All) {
+        let s = scene::make("many", args.size).expect("a known scene");
+        eprintln!("rigid: {} (posed, never refit)", s.name);
+        let table = rigid::table(&rigid::run(&s));
+        let _ = writeln!(
+            summary,
+            "\n## Rigid objects: the first scene without deformation, placed by poses ({} frames)\n\n{}",
+            s.frames,
+            table.markdown()
+        );
+        println!("\nrigid {}\n{}", s.name, table.markdown());
+    }
+
     if matches!(args.command, Command::Exactness | Command::All) {
         let frames = if args.size.full { 5 } else { 2 };
         let mut results = Vec::new();
-        for name in pick(&scene::ALL) {
+        for name in pick(&scene::EVERY) {
             let s = scene::make(&name, args.size).expect("a known scene");
             eprintln!("exactness: {}", s.name);
             results.push(exactness::run(&s, &spread(&s, frames)));

@@ -314,10 +314,60 @@ fn copy(size: Size) -> Scene {
     }
 }
 
+/// A height field over `[0, size]²`, `n × n` cells: `z = amplitude · sin(2π fx x + px) ·
+/// cos(2π fy y + py)` with seeded frequencies and phases (the harness's `terrain`).
+fn terrain(n: usize, size: f64, amplitude: f64, seed: u64) -> MeshData {
+    let mut m = grid(n, size);
+    let mut rng = Rng::new(seed);
+    let (fx, fy) = (rng.range(1.0, 3.0), rng.range(1.0, 3.0));
+    // 6.28, not TAU: the harness's literal, which the scene must reproduce.
+    #[allow(clippy::approx_constant)]
+    let (px, py) = (rng.range(0.0, 6.28), rng.range(0.0, 6.28));
+    for p in m.positions.chunks_exact_mut(3) {
+        let (x, y) = (p[0] / size, p[1] / size);
+        p[2] = amplitude * (TAU * fx * x + px).sin() * (TAU * fy * y + py).cos();
+    }
+    m
+}
+
+/// Exactness stress: a bumpy sheet and its copy shifted sideways by 1e-12. The surfaces cross
+/// along curves everywhere and nearly coincide elsewhere: nearly coplanar pairs by the thousand.
+fn near(size: Size) -> Scene {
+    let offset = 1e-12;
+    let base = terrain(if size.full { 160 } else { 24 }, 1.0, 0.1, 7);
+    let morph = Morph::random(&base, 3, 0.03, 600);
+    let objects = (0..2)
+        .map(|i| {
+            let shift = if i == 0 { 0.0 } else { offset };
+            Object {
+                name: if i == 0 { "terrain" } else { "shifted" }.to_string(),
+                rest: base.clone(),
+                morph: morph.clone(),
+                motion: Box::new(move |t| {
+                    axis_angle([0.0, 0.0, 1.0], 0.2 * t, [shift, 0.5 * shift, 0.0])
+                }),
+            }
+        })
+        .collect();
+    Scene {
+        name: "near-1e-12",
+        description: format!(
+            "a terrain of {} triangles and its copy shifted sideways by 1e-12",
+            base.triangle_count()
+        ),
+        objects,
+        pairs: all_pairs(2),
+        frames: 0,
+        built_in: false,
+    }
+}
+
 /// The paper's three scenes.
 pub const PAPER: [&str; 3] = ["many", "medium", "large"];
 /// The paper's three and the dense-contact ones.
 pub const ALL: [&str; 5] = ["many", "medium", "large", "coplanar", "copy"];
+/// Every scene, the exactness stress included.
+pub const EVERY: [&str; 6] = ["many", "medium", "large", "coplanar", "copy", "near-1e-12"];
 
 /// The scene called `name`, sized by `size`; `None` for an unknown name.
 pub fn make(name: &str, size: Size) -> Option<Scene> {
@@ -327,6 +377,7 @@ pub fn make(name: &str, size: Size) -> Option<Scene> {
         "large" => large(size),
         "coplanar" => coplanar(size),
         "copy" => copy(size),
+        "near-1e-12" => near(size),
         _ => return None,
     };
     scene.frames = if size.frames > 0 {

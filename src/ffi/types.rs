@@ -56,12 +56,14 @@ pub const DVH_LEFTOVER_POLICY_EXTRA_RINGS: DvhLeftoverPolicy = 1;
 
 /// The bounding volume on every node of a mesh's hierarchy: a `DVH_VOLUME_KIND_*` value.
 pub type DvhVolumeKind = u32;
-/// The DVH: spheres centred on mesh vertices, refit by recomputing radii only. The default.
+/// The DVH: spheres centred on mesh vertices, refit by recomputing radii only. The value of a
+/// zeroed `volume` (the library's behaviour before volume kinds existed).
 pub const DVH_VOLUME_KIND_DVH: DvhVolumeKind = 0;
 /// A standard sphere tree (SBV): centres recomputed at every refit (midpoints of the boxes of
 /// the vertices below each node), then radii.
 pub const DVH_VOLUME_KIND_SBV: DvhVolumeKind = 1;
-/// Axis-aligned boxes, refit bottom-up.
+/// Axis-aligned boxes, refit bottom-up: the fastest measured for deforming meshes. The default
+/// of `dvh_build_options_default()`.
 pub const DVH_VOLUME_KIND_AABB: DvhVolumeKind = 2;
 
 /// What a query reports: a `DVH_QUERY_MODE_*` value.
@@ -89,9 +91,9 @@ pub const DVH_PAIR_KIND_NODES: DvhPairKind = 1;
 
 /// Options for `dvh_mesh_create`; start from `dvh_build_options_default()`.
 ///
-/// Growth: fields are only ever appended, and zero always means the default, so zeroed options
-/// are the defaults. A release that appends a field changes the library's soname (see the
-/// header's ABI note), so a program never runs against a layout it was not compiled for.
+/// Growth: fields are only ever appended, and a zero field keeps the behaviour from before the
+/// field existed. A release that appends a field changes the library's soname (see the header's
+/// ABI note), so a program never runs against a layout it was not compiled for.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct DvhBuildOptions {
@@ -105,8 +107,8 @@ pub struct DvhBuildOptions {
     pub volume: DvhVolumeKind,
 }
 
-/// Options for `dvh_collide`; start from `dvh_query_options_default()`. Grows like
-/// `DvhBuildOptions`: appended fields, zero the default.
+/// Options for `dvh_collide`; start from `dvh_query_options_default()` (all fields zero). Grows
+/// like `DvhBuildOptions`: appended fields, zero the earlier behaviour.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct DvhQueryOptions {

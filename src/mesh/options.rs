@@ -21,7 +21,8 @@ pub enum RadiusKind {
     Layered,
 }
 
-/// Options for [`crate::Mesh::new`].
+/// Options for [`crate::Mesh::new`]. The defaults (octree, boxes) are the fastest measured for
+/// meshes that deform; [`BuildOptions::rigid`] for meshes that only move.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct BuildOptions {
     /// Octree or binary tree.
@@ -36,6 +37,18 @@ pub struct BuildOptions {
 }
 
 impl BuildOptions {
+    /// The options that measured fastest for rigid meshes, moved by poses and never refit:
+    /// SBV spheres with wrapped radii on an octree (see [`VolumeKind`]). The defaults are the
+    /// fastest for meshes that deform.
+    pub fn rigid() -> BuildOptions {
+        BuildOptions {
+            tree: TreeKind::Octree,
+            radius: RadiusKind::Wrapped,
+            leftovers: LeftoverPolicy::JoinAdjacent,
+            volume: VolumeKind::Sbv,
+        }
+    }
+
     /// Every distinct combination of the options, for measuring them against each other (the
     /// radius kind only for the sphere volumes: boxes have none).
     pub fn all() -> impl Iterator<Item = BuildOptions> {

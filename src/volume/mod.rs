@@ -16,14 +16,17 @@ pub(crate) use dvh_centres::assign_centres;
 /// The bounding volume on every node of a mesh's hierarchy.
 ///
 /// All three share the 1-ring leaves and the tree builders, so comparing them isolates the
-/// volume. Measured on the paper's scenes in `BENCHMARKS.md`.
+/// volume. Measured in `BENCHMARKS.md`: on meshes that deform (refit every frame, queried in
+/// their own coordinates) boxes are the fastest on every scene measured, the paper's three and
+/// dense contact, so they are the default; on rigid meshes placed by poses and never refit, SBV's
+/// spheres are the fastest (boxes must grow to hold their rotated selves), which
+/// [`crate::BuildOptions::rigid`] chooses. The paper's DVH comes between the two in both.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum VolumeKind {
     /// The paper's DVH: spheres centred on mesh vertices chosen at build (a leaf on its ring's
     /// centre, an inner node on the vertex below it nearest to their mean), so a refit copies
     /// the centres and recomputes radii only. Rotation-invariant: a pose moves a sphere without
     /// loosening it.
-    #[default]
     Dvh,
     /// A standard sphere tree (the paper's SBV): every refit recomputes each centre, as the
     /// midpoint of the box of the vertices below the node, and then its radius. The midpoint is
@@ -34,7 +37,8 @@ pub enum VolumeKind {
     /// Axis-aligned boxes of the vertices below each node, refit bottom-up (a leaf's box from
     /// its ring's vertices, an inner node's as the union of its children's). Exact and the
     /// tightest of the three on deforming meshes; a pose must widen each box to the axis-aligned
-    /// box of the rotated one.
+    /// box of the rotated one. The default.
+    #[default]
     Aabb,
 }
 

@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Builds and runs the benchmark runner (dvh against FCL and parry, the knobs, the plots).
+# Installs what it needs when missing: FCL (to measure it), Debian's CGAL demo meshes.
+#
+#   runner/run.sh                 short run of everything (small meshes, few frames)
+#   runner/run.sh all --full      paper sizes and 200 frames (about an hour)
+#   runner/run.sh paper --full --scene large --out DIR
+#
+# Output: target/dvh-runner (or --out DIR): summary.md, CSV files, SVG plots.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/ensure-packages.sh libfcl-dev libccd-dev libeigen3-dev libcgal-demo pkg-config g++
+cargo build --release --quiet -p dvh-runner
+exec target/release/dvh-runner "$@"
