@@ -3,17 +3,29 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-scripts/ensure-packages.sh libcgal-demo valgrind pkg-config
+scripts/ensure-packages.sh libcgal-demo valgrind pkg-config libfcl-dev libccd-dev libeigen3-dev g++
 
 cargo fmt --all -- --check
 cargo clippy --all-targets -- -D warnings
+cargo clippy -p dvh-runner --all-targets -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --quiet
 # Unit, property, integration and documentation tests; a missing mesh archive is a failure here.
 DVH_REQUIRE_CGAL_DATA=1 cargo test
+cargo test -p dvh-runner --quiet
+# The criterion benchmarks must keep compiling.
+cargo bench --no-run --quiet
 # The C ABI: C tests under sanitizers and valgrind, install, pkg-config, Python ctypes.
 ctests/run.sh
 # The cross-check against FCL, judged by CGAL: the short version (every scene kind, small meshes).
 cross_check/run.sh | sed -n "/^Summary/,\$p"
+# The benchmark runner's scenes are the cross-check's, coordinate for coordinate.
+scenes="many|medium|large|coplanar|copy|near-1e-12"
+diff <(runner/run.sh checksums) \
+    <(cross_check/build/cmake/dvh_cross_check --checksums --data "${DVH_CACHE_DIR:-cross_check/build/meshes}" \
+        | grep -E "^($scenes) ")
+# The runner's short run: every method, knob and plot, failing if a dvh method is not exact or a
+# conservative mode misses a pair.
+runner/run.sh all --out target/dvh-runner >/dev/null
 # The main job must keep working.
 cargo run --release --quiet --example demo -- --frames 4 >/dev/null
 echo "all tests passed"

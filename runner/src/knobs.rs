@@ -5,7 +5,7 @@
 //! object-level answer (touching or not) is right.
 
 use crate::method::label;
-use crate::report::{Table, count, median, ms};
+use crate::report::{Table, count, median, ms, sums};
 use crate::scene::Scene;
 use dvh::{
     BuildOptions, Mesh, Pair, PairKind, Pairs, QueryMode, QueryOptions, RadiusKind, TreeKind,
@@ -61,13 +61,7 @@ pub struct Row {
 impl Row {
     /// Median refit + query per frame.
     pub fn time(&self) -> f64 {
-        let t: Vec<f64> = self
-            .refit_ms
-            .iter()
-            .zip(&self.query_ms)
-            .map(|(r, q)| r + q)
-            .collect();
-        median(&t)
+        median(&sums(&self.refit_ms, &self.query_ms))
     }
 
     pub fn recall(&self) -> f64 {

@@ -4,7 +4,7 @@
 //! and every method's pairs compared with the exact ones.
 
 use crate::method::Method;
-use crate::report::{Table, count, median, ms, ratio};
+use crate::report::{Table, count, median, ms, ratio, sums};
 use crate::scene::Scene;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::time::Instant;
@@ -29,22 +29,12 @@ pub struct MethodRun {
 impl MethodRun {
     /// Median of refit + query per frame.
     pub fn total(&self) -> f64 {
-        let t: Vec<f64> = self
-            .refit_ms
-            .iter()
-            .zip(&self.query_ms)
-            .map(|(r, q)| r + q)
-            .collect();
-        median(&t)
+        median(&self.totals())
     }
 
     /// Per-frame totals.
     pub fn totals(&self) -> Vec<f64> {
-        self.refit_ms
-            .iter()
-            .zip(&self.query_ms)
-            .map(|(r, q)| r + q)
-            .collect()
+        sums(&self.refit_ms, &self.query_ms)
     }
 }
 

@@ -19,6 +19,11 @@ pub fn median(values: &[f64]) -> f64 {
     }
 }
 
+/// Refit plus query, frame by frame.
+pub fn sums(refit: &[f64], query: &[f64]) -> Vec<f64> {
+    refit.iter().zip(query).map(|(r, q)| r + q).collect()
+}
+
 /// A table printed as Markdown: a header row and rows of cells.
 pub struct Table {
     header: Vec<String>,

@@ -72,6 +72,23 @@ pub trait Orient {
 const ORIENT3D_FILTER: f64 = (7.0 + 56.0 * HALF_ULP) * HALF_ULP;
 const HALF_ULP: f64 = f64::EPSILON / 2.0;
 
+/// Shewchuk's first, floating-point stage of `orient3d`: the determinant and the permanent its
+/// error bound scales (the same expression as the `robust` crate's).
+#[inline(always)]
+fn orient3d_stage_one(a: &Point, b: &Point, c: &Point, d: &Point) -> (f64, f64) {
+    let (adx, ady, adz) = (a[0] - d[0], a[1] - d[1], a[2] - d[2]);
+    let (bdx, bdy, bdz) = (b[0] - d[0], b[1] - d[1], b[2] - d[2]);
+    let (cdx, cdy, cdz) = (c[0] - d[0], c[1] - d[1], c[2] - d[2]);
+    let (bdxcdy, cdxbdy) = (bdx * cdy, cdx * bdy);
+    let (cdxady, adxcdy) = (cdx * ady, adx * cdy);
+    let (adxbdy, bdxady) = (adx * bdy, bdx * ady);
+    let det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
+    let permanent = (bdxcdy.abs() + cdxbdy.abs()) * adz.abs()
+        + (cdxady.abs() + adxcdy.abs()) * bdz.abs()
+        + (adxbdy.abs() + bdxady.abs()) * cdz.abs();
+    (det, permanent)
+}
+
 /// Shewchuk's adaptive predicates; exact when every coordinate is safe.
 pub struct Adaptive;
 
@@ -83,16 +100,7 @@ impl Orient for Adaptive {
     /// product has an exactly zero factor), give zero at once.
     #[inline]
     fn orient3d(a: &Point, b: &Point, c: &Point, d: &Point) -> Sign {
-        let (adx, ady, adz) = (a[0] - d[0], a[1] - d[1], a[2] - d[2]);
-        let (bdx, bdy, bdz) = (b[0] - d[0], b[1] - d[1], b[2] - d[2]);
-        let (cdx, cdy, cdz) = (c[0] - d[0], c[1] - d[1], c[2] - d[2]);
-        let (bdxcdy, cdxbdy) = (bdx * cdy, cdx * bdy);
-        let (cdxady, adxcdy) = (cdx * ady, adx * cdy);
-        let (adxbdy, bdxady) = (adx * bdy, bdx * ady);
-        let det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
-        let permanent = (bdxcdy.abs() + cdxbdy.abs()) * adz.abs()
-            + (cdxady.abs() + adxcdy.abs()) * bdz.abs()
-            + (adxbdy.abs() + bdxady.abs()) * cdz.abs();
+        let (det, permanent) = orient3d_stage_one(a, b, c, d);
         let bound = ORIENT3D_FILTER * permanent;
         if det > bound {
             return 1;
@@ -189,16 +197,7 @@ impl FilterProbe {
 
 impl Orient for FilterProbe {
     fn orient3d(a: &Point, b: &Point, c: &Point, d: &Point) -> Sign {
-        let (adx, ady, adz) = (a[0] - d[0], a[1] - d[1], a[2] - d[2]);
-        let (bdx, bdy, bdz) = (b[0] - d[0], b[1] - d[1], b[2] - d[2]);
-        let (cdx, cdy, cdz) = (c[0] - d[0], c[1] - d[1], c[2] - d[2]);
-        let (bdxcdy, cdxbdy) = (bdx * cdy, cdx * bdy);
-        let (cdxady, adxcdy) = (cdx * ady, adx * cdy);
-        let (adxbdy, bdxady) = (adx * bdy, bdx * ady);
-        let det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
-        let permanent = (bdxcdy.abs() + cdxbdy.abs()) * adz.abs()
-            + (cdxady.abs() + adxcdy.abs()) * bdz.abs()
-            + (adxbdy.abs() + bdxady.abs()) * cdz.abs();
+        let (det, permanent) = orient3d_stage_one(a, b, c, d);
         let bound = ORIENT3D_FILTER * permanent;
         if det.abs() <= bound && !(permanent == 0.0 || a == b || a == c || b == c) {
             FilterProbe::unsettled();

@@ -192,14 +192,11 @@ where
             return false;
         };
         if stats.bv_tests >= budget {
-            // The frontier: this pair and every one still queued.
-            stats.frontier_pairs += 1;
-            if narrow.visit(a, b, na, nb, stats) {
-                return true;
-            }
-            while let Some(q) = queue.pop() {
+            // The frontier: this pair and every one still queued, in any order.
+            let rest = queue.drain().map(|q| (q.a, q.b));
+            for (x, y) in std::iter::once((na, nb)).chain(rest) {
                 stats.frontier_pairs += 1;
-                if narrow.visit(a, b, q.a, q.b, stats) {
+                if narrow.visit(a, b, x, y, stats) {
                     return true;
                 }
             }
