@@ -3,7 +3,7 @@
 # Installs what it needs when missing: FCL (to measure it), Debian's CGAL demo meshes.
 #
 #   runner/run.sh                 short run of everything (small meshes, few frames)
-#   runner/run.sh all --full      paper sizes and 200 frames (about an hour)
+#   runner/run.sh all --full      paper sizes and 200 frames (about 25 minutes)
 #   runner/run.sh paper --full --scene large --out DIR
 #
 # Output: target/dvh-runner (or --out DIR): summary.md, CSV files, SVG plots.

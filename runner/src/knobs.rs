@@ -8,14 +8,15 @@ use crate::method::label;
 use crate::report::{Table, count, median, ms, sums};
 use crate::scene::Scene;
 use dvh::{
-    BuildOptions, Mesh, Pair, PairKind, Pairs, QueryMode, QueryOptions, RadiusKind, TreeKind,
-    VolumeKind, collide,
+    BuildOptions, LeftoverPolicy, Mesh, Pair, PairKind, Pairs, QueryMode, QueryOptions, RadiusKind,
+    TreeKind, VolumeKind, collide,
 };
 use indicatif::{ProgressBar, ProgressStyle};
 use std::collections::HashMap;
 use std::time::Instant;
 
-/// Every volume x tree x radius kind (boxes have no radius kind), other options at defaults.
+/// Every volume x tree x radius kind (boxes have no radius kind), other options at defaults, and
+/// the other leftover policy for the default options and the paper's DVH.
 pub fn options() -> Vec<BuildOptions> {
     let mut all = Vec::new();
     for (volume, radius) in [
@@ -33,6 +34,13 @@ pub fn options() -> Vec<BuildOptions> {
                 ..BuildOptions::default()
             });
         }
+    }
+    for volume in [VolumeKind::Dvh, VolumeKind::Aabb] {
+        all.push(BuildOptions {
+            volume,
+            leftovers: LeftoverPolicy::ExtraRings,
+            ..BuildOptions::default()
+        });
     }
     all
 }

@@ -47,7 +47,8 @@ impl Dvh {
     }
 }
 
-/// A short name for a set of build options: volume, tree, radius (spheres only).
+/// A short name for a set of build options: volume, tree, radius (spheres only), and the
+/// leftover policy when it is not the default.
 pub fn label(o: &BuildOptions) -> String {
     let volume = match o.volume {
         dvh::VolumeKind::Dvh => "DVH",
@@ -58,16 +59,16 @@ pub fn label(o: &BuildOptions) -> String {
         dvh::TreeKind::Octree => "octree",
         dvh::TreeKind::Binary => "binary",
     };
-    match o.volume {
-        dvh::VolumeKind::Aabb => format!("{volume} {tree}"),
-        _ => format!(
-            "{volume} {tree} {}",
-            match o.radius {
-                dvh::RadiusKind::Layered => "layered",
-                dvh::RadiusKind::Wrapped => "wrapped",
-            }
-        ),
-    }
+    let radius = match (o.volume, o.radius) {
+        (dvh::VolumeKind::Aabb, _) => "",
+        (_, dvh::RadiusKind::Layered) => " layered",
+        (_, dvh::RadiusKind::Wrapped) => " wrapped",
+    };
+    let leftovers = match o.leftovers {
+        dvh::LeftoverPolicy::JoinAdjacent => "",
+        dvh::LeftoverPolicy::ExtraRings => " extra rings",
+    };
+    format!("{volume} {tree}{radius}{leftovers}")
 }
 
 impl Method for Dvh {

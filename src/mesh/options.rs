@@ -7,10 +7,9 @@ use crate::volume::VolumeKind;
 /// How a sphere's radius is computed at each refit ([`VolumeKind::Dvh`] and [`VolumeKind::Sbv`];
 /// boxes are always the exact union of their children).
 ///
-/// Measured on two deforming 52K-triangle meshes with one query per refit (see
-/// `BENCHMARKS.md`), layered radii give the lower time per frame with the octree, whether contact
-/// is heavy or light and deformation small or large: the refit is about half as dear and the
-/// query only 10-15% dearer. Wrapped radii win when queries dominate (many queries per refit).
+/// Measured on the paper's scenes (`BENCHMARKS.md`): with a refit every frame, layered radii
+/// give the lower time per frame (the refit about half as dear, the query 10-20% dearer);
+/// wrapped radii win when there is no refit to pay for, as for rigid meshes placed by poses.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum RadiusKind {
     /// The largest distance from the node's centre to any vertex below it: the tightest sphere

@@ -4,6 +4,7 @@ use super::RefitInput;
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::Point;
 use crate::mesh::RefitStats;
+use crate::tree::Node;
 
 /// A leaf's box from its ring's vertices (in ring order), then an inner node's as the union of
 /// its children's, children before parents (children have higher indices). Exact: no rounding is
@@ -25,14 +26,20 @@ pub(super) fn refit_aabb(
         if node.is_leaf() {
             continue;
         }
-        let mut b = Aabb::EMPTY;
-        for ch in node.children() {
-            b.merge(&boxes[ch as usize]);
-        }
-        boxes[i] = b;
+        boxes[i] = children_union(node, boxes);
     }
     RefitStats {
         nodes_refit: boxes.len() as u64,
         distance_evaluations: vertices,
     }
+}
+
+/// The union of the boxes of `node`'s children (children are refit before their parent).
+#[inline]
+pub(super) fn children_union(node: &Node, boxes: &[Aabb]) -> Aabb {
+    let mut b = Aabb::EMPTY;
+    for ch in node.children() {
+        b.merge(&boxes[ch as usize]);
+    }
+    b
 }

@@ -20,7 +20,8 @@ pub(crate) use dvh_centres::assign_centres;
 /// their own coordinates) boxes are the fastest on every scene measured, the paper's three and
 /// dense contact, so they are the default; on rigid meshes placed by poses and never refit, SBV's
 /// spheres are the fastest (boxes must grow to hold their rotated selves), which
-/// [`crate::BuildOptions::rigid`] chooses. The paper's DVH comes between the two in both.
+/// [`crate::BuildOptions::rigid`] chooses. The paper's DVH comes between the two when rigid and
+/// on two of the three paper scenes, last on the many-object one.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum VolumeKind {
     /// The paper's DVH: spheres centred on mesh vertices chosen at build (a leaf on its ring's

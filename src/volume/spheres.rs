@@ -2,6 +2,7 @@
 //! and radii recomputed).
 
 use super::RefitInput;
+use super::boxes::children_union;
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::Point;
 use crate::geometry::sphere::{Sphere, distance_squared, round_up};
@@ -96,10 +97,7 @@ pub(super) fn refit_sbv(
         if node.is_leaf() {
             continue;
         }
-        let mut b = Aabb::EMPTY;
-        for ch in node.children() {
-            b.merge(&boxes[ch as usize]);
-        }
+        let b = children_union(node, boxes);
         boxes[i] = b;
         spheres[i].centre = b.centre();
         spheres[i].radius = match radius {
