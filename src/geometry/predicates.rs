@@ -141,7 +141,9 @@ impl Orient for Adaptive {
             m[2].abs() + m[3].abs(),
             m[4].abs() + m[5].abs(),
         ];
-        points.map(|p| {
+        // Called by hand, not through `array::map`, which the compiler may leave as an out-of-line
+        // call per point in the triangle test's hottest loop.
+        let side = |p: &Point| {
             let f = [p[0] - a[0], p[1] - a[1], p[2] - a[2]];
             // det[e1; e2; f] = -orient3d(t[0], t[1], t[2], p).
             let det = f[0] * n[0] + f[1] * n[1] + f[2] * n[2];
@@ -151,12 +153,16 @@ impl Orient for Adaptive {
                 -1
             } else if -det > bound {
                 1
-            } else if t.contains(&p) {
+            } else if bound == 0.0 || t.contains(p) {
+                // A zero bound has every term with an exactly zero factor (no product underflows
+                // in the safe range), so the determinant is exactly zero, as is one with `p` a
+                // corner.
                 0
             } else {
-                Self::orient3d(&t[0], &t[1], &t[2], &p)
+                Self::orient3d(&t[0], &t[1], &t[2], p)
             }
-        })
+        };
+        [side(&points[0]), side(&points[1]), side(&points[2])]
     }
 
     #[inline]

@@ -98,11 +98,28 @@ pub(crate) fn intersect<O: Orient>(t1: &Triangle, t2: &Triangle) -> bool {
         return crossing_intervals_meet::<O>(t1, s1, t2, s2);
     }
     // A non-zero sign proves the triangle that defines the plane is not degenerate; only when all
-    // are zero (coplanar or degenerate) is the exact collinearity test needed.
-    let proper1 = !all_zero(s2) || !collinear::<O>(t1);
-    let proper2 = !all_zero(s1) || !collinear::<O>(t2);
+    // are zero (coplanar or degenerate) is the exact test needed, and the projection it finds for
+    // a proper triangle serves the coplanar comparison.
+    let projection1 = if all_zero(s2) {
+        projection::<O>(t1)
+    } else {
+        None
+    };
+    let projection2 = if all_zero(s1) {
+        projection::<O>(t2)
+    } else {
+        None
+    };
+    let proper1 = !all_zero(s2) || projection1.is_some();
+    let proper2 = !all_zero(s1) || projection2.is_some();
     match (proper1, proper2) {
-        (true, true) => coplanar_triangles_meet::<O>(t1, t2),
+        // Both proper and, past the test above, one in the other's plane: coplanar, so every
+        // sign is zero and `t1`'s projection was found.
+        (true, true) => coplanar_triangles_meet::<O>(
+            t1,
+            projection1.expect("coplanar proper triangles have their projections"),
+            t2,
+        ),
         // A degenerate triangle is the union of its edges.
         (false, true) => edges_meet_triangle::<O>(t1, s1, t2),
         (true, false) => edges_meet_triangle::<O>(t2, s2, t1),
@@ -165,20 +182,25 @@ fn crossing_intervals_meet<O: Orient>(
 /// convex polygons are disjoint iff a line through an edge of one has the whole other polygon
 /// strictly on its outer side (the separating-axis theorem in the plane: the separating direction
 /// can be taken normal to an edge, and the edge's own line then separates).
-fn coplanar_triangles_meet<O: Orient>(t1: &Triangle, t2: &Triangle) -> bool {
-    let k = projection_axis::<O>(t1);
+/// `(k, inside1)` is [`projection`]`(t1)`: the axis to drop and `t1`'s orientation there.
+fn coplanar_triangles_meet<O: Orient>(
+    t1: &Triangle,
+    (k, inside1): (usize, Sign),
+    t2: &Triangle,
+) -> bool {
     let a = [project(&t1[0], k), project(&t1[1], k), project(&t1[2], k)];
     let b = [project(&t2[0], k), project(&t2[1], k), project(&t2[2], k)];
-    !(separated_by_an_edge::<O>(&a, &b) || separated_by_an_edge::<O>(&b, &a))
-}
-
-/// Is all of `other` strictly outside one of the edge lines of the non-degenerate `t`?
-fn separated_by_an_edge<O: Orient>(t: &[[f64; 2]; 3], other: &[[f64; 2]; 3]) -> bool {
-    let inside = O::orient2d(t[0], t[1], t[2]);
+    let inside2 = O::orient2d(b[0], b[1], b[2]);
     debug_assert_ne!(
-        inside, 0,
+        inside2, 0,
         "a proper triangle stays proper in a one-to-one projection"
     );
+    !(separated_by_an_edge::<O>(&a, inside1, &b) || separated_by_an_edge::<O>(&b, inside2, &a))
+}
+
+/// Is all of `other` strictly outside one of the edge lines of the non-degenerate `t`, whose
+/// orientation is `inside`?
+fn separated_by_an_edge<O: Orient>(t: &[[f64; 2]; 3], inside: Sign, other: &[[f64; 2]; 3]) -> bool {
     EDGES
         .iter()
         .any(|&(i, j)| other.iter().all(|&p| O::orient2d(t[i], t[j], p) == -inside))
@@ -229,13 +251,23 @@ fn project(p: &Point, k: usize) -> [f64; 2] {
 
 /// Are the three points on one line (or equal)? Exact: the three components of the normal are
 /// the three projected orientations.
+#[cfg(test)]
 fn collinear<O: Orient>(t: &Triangle) -> bool {
-    (0..3).all(|k| O::orient2d(project(&t[0], k), project(&t[1], k), project(&t[2], k)) == 0)
+    projection::<O>(t).is_none()
 }
 
-/// An axis whose projection keeps the non-degenerate triangle `tri` non-degenerate. The largest
-/// component of the floating-point normal is tried first; the exact test decides.
+/// An axis whose projection keeps the non-degenerate triangle `tri` non-degenerate.
 fn projection_axis<O: Orient>(tri: &Triangle) -> usize {
+    projection::<O>(tri)
+        .expect("a non-degenerate triangle has a non-zero projected area on some axis")
+        .0
+}
+
+/// An axis whose projection keeps `tri` non-degenerate, and `tri`'s orientation in it; `None`
+/// when `tri` is degenerate (its points on one line), as every projection then is: the three
+/// projected orientations are the components of the normal. The largest component of the
+/// floating-point normal is tried first; the exact test decides.
+fn projection<O: Orient>(tri: &Triangle) -> Option<(usize, Sign)> {
     let e1 = [
         tri[1][0] - tri[0][0],
         tri[1][1] - tri[0][1],
@@ -253,16 +285,14 @@ fn projection_axis<O: Orient>(tri: &Triangle) -> usize {
     ];
     let mut order = [0, 1, 2];
     order.sort_by(|&a, &b| n[b].total_cmp(&n[a]));
-    order
-        .into_iter()
-        .find(|&k| {
-            O::orient2d(
-                project(&tri[0], k),
-                project(&tri[1], k),
-                project(&tri[2], k),
-            ) != 0
-        })
-        .expect("a non-degenerate triangle has a non-zero projected area on some axis")
+    order.into_iter().find_map(|k| {
+        let inside = O::orient2d(
+            project(&tri[0], k),
+            project(&tri[1], k),
+            project(&tri[2], k),
+        );
+        (inside != 0).then_some((k, inside))
+    })
 }
 
 /// Segment `ab` against the closed triangle `tri`, all in the plane of `tri`, compared in the
@@ -739,7 +769,8 @@ mod tests {
             }
             let zero = [0, 0, 0];
             let by_edges = edges_meet_triangle::<Adaptive>(&a, zero, &b) || edges_meet_triangle::<Adaptive>(&b, zero, &a);
-            prop_assert_eq!(coplanar_triangles_meet::<Adaptive>(&a, &b), by_edges);
+            let axis = projection::<Adaptive>(&a).expect("proper");
+            prop_assert_eq!(coplanar_triangles_meet::<Adaptive>(&a, axis, &b), by_edges);
             prop_assert_eq!(triangles_intersect(&a, &b), by_edges);
         }
 

@@ -65,6 +65,7 @@ pub fn collide(
         queue,
         a: space_a,
         b: space_b,
+        sort_counts,
     } = workspace;
     space_a.begin(a.vertex_count(), a.ring_count(), pose_a.is_some());
     space_b.begin(b.vertex_count(), b.ring_count(), pose_b.is_some());
@@ -136,7 +137,7 @@ pub fn collide(
     } else {
         b.triangle_count()
     };
-    sort_pairs(spare, items, b_count as u64);
+    sort_pairs(spare, items, sort_counts, b_count as u64);
     spare.dedup();
     std::mem::swap(items, spare);
     *kind = if nodes {

@@ -93,6 +93,8 @@ pub(crate) struct Workspace {
     pub queue: BinaryHeap<Queued>,
     pub a: SideSpace,
     pub b: SideSpace,
+    /// The counters of the result's sort.
+    pub sort_counts: Vec<usize>,
 }
 
 /// A node pair waiting in the budgeted traversal, ordered by the size of its larger volume.
