@@ -120,9 +120,10 @@ pub(crate) fn intersect<O: Orient>(t1: &Triangle, t2: &Triangle) -> bool {
             projection1.expect("coplanar proper triangles have their projections"),
             t2,
         ),
-        // A degenerate triangle is the union of its edges.
-        (false, true) => edges_meet_triangle::<O>(t1, s1, t2),
-        (true, false) => edges_meet_triangle::<O>(t2, s2, t1),
+        // A degenerate triangle is the union of its edges; the proper one's projection, when
+        // already found, serves its in-plane edges.
+        (false, true) => edges_meet_triangle::<O>(t1, s1, t2, projection2.map(|p| p.0)),
+        (true, false) => edges_meet_triangle::<O>(t2, s2, t1, projection1.map(|p| p.0)),
         (false, false) => EDGES.iter().any(|&(i, j)| {
             EDGES
                 .iter()
@@ -207,9 +208,14 @@ fn separated_by_an_edge<O: Orient>(t: &[[f64; 2]; 3], inside: Sign, other: &[[f6
 }
 
 /// Does an edge of `edges` meet the closed, non-degenerate triangle `tri`? `signs[i]` is the side
-/// of `edges[i]` relative to the plane of `tri`.
-fn edges_meet_triangle<O: Orient>(edges: &Triangle, signs: [Sign; 3], tri: &Triangle) -> bool {
-    let mut axis = None;
+/// of `edges[i]` relative to the plane of `tri`; `axis` is [`projection`]`(tri)`'s axis when the
+/// caller has it.
+fn edges_meet_triangle<O: Orient>(
+    edges: &Triangle,
+    signs: [Sign; 3],
+    tri: &Triangle,
+    mut axis: Option<usize>,
+) -> bool {
     EDGES.iter().any(|&(i, j)| {
         let (sa, sb) = (signs[i], signs[j]);
         if sa == 0 && sb == 0 {
@@ -751,7 +757,7 @@ mod tests {
             if strictly_one_side(s1) || strictly_one_side(s2) || all_zero(s1) || all_zero(s2) {
                 return Ok(());
             }
-            let by_edges = edges_meet_triangle::<Adaptive>(&a, s1, &b) || edges_meet_triangle::<Adaptive>(&b, s2, &a);
+            let by_edges = edges_meet_triangle::<Adaptive>(&a, s1, &b, None) || edges_meet_triangle::<Adaptive>(&b, s2, &a, None);
             prop_assert_eq!(crossing_intervals_meet::<Adaptive>(&a, s1, &b, s2), by_edges);
         }
 
@@ -768,7 +774,7 @@ mod tests {
                 return Ok(());
             }
             let zero = [0, 0, 0];
-            let by_edges = edges_meet_triangle::<Adaptive>(&a, zero, &b) || edges_meet_triangle::<Adaptive>(&b, zero, &a);
+            let by_edges = edges_meet_triangle::<Adaptive>(&a, zero, &b, None) || edges_meet_triangle::<Adaptive>(&b, zero, &a, None);
             let axis = projection::<Adaptive>(&a).expect("proper");
             prop_assert_eq!(coplanar_triangles_meet::<Adaptive>(&a, axis, &b), by_edges);
             prop_assert_eq!(triangles_intersect(&a, &b), by_edges);
