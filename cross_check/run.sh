@@ -5,7 +5,8 @@
 #
 #   cross_check/run.sh           short version (small meshes, 4 frames, every scene kind)
 #   cross_check/run.sh --full    paper sizes, 200 frames
-#   extra arguments go to the harness: --frames N, --scene NAME
+#   extra arguments go to the harness: --frames N, --scene NAME, --threads N (dvh's threaded run;
+#   default 0, every core; dvh also runs on one thread, and both must agree)
 #
 # Results: cross_check/build/results/{frames.csv,summary.json} and the printed summary.
 set -euo pipefail

@@ -151,10 +151,11 @@ static void test_defaults(void) {
     DvhBuildOptions r = dvh_build_options_rigid();
     DvhQueryOptions zero_q;
     CHECK(b.tree == DVH_TREE_KIND_OCTREE && b.radius == DVH_RADIUS_KIND_LAYERED &&
-          b.leftovers == DVH_LEFTOVER_POLICY_JOIN_ADJACENT && b.volume == DVH_VOLUME_KIND_AABB);
+          b.leftovers == DVH_LEFTOVER_POLICY_JOIN_ADJACENT && b.volume == DVH_VOLUME_KIND_AABB &&
+          b.refit_threads == 0);
     CHECK(r.tree == DVH_TREE_KIND_OCTREE && r.radius == DVH_RADIUS_KIND_WRAPPED &&
           r.leftovers == DVH_LEFTOVER_POLICY_JOIN_ADJACENT && r.volume == DVH_VOLUME_KIND_SBV);
-    CHECK(q.mode == DVH_QUERY_MODE_TRIANGLES && q.max_pairs == 0 && q.budget == 0);
+    CHECK(q.mode == DVH_QUERY_MODE_TRIANGLES && q.max_pairs == 0 && q.budget == 0 && q.threads == 0);
     /* Zeroed query options are the defaults. */
     memset(&zero_q, 0, sizeof zero_q);
     CHECK(memcmp(&zero_q, &q, sizeof q) == 0);

@@ -27,11 +27,13 @@ class DvhPose(ctypes.Structure):
 
 
 class DvhBuildOptions(ctypes.Structure):
-    _fields_ = [("tree", ctypes.c_uint32), ("radius", ctypes.c_uint32), ("leftovers", ctypes.c_uint32), ("volume", ctypes.c_uint32)]
+    _fields_ = [("tree", ctypes.c_uint32), ("radius", ctypes.c_uint32), ("leftovers", ctypes.c_uint32), ("volume", ctypes.c_uint32),
+                ("refit_threads", ctypes.c_uint32)]
 
 
 class DvhQueryOptions(ctypes.Structure):
-    _fields_ = [("mode", ctypes.c_uint32), ("max_depth", ctypes.c_uint32), ("max_pairs", ctypes.c_uint64), ("budget", ctypes.c_uint64)]
+    _fields_ = [("mode", ctypes.c_uint32), ("max_depth", ctypes.c_uint32), ("max_pairs", ctypes.c_uint64), ("budget", ctypes.c_uint64),
+                ("threads", ctypes.c_uint32)]
 
 
 class DvhQueryStats(ctypes.Structure):
@@ -156,7 +158,7 @@ def main():
         return covered
 
     options = lib.dvh_query_options_default()
-    check(options.mode == 0 and options.budget == 0, "default query options")
+    check(options.mode == 0 and options.budget == 0 and options.threads == 0, "default query options")
     options.mode = DVH_QUERY_MODE_LEAVES
     check(lib.dvh_collide(sheet, None, tent, None, ctypes.byref(options), pairs, None) == DVH_STATUS_OK, "leaves mode")
     check(lib.dvh_pairs_kind(pairs) == DVH_PAIR_KIND_NODES, "leaves mode reports nodes")
@@ -210,6 +212,34 @@ def main():
     check(lib.dvh_status_name(DVH_STATUS_NULL_ARGUMENT) == b"DVH_STATUS_NULL_ARGUMENT", "status name")
     squash = DvhPose((ctypes.c_double * 9)(1, 0, 0, 0, 1, 0, 0, 0, 0.5), (ctypes.c_double * 3)(0, 0, 0))
     check(lib.dvh_collide(sheet, ctypes.byref(squash), tent, None, None, pairs, None) == DVH_STATUS_NON_RIGID_POSE, "scaled pose refused")
+
+    # One query and one refit on the library's threads: the calling thread's answer. Sheets of
+    # 33,800 triangles, one folded in waves through the other, are large enough to be shared out.
+    n = 130
+    flat_pos, flat_tris = grid(n, 0.0)
+    wave_pos = [c if k % 3 != 2 else float((k // 3) % 7 - 3) for k, c in enumerate(flat_pos)]
+    answers = {}
+    for refit_threads in (1, 0):
+        build = lib.dvh_build_options_default()
+        check(build.refit_threads == 0, "default refit threads")
+        build.refit_threads = refit_threads
+        status, big_a = create(flat_pos, flat_tris, build)
+        status2, big_b = create(flat_pos, flat_tris, build)
+        check(status == status2 == DVH_STATUS_OK, "large sheets created")
+        check(lib.dvh_mesh_refit(big_b, (ctypes.c_double * len(wave_pos))(*wave_pos), len(wave_pos) // 3) == DVH_STATUS_OK, "large refit")
+        for threads in (1, 0, 2):
+            for max_pairs in (0, 500):
+                options = lib.dvh_query_options_default()
+                options.threads, options.max_pairs = threads, max_pairs
+                check(lib.dvh_collide(big_a, None, big_b, None, ctypes.byref(options), pairs, None) == DVH_STATUS_OK, "threaded query")
+                answers[(refit_threads, threads, max_pairs)] = pairs_of(pairs)
+        lib.dvh_mesh_free(big_a)
+        lib.dvh_mesh_free(big_b)
+    for max_pairs in (0, 500):
+        reference = answers[(1, 1, max_pairs)]
+        check(len(reference) >= 500, "the large sheets are in dense contact")
+        for key, found in answers.items():
+            check(key[2] != max_pairs or found == reference, f"threads {key}: the single-threaded answer")
 
     lib.dvh_pairs_free(pairs)
     lib.dvh_mesh_free(sheet)

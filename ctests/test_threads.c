@@ -1,6 +1,8 @@
 /*
  * Several threads query the same meshes at once, each with its own DvhPairs, and must get the
- * single-threaded answers; each thread's last error message is its own.
+ * single-threaded answers; each thread's last error message is its own. One query and one refit
+ * shared out over the library's threads (DvhQueryOptions.threads, DvhBuildOptions.refit_threads)
+ * give the answers of the calling thread alone, pair for pair.
  */
 #include <pthread.h>
 
@@ -63,6 +65,70 @@ static void *worker(void *arg) {
     return NULL;
 }
 
+static int wavy(int i, int j) { return ((i * 5 + j * 11) % 7) - 3; }
+static int slope(int i, int j) { return (i + 2 * j) % 5 - 2; }
+
+/* Terrains of 33,800 triangles and 17,161 vertices each, in dense contact: large enough for the
+ * library to share a query and a refit out. */
+static void test_one_query_on_many_threads(void) {
+    const int n = 130;
+    Mesh ma = mesh_terrain(n, 0, 0, wavy), mb = mesh_terrain(n, 0, 0, slope);
+    const uint32_t modes[] = {DVH_QUERY_MODE_TRIANGLES, DVH_QUERY_MODE_FIRST_HIT, DVH_QUERY_MODE_LEAVES,
+                              DVH_QUERY_MODE_DEPTH, DVH_QUERY_MODE_TRIANGLES};
+    const uint32_t query_threads[] = {0, 2, 3};
+    const uint32_t refit_threads[] = {1, 0};
+    DvhPair *expected[5];
+    size_t counts[5], m, r, t, i;
+    DvhPairs *pairs = dvh_pairs_new();
+    double *moved = malloc(mb.vertex_count * 3 * sizeof *moved);
+    for (i = 0; i < mb.vertex_count * 3; i++) moved[i] = mb.pos[i] + ((i % 3 == 2) ? 0.25 * (double)(i % 5) : 0.0);
+    for (r = 0; r < 2; r++) {
+        DvhBuildOptions o = dvh_build_options_default();
+        DvhMesh *a = NULL, *b = NULL;
+        o.refit_threads = refit_threads[r];
+        CHECK_STATUS(dvh_mesh_create(ma.pos, ma.vertex_count, ma.tris, ma.triangle_count, &o, &a), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_mesh_create(mb.pos, mb.vertex_count, mb.tris, mb.triangle_count, &o, &b), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_mesh_refit(b, moved, mb.vertex_count), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_mesh_validate(b), DVH_STATUS_OK, NULL);
+        for (m = 0; m < 5; m++) {
+            DvhQueryOptions q = dvh_query_options_default();
+            DvhQueryStats one, many;
+            q.mode = modes[m];
+            q.max_depth = 4;
+            if (m == 4) q.max_pairs = 1000; /* cut short: the same first 1000 pairs */
+            q.threads = 1;
+            CHECK_STATUS(dvh_collide(a, NULL, b, NULL, &q, pairs, &one), DVH_STATUS_OK, NULL);
+            if (r == 0) {
+                /* The reference: one thread for the refit and the query. */
+                counts[m] = dvh_pairs_len(pairs);
+                expected[m] = malloc((counts[m] + 1) * sizeof(DvhPair));
+                if (counts[m] > 0) memcpy(expected[m], dvh_pairs_data(pairs), counts[m] * sizeof(DvhPair));
+            } else {
+                CHECK(dvh_pairs_len(pairs) == counts[m]);
+                CHECK(counts[m] == 0 || memcmp(dvh_pairs_data(pairs), expected[m], counts[m] * sizeof(DvhPair)) == 0);
+            }
+            CHECK(m == 1 || counts[m] >= 1000); /* dense contact: worth sharing out */
+            for (t = 0; t < 3; t++) {
+                q.threads = query_threads[t];
+                CHECK_STATUS(dvh_collide(a, NULL, b, NULL, &q, pairs, &many), DVH_STATUS_OK, NULL);
+                CHECK(dvh_pairs_len(pairs) == counts[m]);
+                CHECK(counts[m] == 0 || memcmp(dvh_pairs_data(pairs), expected[m], counts[m] * sizeof(DvhPair)) == 0);
+                CHECK(many.pairs == one.pairs && many.truncated == one.truncated);
+                if (!one.truncated && modes[m] != DVH_QUERY_MODE_FIRST_HIT)
+                    CHECK(many.bv_tests == one.bv_tests && many.triangle_tests == one.triangle_tests &&
+                          many.leaf_pairs == one.leaf_pairs);
+            }
+        }
+        dvh_mesh_free(a);
+        dvh_mesh_free(b);
+    }
+    for (m = 0; m < 5; m++) free(expected[m]);
+    free(moved);
+    dvh_pairs_free(pairs);
+    mesh_free(&ma);
+    mesh_free(&mb);
+}
+
 int main(void) {
     Mesh ma = mesh_terrain(12, 0, 0, bumpy), mb = mesh_terrain(8, 0, 0, hill);
     DvhMesh *a = NULL, *b = NULL;
@@ -109,5 +175,6 @@ int main(void) {
     dvh_mesh_free(b);
     mesh_free(&ma);
     mesh_free(&mb);
+    test_one_query_on_many_threads();
     return finish("test_threads");
 }

@@ -15,10 +15,14 @@
  * - Thread safety: a const DvhMesh* may be queried by any number of threads at once, each with
  *   its own DvhPairs; dvh_mesh_refit needs exclusive access to its mesh. The last error message
  *   is per thread.
+ * - Threads of the library's own: a query (DvhQueryOptions.threads) and a refit
+ *   (DvhBuildOptions.refit_threads) may share their work among threads of one pool, created on
+ *   first use and kept for the life of the process (set RAYON_NUM_THREADS to size it); the
+ *   answer is the same whatever the count. 1 keeps a call on the calling thread.
  *
  * ABI and growth
  * - The option and statistics structs grow as features arrive. Fields are only ever appended,
- *   and a zero field keeps the behaviour from before the field existed. Start from
+ *   and a zero field keeps the results from before the field existed. Start from
  *   dvh_build_options_default() (or dvh_build_options_rigid()) / dvh_query_options_default()
  *   and set what you need by name.
  * - While the version is 0.x, every minor release may change struct layouts and gets its own
@@ -76,7 +80,7 @@ typedef uint32_t DvhVolumeKind;
 /**
  * Options for `dvh_mesh_create`; start from `dvh_build_options_default()`.
  *
- * Growth: fields are only ever appended, and a zero field keeps the behaviour from before the
+ * Growth: fields are only ever appended, and a zero field keeps the results from before the
  * field existed. A release that appends a field changes the library's soname (see the header's
  * ABI note), so a program never runs against a layout it was not compiled for.
  */
@@ -97,6 +101,12 @@ typedef struct DvhBuildOptions {
    * A `DVH_VOLUME_KIND_*` value.
    */
   DvhVolumeKind volume;
+  /**
+   * Threads each `dvh_mesh_refit` of this mesh may use: 0 for every core (the default), 1
+   * for the calling thread only, n for at most n. The volumes are the same whatever the
+   * count; meshes of fewer than 8,192 rings (about vertices) refit on the calling thread.
+   */
+  uint32_t refit_threads;
 } DvhBuildOptions;
 
 /**
@@ -146,7 +156,7 @@ typedef uint32_t DvhQueryMode;
 
 /**
  * Options for `dvh_collide`; start from `dvh_query_options_default()` (all fields zero). Grows
- * like `DvhBuildOptions`: appended fields, zero the earlier behaviour.
+ * like `DvhBuildOptions`: appended fields, zero the earlier results.
  */
 typedef struct DvhQueryOptions {
   /**
@@ -167,6 +177,12 @@ typedef struct DvhQueryOptions {
    * that mode); ignored by the other modes.
    */
   uint64_t budget;
+  /**
+   * Threads the query may use: 0 for every core (the default), 1 for the calling thread
+   * only, n for at most n. The result is the same whatever the count. Threads come from one
+   * pool created on first use and kept for the life of the process; no call creates any.
+   */
+  uint32_t threads;
 } DvhQueryOptions;
 
 /**
@@ -407,7 +423,7 @@ const char *dvh_status_name(DvhStatus status);
 size_t dvh_last_error_message(char *buffer, size_t capacity);
 
 /**
- * The library's version, such as `"0.2.0"`. A static string: never freed.
+ * The library's version, such as `"0.3.0"`. A static string: never freed.
  *
  * Thread safety: any thread, any time.
  */
@@ -416,7 +432,7 @@ const char *dvh_version(void);
 /**
  * The default build options, the fastest measured for meshes that deform: octree, box volumes
  * (`DVH_VOLUME_KIND_AABB`), layered radii (for sphere volumes), leftover triangles joined to
- * adjacent rings.
+ * adjacent rings, refits on every core.
  *
  * Thread safety: any thread, any time.
  */
@@ -602,8 +618,8 @@ DvhStatus dvh_mesh_node_triangles(const struct DvhMesh *mesh,
 DvhStatus dvh_mesh_validate(const struct DvhMesh *mesh);
 
 /**
- * The default query options: every intersecting triangle pair, no pair limit (all fields
- * zero).
+ * The default query options: every intersecting triangle pair, no pair limit, every core (all
+ * fields zero).
  *
  * Thread safety: any thread, any time.
  */
@@ -612,7 +628,8 @@ struct DvhQueryOptions dvh_query_options_default(void);
 /**
  * A new, empty result buffer, or NULL when memory ran out. Owned by the caller, released with
  * `dvh_pairs_free`. It keeps the scratch space of the queries that use it, so that once it has
- * grown to a scene's needs queries allocate nothing.
+ * grown to a scene's needs queries on one thread allocate nothing (on more, one small job per
+ * extra thread and step shared out).
  *
  * Thread safety: any thread; a buffer must be used by one thread at a time.
  */

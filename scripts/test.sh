@@ -16,7 +16,9 @@ cargo test -p dvh-runner --quiet
 cargo bench --no-run --quiet
 # The C ABI: C tests under sanitizers and valgrind, install, pkg-config, Python ctypes.
 ctests/run.sh
-# The cross-check against FCL, judged by CGAL: the short version (every scene kind, small meshes).
+# The cross-check against FCL, judged by CGAL: the short version (every scene kind, small meshes),
+# dvh's threaded runs on one thread, then on every core (each also against dvh on one thread).
+cross_check/run.sh --threads 1 | sed -n "/^Summary/,\$p"
 cross_check/run.sh | sed -n "/^Summary/,\$p"
 # The benchmark runner's scenes are the cross-check's, coordinate for coordinate.
 scenes="many|medium|large|coplanar|copy|near-1e-12"

@@ -20,6 +20,18 @@ impl<T> Default for Csr<T> {
     }
 }
 
+/// Heap bytes a vector holds (its capacity, used or not).
+pub(crate) fn heap_bytes<T>(v: &Vec<T>) -> usize {
+    v.capacity() * std::mem::size_of::<T>()
+}
+
+impl<T> Csr<T> {
+    /// Heap bytes held.
+    pub fn heap_bytes(&self) -> usize {
+        heap_bytes(&self.offsets) + heap_bytes(&self.items)
+    }
+}
+
 impl<T: Copy> Csr<T> {
     /// An empty table with room for `rows` rows and `items` items.
     pub fn with_capacity(rows: usize, items: usize) -> Csr<T> {

@@ -34,6 +34,7 @@ pub mod fixtures;
 pub mod geometry;
 mod mesh;
 mod query;
+mod threads;
 mod tree;
 mod volume;
 

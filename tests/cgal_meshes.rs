@@ -36,6 +36,7 @@ fn scanned_meshes_deforming_into_each_other() {
         radius: RadiusKind::Wrapped,
         leftovers: LeftoverPolicy::ExtraRings,
         volume: VolumeKind::Sbv,
+        refit_threads: 2,
     };
     let aabb = BuildOptions {
         volume: VolumeKind::Aabb,

@@ -119,6 +119,7 @@ fn tiny_and_huge_coordinates() {
         radius: RadiusKind::Wrapped,
         leftovers: LeftoverPolicy::ExtraRings,
         volume: VolumeKind::Sbv,
+        refit_threads: 1,
     };
     let aabb = BuildOptions {
         tree: TreeKind::Binary,

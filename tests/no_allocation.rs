@@ -1,4 +1,5 @@
-//! Refits and steady-state queries allocate nothing: counted with a global allocator.
+//! Refits and steady-state queries on one thread allocate nothing; on several threads, a few
+//! small jobs per call: counted with a global allocator.
 
 use dvh::fixtures::{Morph, icosphere, torus};
 use dvh::{
@@ -34,6 +35,17 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static GLOBAL: Counting = Counting;
 
+/// The query options of `mode` on the calling thread only.
+fn one_thread(mode: QueryMode) -> QueryOptions {
+    QueryOptions {
+        threads: 1,
+        ..QueryOptions::with_mode(mode)
+    }
+}
+
+/// The counter is global: the tests take turns.
+static TURN: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 fn allocations_during(f: impl FnOnce()) -> usize {
     let before = ALLOCATIONS.load(Ordering::Relaxed);
     f();
@@ -42,6 +54,7 @@ fn allocations_during(f: impl FnOnce()) -> usize {
 
 #[test]
 fn refit_and_steady_state_queries_do_not_allocate() {
+    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
     for tree in [TreeKind::Octree, TreeKind::Binary] {
         for (volume, radius) in [
             (VolumeKind::Dvh, RadiusKind::Wrapped),
@@ -54,10 +67,12 @@ fn refit_and_steady_state_queries_do_not_allocate() {
                 tree,
                 radius,
                 volume,
+                refit_threads: 1,
                 ..BuildOptions::default()
             };
-            let sa = icosphere(3);
-            let mut sb = torus(0.6, 0.25, 40, 20);
+            // Large enough that the default options would share the queries out.
+            let sa = icosphere(5);
+            let mut sb = torus(0.6, 0.25, 120, 40);
             sb.translate([0.8, 0.0, 0.0]);
             let mut a = Mesh::new(&sa.positions, &sa.triangles, &options).unwrap();
             let mut b = Mesh::new(&sb.positions, &sb.triangles, &options).unwrap();
@@ -90,24 +105,8 @@ fn refit_and_steady_state_queries_do_not_allocate() {
                 a.refit(pa).unwrap();
                 b.refit(pb).unwrap();
                 for mode in modes {
-                    collide(
-                        &a,
-                        Some(&pose),
-                        &b,
-                        None,
-                        &QueryOptions::with_mode(mode),
-                        &mut pairs,
-                    )
-                    .unwrap();
-                    collide(
-                        &a,
-                        None,
-                        &b,
-                        None,
-                        &QueryOptions::with_mode(mode),
-                        &mut pairs,
-                    )
-                    .unwrap();
+                    collide(&a, Some(&pose), &b, None, &one_thread(mode), &mut pairs).unwrap();
+                    collide(&a, None, &b, None, &one_thread(mode), &mut pairs).unwrap();
                 }
             }
             for (pa, pb) in &frames {
@@ -115,25 +114,9 @@ fn refit_and_steady_state_queries_do_not_allocate() {
                     a.refit(pa).unwrap();
                     b.refit(pb).unwrap();
                     for mode in modes {
-                        collide(
-                            &a,
-                            Some(&pose),
-                            &b,
-                            None,
-                            &QueryOptions::with_mode(mode),
-                            &mut pairs,
-                        )
-                        .unwrap();
+                        collide(&a, Some(&pose), &b, None, &one_thread(mode), &mut pairs).unwrap();
                         found += pairs.len();
-                        collide(
-                            &a,
-                            None,
-                            &b,
-                            None,
-                            &QueryOptions::with_mode(mode),
-                            &mut pairs,
-                        )
-                        .unwrap();
+                        collide(&a, None, &b, None, &one_thread(mode), &mut pairs).unwrap();
                         found += pairs.len();
                     }
                 });
@@ -141,5 +124,51 @@ fn refit_and_steady_state_queries_do_not_allocate() {
             }
             assert!(found > 0, "the scene has contacts");
         }
+    }
+}
+
+/// Shared out over several threads, a steady-state refit or query allocates only the jobs it
+/// hands the pool: one per thread beyond the calling one, for each step that is shared out
+/// (refit: storing the positions and the subtrees; query: the traversal and the sort).
+#[test]
+fn threaded_refits_and_queries_allocate_only_their_jobs() {
+    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let s = icosphere(6);
+    // The torus's tube runs along the sphere's surface: dense contact.
+    let t = torus(1.0, 0.05, 200, 100);
+    let options = BuildOptions {
+        refit_threads: 2,
+        ..BuildOptions::default()
+    };
+    let mut a = Mesh::new(&s.positions, &s.triangles, &options).unwrap();
+    let b = Mesh::new(&t.positions, &t.triangles, &options).unwrap();
+    let morph = Morph::random(&s, 3, 0.05, 4);
+    let frames: Vec<Vec<f64>> = (0..4)
+        .map(|f| morph.at(&s.positions, f as f64 / 4.0))
+        .collect();
+    let threaded = QueryOptions {
+        threads: 2,
+        ..QueryOptions::default()
+    };
+    let mut pairs = Pairs::new();
+    for f in &frames {
+        a.refit(f).unwrap();
+        collide(&a, None, &b, None, &threaded, &mut pairs).unwrap();
+    }
+    assert!(
+        pairs.len() > 1000,
+        "{} pairs: not dense enough to share out",
+        pairs.len()
+    );
+    for f in &frames {
+        let refit = allocations_during(|| {
+            a.refit(f).unwrap();
+        });
+        let query = allocations_during(|| {
+            collide(&a, None, &b, None, &threaded, &mut pairs).unwrap();
+        });
+        // At most one job per step shared out: two for a refit, two for a query.
+        assert!(refit <= 2, "{refit} allocations in a threaded refit");
+        assert!(query <= 2, "{query} allocations in a threaded query");
     }
 }

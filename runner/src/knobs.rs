@@ -264,7 +264,11 @@ pub fn run(scene: &Scene, frames: &[usize], options: &[BuildOptions]) -> Vec<Row
     let mut rows = Vec::new();
     for o in options {
         bar.set_message(label(o));
-        let mut meshes = build(o);
+        // Every knob on one thread, as the peers run.
+        let mut meshes = build(&BuildOptions {
+            refit_threads: 1,
+            ..*o
+        });
         let layouts: Vec<Layout> = meshes.iter().map(Layout::new).collect();
         let levels = meshes
             .iter()
@@ -316,7 +320,10 @@ pub fn run(scene: &Scene, frames: &[usize], options: &[BuildOptions]) -> Vec<Row
             }
             let refit = t.elapsed().as_secs_f64() * 1e3;
             for row in mine.iter_mut() {
-                let options = QueryOptions::with_mode(row.mode);
+                let options = QueryOptions {
+                    threads: 1,
+                    ..QueryOptions::with_mode(row.mode)
+                };
                 let (mut query, mut tests) = (0.0, 0u64);
                 for (p, &(a, b)) in scene.pairs.iter().enumerate() {
                     let t = Instant::now();

@@ -120,13 +120,18 @@ fn spread(scene: &Scene, count: usize) -> Vec<usize> {
     (0..count).map(|k| k * scene.frames / count).collect()
 }
 
-/// The methods of the paper's comparison: dvh with every volume x tree x radius kind first (the
-/// first is exact and serves as the reference), then the peers.
+/// The methods of the paper's comparison: dvh on one thread with every volume x tree x radius
+/// kind first (the first is exact and serves as the reference), the defaults on every core,
+/// then the peers (one thread each).
 fn methods() -> Vec<Box<dyn Method>> {
     let mut all: Vec<Box<dyn Method>> = knobs::options()
         .into_iter()
         .map(|o| Box::new(method::Dvh::new(o)) as Box<dyn Method>)
         .collect();
+    all.push(Box::new(method::Dvh::threaded(
+        dvh::BuildOptions::default(),
+        0,
+    )));
     #[cfg(fcl)]
     {
         all.push(Box::new(fcl::Fcl::new(fcl::Kind::Obbrss)));

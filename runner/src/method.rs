@@ -30,17 +30,29 @@ pub trait Method {
     fn collide(&mut self, a: usize, b: usize, out: &mut Vec<u64>) -> Option<Counters>;
 }
 
-/// dvh with one set of build options, every pair in exact mode.
+/// dvh with one set of build options, every pair in exact mode, on some threads.
 pub struct Dvh {
     pub options: BuildOptions,
+    /// Threads of each refit and query (0: every core).
+    pub threads: u32,
     meshes: Vec<Mesh>,
     pairs: Pairs,
 }
 
 impl Dvh {
+    /// On the calling thread only.
     pub fn new(options: BuildOptions) -> Dvh {
+        Dvh::threaded(options, 1)
+    }
+
+    /// On `threads` threads (0: every core) for refits and queries alike.
+    pub fn threaded(options: BuildOptions, threads: u32) -> Dvh {
         Dvh {
-            options,
+            options: BuildOptions {
+                refit_threads: threads,
+                ..options
+            },
+            threads,
             meshes: Vec::new(),
             pairs: Pairs::new(),
         }
@@ -73,7 +85,15 @@ pub fn label(o: &BuildOptions) -> String {
 
 impl Method for Dvh {
     fn name(&self) -> String {
-        format!("dvh {}", label(&self.options))
+        match self.threads {
+            1 => format!("dvh {}", label(&self.options)),
+            0 => format!(
+                "dvh {}, {} threads",
+                label(&self.options),
+                rayon::current_num_threads()
+            ),
+            n => format!("dvh {}, {n} threads", label(&self.options)),
+        }
     }
 
     fn build(&mut self, scene: &Scene, world: &[Vec<f64>]) {
@@ -100,7 +120,10 @@ impl Method for Dvh {
             None,
             &self.meshes[b],
             None,
-            &QueryOptions::default(),
+            &QueryOptions {
+                threads: self.threads,
+                ..QueryOptions::default()
+            },
             &mut self.pairs,
         )
         .expect("queries on valid meshes succeed");

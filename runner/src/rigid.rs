@@ -33,7 +33,10 @@ pub fn run(scene: &Scene) -> Vec<(BuildOptions, f64, f64)> {
                         Some(&poses[a]),
                         &meshes[b],
                         Some(&poses[b]),
-                        &QueryOptions::default(),
+                        &QueryOptions {
+                            threads: 1,
+                            ..QueryOptions::default()
+                        },
                         &mut pairs,
                     )
                     .expect("query");

@@ -7,7 +7,7 @@ use crate::{BuildOptions, LeftoverPolicy, Mesh, RadiusKind, TreeKind, VolumeKind
 
 /// The default build options, the fastest measured for meshes that deform: octree, box volumes
 /// (`DVH_VOLUME_KIND_AABB`), layered radii (for sphere volumes), leftover triangles joined to
-/// adjacent rings.
+/// adjacent rings, refits on every core.
 ///
 /// Thread safety: any thread, any time.
 #[unsafe(no_mangle)]
@@ -17,6 +17,7 @@ pub extern "C" fn dvh_build_options_default() -> DvhBuildOptions {
         radius: DVH_RADIUS_KIND_LAYERED,
         leftovers: DVH_LEFTOVER_POLICY_JOIN_ADJACENT,
         volume: DVH_VOLUME_KIND_AABB,
+        refit_threads: 0,
     };
     guard_value(DEFAULT, || DEFAULT)
 }
@@ -33,6 +34,7 @@ pub extern "C" fn dvh_build_options_rigid() -> DvhBuildOptions {
         radius: DVH_RADIUS_KIND_WRAPPED,
         leftovers: DVH_LEFTOVER_POLICY_JOIN_ADJACENT,
         volume: DVH_VOLUME_KIND_SBV,
+        refit_threads: 0,
     };
     guard_value(RIGID, || RIGID)
 }
@@ -79,6 +81,7 @@ fn build_options(o: &DvhBuildOptions) -> Result<BuildOptions, Failure> {
                 (DVH_VOLUME_KIND_AABB, VolumeKind::Aabb),
             ],
         )?,
+        refit_threads: o.refit_threads,
     })
 }
 

@@ -75,7 +75,7 @@ pub unsafe extern "C" fn dvh_last_error_message(buffer: *mut c_char, capacity: u
     })
 }
 
-/// The library's version, such as `"0.2.0"`. A static string: never freed.
+/// The library's version, such as `"0.3.0"`. A static string: never freed.
 ///
 /// Thread safety: any thread, any time.
 #[unsafe(no_mangle)]

@@ -4,8 +4,8 @@ use super::boundary::{Failure, choice, guard, guard_value, set_last_error, slice
 use super::types::*;
 use crate::{PairKind, Pairs, Pose, QueryMode, QueryOptions, collide, triangles_intersect};
 
-/// The default query options: every intersecting triangle pair, no pair limit (all fields
-/// zero).
+/// The default query options: every intersecting triangle pair, no pair limit, every core (all
+/// fields zero).
 ///
 /// Thread safety: any thread, any time.
 #[unsafe(no_mangle)]
@@ -15,6 +15,7 @@ pub extern "C" fn dvh_query_options_default() -> DvhQueryOptions {
         max_depth: 0,
         max_pairs: 0,
         budget: 0,
+        threads: 0,
     };
     guard_value(DEFAULT, || DEFAULT)
 }
@@ -38,7 +39,11 @@ fn query_options(o: &DvhQueryOptions) -> Result<QueryOptions, Failure> {
         ));
     }
     let max_pairs = (o.max_pairs != 0).then(|| usize::try_from(o.max_pairs).unwrap_or(usize::MAX));
-    Ok(QueryOptions { mode, max_pairs })
+    Ok(QueryOptions {
+        mode,
+        max_pairs,
+        threads: o.threads,
+    })
 }
 
 fn pose(p: &DvhPose, name: &str) -> Result<Pose, Failure> {
@@ -52,7 +57,8 @@ fn pose(p: &DvhPose, name: &str) -> Result<Pose, Failure> {
 
 /// A new, empty result buffer, or NULL when memory ran out. Owned by the caller, released with
 /// `dvh_pairs_free`. It keeps the scratch space of the queries that use it, so that once it has
-/// grown to a scene's needs queries allocate nothing.
+/// grown to a scene's needs queries on one thread allocate nothing (on more, one small job per
+/// extra thread and step shared out).
 ///
 /// Thread safety: any thread; a buffer must be used by one thread at a time.
 #[unsafe(no_mangle)]

@@ -91,7 +91,7 @@ pub const DVH_PAIR_KIND_NODES: DvhPairKind = 1;
 
 /// Options for `dvh_mesh_create`; start from `dvh_build_options_default()`.
 ///
-/// Growth: fields are only ever appended, and a zero field keeps the behaviour from before the
+/// Growth: fields are only ever appended, and a zero field keeps the results from before the
 /// field existed. A release that appends a field changes the library's soname (see the header's
 /// ABI note), so a program never runs against a layout it was not compiled for.
 #[repr(C)]
@@ -105,10 +105,14 @@ pub struct DvhBuildOptions {
     pub leftovers: DvhLeftoverPolicy,
     /// A `DVH_VOLUME_KIND_*` value.
     pub volume: DvhVolumeKind,
+    /// Threads each `dvh_mesh_refit` of this mesh may use: 0 for every core (the default), 1
+    /// for the calling thread only, n for at most n. The volumes are the same whatever the
+    /// count; meshes of fewer than 8,192 rings (about vertices) refit on the calling thread.
+    pub refit_threads: u32,
 }
 
 /// Options for `dvh_collide`; start from `dvh_query_options_default()` (all fields zero). Grows
-/// like `DvhBuildOptions`: appended fields, zero the earlier behaviour.
+/// like `DvhBuildOptions`: appended fields, zero the earlier results.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct DvhQueryOptions {
@@ -122,6 +126,10 @@ pub struct DvhQueryOptions {
     /// Volume tests allowed in `DVH_QUERY_MODE_BUDGET` (at least 1; 0 is INVALID_ARGUMENT in
     /// that mode); ignored by the other modes.
     pub budget: u64,
+    /// Threads the query may use: 0 for every core (the default), 1 for the calling thread
+    /// only, n for at most n. The result is the same whatever the count. Threads come from one
+    /// pool created on first use and kept for the life of the process; no call creates any.
+    pub threads: u32,
 }
 
 /// Counters of one query: the terms of the paper's cost model `T = NV*CV + NP*CP + NU*CU`.

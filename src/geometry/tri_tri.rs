@@ -289,16 +289,26 @@ fn projection<O: Orient>(tri: &Triangle) -> Option<(usize, Sign)> {
         (e1[2] * e2[0] - e1[0] * e2[2]).abs(),
         (e1[0] * e2[1] - e1[1] * e2[0]).abs(),
     ];
-    let mut order = [0, 1, 2];
-    order.sort_by(|&a, &b| n[b].total_cmp(&n[a]));
-    order.into_iter().find_map(|k| {
-        let inside = O::orient2d(
-            project(&tri[0], k),
-            project(&tri[1], k),
-            project(&tri[2], k),
-        );
-        (inside != 0).then_some((k, inside))
-    })
+    // The largest first, then the others in turn (a general sort of three cost 6% of a query
+    // between coplanar sheets). Which comes first only matters for speed: every axis tried is
+    // decided exactly; NaN (from overflowing coordinates) simply compares false.
+    let first = if n[0] >= n[1] && n[0] >= n[2] {
+        0
+    } else if n[1] >= n[2] {
+        1
+    } else {
+        2
+    };
+    [first, (first + 1) % 3, (first + 2) % 3]
+        .into_iter()
+        .find_map(|k| {
+            let inside = O::orient2d(
+                project(&tri[0], k),
+                project(&tri[1], k),
+                project(&tri[2], k),
+            );
+            (inside != 0).then_some((k, inside))
+        })
 }
 
 /// Segment `ab` against the closed triangle `tri`, all in the plane of `tri`, compared in the

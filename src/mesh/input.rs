@@ -83,6 +83,17 @@ impl Scan {
         self.poison[k] += poisoned;
     }
 
+    /// The scan of both inputs.
+    fn merge(&self, other: &Scan) -> Scan {
+        let mut out = Scan::new();
+        for k in 0..SCAN_LANES {
+            out.largest[k] = self.largest[k].max(other.largest[k]);
+            out.smallest[k] = self.smallest[k].min(other.smallest[k]);
+            out.poison[k] = self.poison[k] + other.poison[k];
+        }
+        out
+    }
+
     fn finite(&self) -> bool {
         self.poison.iter().all(|p| *p == 0.0)
     }
@@ -115,8 +126,39 @@ fn first_non_finite(count: usize, position: impl Fn(usize) -> Point) -> Error {
 /// Checks every coordinate of a flat `x, y, z` array of `out.len()` vertices (its length checked
 /// by the caller) and copies it to `out`, in one pass. On error, `out` holds garbage: the caller
 /// writes into a spare buffer.
-pub(crate) fn store_positions(input: &[f64], out: &mut [Point]) -> Result<Extent> {
+pub(crate) fn store_positions(input: &[f64], out: &mut [Point], threads: usize) -> Result<Extent> {
     debug_assert_eq!(input.len(), 3 * out.len());
+    let scan = scan_store(input, out, threads);
+    if !scan.finite() {
+        return Err(first_non_finite(out.len(), |v| {
+            [input[3 * v], input[3 * v + 1], input[3 * v + 2]]
+        }));
+    }
+    Ok(scan.extent())
+}
+
+/// Below this many vertices per thread, storing positions stays on fewer threads.
+const STORE_VERTICES_PER_THREAD: usize = 16_384;
+
+/// Copies and scans `input` into `out`, halves on two threads while each has `threads` to spare
+/// and enough vertices.
+fn scan_store(input: &[f64], out: &mut [Point], threads: usize) -> Scan {
+    if threads < 2 || out.len() < 2 * STORE_VERTICES_PER_THREAD {
+        return scan_store_here(input, out);
+    }
+    // An even split point keeps both halves' lanes aligned on vertex pairs.
+    let mid = (out.len() / 2) & !1;
+    let (in_lo, in_hi) = input.split_at(3 * mid);
+    let (out_lo, out_hi) = out.split_at_mut(mid);
+    let (left, right) = crate::threads::join(
+        || scan_store(in_lo, out_lo, threads / 2),
+        || scan_store(in_hi, out_hi, threads - threads / 2),
+    );
+    left.merge(&right)
+}
+
+/// [`scan_store`] on the calling thread.
+fn scan_store_here(input: &[f64], out: &mut [Point]) -> Scan {
     let mut scan = Scan::new();
     let pairs = input.chunks_exact(SCAN_LANES);
     let tail = pairs.remainder();
@@ -134,12 +176,7 @@ pub(crate) fn store_positions(input: &[f64], out: &mut [Point]) -> Result<Extent
         }
         *o = [*x, *y, *z];
     }
-    if !scan.finite() {
-        return Err(first_non_finite(out.len(), |v| {
-            [input[3 * v], input[3 * v + 1], input[3 * v + 2]]
-        }));
-    }
-    Ok(scan.extent())
+    scan
 }
 
 /// [`store_positions`] for points read one by one (`out.len()` of them).

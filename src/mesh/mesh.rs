@@ -3,6 +3,7 @@
 
 use super::options::BuildOptions;
 use super::ring_table::RingTable;
+use crate::csr::heap_bytes;
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::Point;
 use crate::geometry::sphere::Sphere;
@@ -77,8 +78,9 @@ pub struct Mesh {
     /// Are all current coordinates in the range where the fast exact predicates apply?
     pub(crate) safe: bool,
     pub(crate) last_refit: RefitStats,
-    /// Stack for the wrapped-radius search, sized at build so refits never allocate.
-    pub(crate) scratch: Vec<u32>,
+    /// Stacks for the wrapped-radius search, one per refit thread, sized at build so refits
+    /// never allocate.
+    pub(crate) scratch: Vec<Vec<u32>>,
 }
 
 /// Everything but the scratch space (the spare positions a refit writes before it knows they are
@@ -167,6 +169,32 @@ impl Mesh {
     /// The centre vertex of each 1-ring, in leaf order.
     pub fn ring_centres(&self) -> &[u32] {
         &self.rings.centre
+    }
+
+    /// Bytes of memory the mesh holds beyond the struct itself: its copy of the positions and
+    /// the spare copy a refit checks new positions into, the triangles, the rings, the tree's
+    /// shape and the volumes. Reported per triangle in `BENCHMARKS.md`.
+    pub fn memory_bytes(&self) -> usize {
+        let volumes = match &self.volumes {
+            Volumes::Dvh {
+                centre_vertex,
+                spheres,
+            } => heap_bytes(centre_vertex) + heap_bytes(spheres),
+            Volumes::Sbv { spheres, boxes } => heap_bytes(spheres) + heap_bytes(boxes),
+            Volumes::Aabb { boxes } => heap_bytes(boxes),
+        };
+        let tree = heap_bytes(&self.tree.nodes)
+            + heap_bytes(&self.tree.leaf_of_ring)
+            + heap_bytes(&self.tree.subtrees);
+        let scratch: usize =
+            heap_bytes(&self.scratch) + self.scratch.iter().map(heap_bytes).sum::<usize>();
+        heap_bytes(&self.positions)
+            + heap_bytes(&self.spare)
+            + heap_bytes(&self.triangles)
+            + self.rings.heap_bytes()
+            + tree
+            + volumes
+            + scratch
     }
 
     /// Counters of the last refit (or of the build's initial fit).

@@ -7,7 +7,9 @@ use super::ring_table::RingTable;
 use super::rings::build_rings;
 use crate::error::{Error, Result};
 use crate::geometry::predicates::Point;
+use crate::threads;
 use crate::tree::Tree;
+use crate::volume::REFIT_PARALLEL_MIN_RINGS;
 use crate::volume::{VolumeKind, Volumes, assign_centres};
 
 impl Mesh {
@@ -66,7 +68,13 @@ impl Mesh {
         };
         let volumes = Volumes::new(options.volume, tree.len(), centre_vertex);
         // The wrapped-radius search pushes at most the fan-out per level.
-        let scratch = Vec::with_capacity(options.tree.max_children() * (tree.levels() + 1));
+        let depth = options.tree.max_children() * (tree.levels() + 1);
+        let threads = if rings.len() >= REFIT_PARALLEL_MIN_RINGS {
+            threads::resolve(options.refit_threads)
+        } else {
+            1
+        };
+        let scratch = (0..threads).map(|_| Vec::with_capacity(depth)).collect();
         let mut mesh = Mesh {
             spare: positions.clone(),
             positions,

@@ -20,7 +20,11 @@ impl Mesh {
     /// [`crate::RadiusKind::Layered`] radii are linear in the nodes, and
     /// [`crate::RadiusKind::Wrapped`] radii search each node's subtree for its farthest vertex,
     /// pruning subtrees whose spheres cannot hold a farther one (at worst vertices times depth).
-    /// Allocates nothing.
+    ///
+    /// Threads: as many as [`crate::BuildOptions::refit_threads`] allows, for meshes of 8,192
+    /// rings or more (the positions are stored in halves, the subtrees of a cut through the
+    /// tree refit at once); the volumes are the same whatever the count. On one thread nothing
+    /// is allocated; on more, one small job per extra thread and step.
     pub fn refit(&mut self, positions: &[f64]) -> Result<RefitStats> {
         if positions.len() != self.positions.len() * 3 {
             if !positions.len().is_multiple_of(3) {
@@ -33,7 +37,7 @@ impl Mesh {
                 got: positions.len() / 3,
             });
         }
-        let extent = store_positions(positions, &mut self.spare)?;
+        let extent = store_positions(positions, &mut self.spare, self.scratch.len())?;
         Ok(self.fit_stored(extent))
     }
 

@@ -55,7 +55,10 @@ impl Mesh {
             self.positions.len()
         );
         ensure!(
-            self.scratch.capacity() >= self.options.tree.max_children() * self.tree.levels(),
+            !self.scratch.is_empty()
+                && self.scratch.iter().all(|s| {
+                    s.capacity() >= self.options.tree.max_children() * self.tree.levels()
+                }),
             "refit stack not preallocated"
         );
         Ok(())

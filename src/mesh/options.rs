@@ -33,6 +33,12 @@ pub struct BuildOptions {
     /// The bounding volume on every node: vertex-centred spheres (DVH), spheres recentred at
     /// every refit (SBV), or axis-aligned boxes.
     pub volume: VolumeKind,
+    /// Threads each [`crate::Mesh::refit`] may use: 0 (the default) for every core, 1 for the
+    /// calling thread only, `n` for at most `n`, from rayon's global pool (no refit creates
+    /// threads). The volumes are the same whatever the count. Meshes of fewer than 8,192 rings
+    /// (about as many as vertices) refit on the calling thread, where handing subtrees out
+    /// costs more than it saves. The build itself runs on the calling thread.
+    pub refit_threads: u32,
 }
 
 impl BuildOptions {
@@ -45,6 +51,7 @@ impl BuildOptions {
             radius: RadiusKind::Wrapped,
             leftovers: LeftoverPolicy::JoinAdjacent,
             volume: VolumeKind::Sbv,
+            refit_threads: 0,
         }
     }
 
@@ -67,6 +74,7 @@ impl BuildOptions {
                     radius,
                     leftovers,
                     volume,
+                    refit_threads: 0,
                 })
             })
         })

@@ -1,7 +1,7 @@
 //! [`RingTable`]: the 1-rings in leaf order, as the refit and the query read them.
 
 use super::rings::{Rings, distinct_corners};
-use crate::csr::Csr;
+use crate::csr::{Csr, heap_bytes};
 
 /// The rings renumbered in leaf order (the rings below any node are a contiguous range), with
 /// their triangles and their distinct vertices.
@@ -16,6 +16,16 @@ pub(crate) struct RingTable {
     pub corners: Vec<[u32; 3]>,
     /// Distinct vertices of each ring's triangles other than its centre.
     pub vertices: Csr<u32>,
+}
+
+impl RingTable {
+    /// Heap bytes held.
+    pub fn heap_bytes(&self) -> usize {
+        heap_bytes(&self.centre)
+            + self.triangles.heap_bytes()
+            + heap_bytes(&self.corners)
+            + self.vertices.heap_bytes()
+    }
 }
 
 impl RingTable {

@@ -3,20 +3,19 @@
 
 use super::narrow::{NodePairs, TrianglePairs};
 use super::options::{QueryMode, QueryOptions};
-use super::pairs::{PairKind, Pairs, QueryStats};
-use super::side::{Boxes, FreeSpheres, Local, Placement, Posed, QuerySide, VertexSpheres, View};
+use super::pairs::{Pair, PairKind, Pairs, QueryStats};
+use super::parallel::{self, Finish, Job};
+use super::side::{Boxes, FreeSpheres, Kind, Local, Placement, Posed, VertexSpheres, View};
 use super::sink::{Sink, Stop};
 use super::sort::sort_pairs;
 use super::traverse::{best_first, depth_first};
-use super::workspace::{GatheredRing, Queued, SideSpace, Stamped, Workspace};
+use super::workspace::{Worker, Workspace};
 use crate::error::{Error, Result, Side};
 use crate::geometry::MAX_POSED_MAGNITUDE;
-use crate::geometry::aabb::Aabb;
 use crate::geometry::pose::Pose;
-use crate::geometry::predicates::Point;
 use crate::mesh::Mesh;
+use crate::threads;
 use crate::volume::Volumes;
-use std::collections::BinaryHeap;
 
 /// Finds what intersects between mesh `a` placed by `pose_a` and mesh `b` placed by `pose_b`
 /// (`None`: the mesh's coordinates are world coordinates), as [`QueryOptions::mode`] asks.
@@ -36,8 +35,10 @@ use std::collections::BinaryHeap;
 /// result cannot grow (set [`QueryOptions::max_pairs`] to bound it). On error `out` still holds
 /// the previous result.
 ///
-/// Cost: proportional to the volume pairs visited plus the triangle pairs tested; allocates
-/// nothing once `out` has grown to the scene's needs.
+/// Cost: proportional to the volume pairs visited plus the triangle pairs tested, shared among
+/// [`QueryOptions::threads`] threads when the meshes are large enough; on one thread, allocates
+/// nothing once `out` has grown to the scene's needs (on more, one small job per extra thread
+/// and step shared out).
 pub fn collide(
     a: &Mesh,
     pose_a: Option<&Pose>,
@@ -60,84 +61,74 @@ pub fn collide(
         kind,
         workspace,
     } = out;
-    let Workspace {
-        stack,
-        queue,
-        a: space_a,
-        b: space_b,
-        sort_counts,
-    } = workspace;
-    space_a.begin(a.vertex_count(), a.ring_count(), pose_a.is_some());
-    space_b.begin(b.vertex_count(), b.ring_count(), pose_b.is_some());
-    spare.clear();
     let limit = match options.mode {
         QueryMode::FirstHit => 1,
         _ => usize::MAX,
     };
-    let mut sink = Sink {
-        out: spare,
-        limit: options.max_pairs.map_or(limit, |m| m.min(limit)),
-        stop: None,
-    };
+    let limit = options.max_pairs.map_or(limit, |m| m.min(limit));
     let mut stats = QueryStats::default();
-    if sink.limit == 0 {
-        sink.stop = Some(Stop::Limit);
+    let small = a.triangle_count() + b.triangle_count() < PARALLEL_MIN_TRIANGLES;
+    let threads = if small || matches!(options.mode, QueryMode::Budget(_)) {
+        1
     } else {
-        let SideSpace {
-            world: world_a,
-            ring_boxes: boxes_a,
-            ring: ring_a,
-        } = space_a;
-        let SideSpace {
-            world: world_b,
-            ring_boxes: boxes_b,
-            ring: ring_b,
-        } = space_b;
+        threads::resolve(options.threads)
+    };
+    let nodes = options.mode.reports_nodes();
+    let (a_count, b_count) = if nodes {
+        (a.node_count() as u64, b.node_count() as u64)
+    } else {
+        (a.triangle_count() as u64, b.triangle_count() as u64)
+    };
+    let (stop, sorted) = if limit == 0 {
+        spare.clear();
+        (Some(Stop::Limit), false)
+    } else {
         let run = Run {
             mode: options.mode,
             check_domain: !(a.safe && b.safe) || pose_a.is_some() || pose_b.is_some(),
-            sink: &mut sink,
+            limit,
+            threads,
+            workspace,
+            out: spare,
+            scratch: items,
+            a_count,
+            b_count,
             stats: &mut stats,
-            stack,
-            queue,
-            ring_a,
-            ring_b,
         };
         let b_side = SideB {
             mesh: b,
             pose: pose_b.zip(place_b),
-            world: world_b,
-            ring_boxes: boxes_b,
             run,
         };
         match pose_a.zip(place_a) {
-            None => with_volumes_a(Local { mesh: a }, boxes_a, b_side),
+            None => with_volumes_a(Local { mesh: a }, b_side),
             Some((pose, (stretch, pad))) => with_volumes_a(
                 Posed {
                     mesh: a,
                     pose,
-                    cache: world_a,
                     stretch,
                     pad,
                 },
-                boxes_a,
                 b_side,
             ),
         }
-    }
-    match sink.stop {
+    };
+    match stop {
         Some(Stop::OutOfMemory { bytes }) => return Err(Error::OutOfMemory { bytes }),
         Some(Stop::Limit) => stats.truncated = options.mode != QueryMode::FirstHit,
         None => {}
     }
-    let nodes = options.mode.reports_nodes();
-    // The previous result is no longer needed: it serves as the sort's scratch space.
-    let b_count = if nodes {
-        b.node_count()
-    } else {
-        b.triangle_count()
-    };
-    sort_pairs(spare, items, sort_counts, b_count as u64);
+    if !sorted {
+        // The previous result is no longer needed: it serves as the sort's scratch space.
+        sort_pairs(
+            spare,
+            items,
+            &mut workspace.sort_counts,
+            a_count,
+            b_count,
+            threads,
+        );
+    }
     spare.dedup();
     std::mem::swap(items, spare);
     *kind = if nodes {
@@ -164,165 +155,164 @@ fn widening(pose: &Pose, mesh: &Mesh, side: Side) -> Result<(f64, f64)> {
     Ok((pose.stretch(), 2.0 * error))
 }
 
-/// The query once both sides are typed: the traversal and narrow phase the mode asks for.
-struct Run<'q, 'w> {
+/// The query once both sides are typed: the traversal and narrow phase the mode asks for, on
+/// the calling thread or shared out.
+struct Run<'q> {
     mode: QueryMode,
     check_domain: bool,
-    sink: &'q mut Sink<'w>,
+    /// Pairs to find before stopping.
+    limit: usize,
+    /// Threads to use: 1, or more for meshes large enough to share out.
+    threads: usize,
+    workspace: &'q mut Workspace,
+    out: &'q mut Vec<Pair>,
+    /// The previous result, scratch for a sort once the query is sure to succeed.
+    scratch: &'q mut Vec<Pair>,
+    /// Bounds on the pairs' first and second indices.
+    a_count: u64,
+    b_count: u64,
     stats: &'q mut QueryStats,
-    stack: &'q mut Vec<(u32, u32)>,
-    queue: &'q mut BinaryHeap<Queued>,
-    ring_a: &'q mut GatheredRing,
-    ring_b: &'q mut GatheredRing,
 }
 
-impl Run<'_, '_> {
-    fn run<'m, A: QuerySide<'m>, B: QuerySide<'m>>(self, a: &mut A, b: &mut B) {
+/// Below this many triangles in the two meshes together, a query runs on the calling thread:
+/// handing work out costs more than it saves.
+const PARALLEL_MIN_TRIANGLES: usize = 4096;
+
+impl Run<'_> {
+    /// Runs the query; returns why it stopped early, if it did, and whether the pairs are
+    /// sorted already.
+    fn run<'m, PA, KA, PB, KB>(self, a: (PA, KA), b: (PB, KB)) -> (Option<Stop>, bool)
+    where
+        PA: Placement<'m>,
+        KA: Kind<'m>,
+        PB: Placement<'m>,
+        KB: Kind<'m>,
+    {
+        let job = Job {
+            a,
+            b,
+            mode: self.mode,
+            check_domain: self.check_domain,
+            limit: self.limit,
+        };
+        let threads = self.threads;
+        let ws = self.workspace;
+        if ws.workers.len() < threads {
+            ws.workers.resize_with(threads, Worker::default);
+        }
+        if threads > 1 {
+            let finish = Finish {
+                out: self.out,
+                scratch: self.scratch,
+                a_count: self.a_count,
+                b_count: self.b_count,
+            };
+            return parallel::run(&job, ws, threads, finish, self.stats);
+        }
+        let Worker {
+            stack,
+            a: space_a,
+            b: space_b,
+            ..
+        } = &mut ws.workers[0];
+        self.out.clear();
+        let mut sink = Sink {
+            out: self.out,
+            limit: self.limit,
+            stop: None,
+        };
+        job.begin(space_a, space_b);
+        let mut va = View::new(job.a, &mut space_a.world, &mut space_a.ring_boxes);
+        let mut vb = View::new(job.b, &mut space_b.world, &mut space_b.ring_boxes);
         let stats = self.stats;
         match self.mode {
             QueryMode::Triangles | QueryMode::FirstHit => {
                 let mut narrow = TrianglePairs {
-                    sink: self.sink,
-                    ring_a: self.ring_a,
-                    ring_b: self.ring_b,
+                    sink: &mut sink,
+                    ring_a: &mut space_a.ring,
+                    ring_b: &mut space_b.ring,
                     check_domain: self.check_domain,
                 };
-                depth_first(a, b, u32::MAX, self.stack, stats, &mut narrow);
+                depth_first(&mut va, &mut vb, u32::MAX, stack, stats, &mut narrow);
             }
             QueryMode::Leaves | QueryMode::Depth(_) => {
-                let max_depth = match self.mode {
-                    QueryMode::Depth(d) => d,
-                    _ => u32::MAX,
-                };
-                let mut narrow = NodePairs { sink: self.sink };
-                depth_first(a, b, max_depth, self.stack, stats, &mut narrow);
+                let mut narrow = NodePairs { sink: &mut sink };
+                let max_depth = self.mode.max_depth();
+                depth_first(&mut va, &mut vb, max_depth, stack, stats, &mut narrow);
             }
             QueryMode::Budget(budget) => {
-                let mut narrow = NodePairs { sink: self.sink };
-                best_first(a, b, budget, self.queue, stats, &mut narrow);
+                let mut narrow = NodePairs { sink: &mut sink };
+                best_first(&mut va, &mut vb, budget, &mut ws.queue, stats, &mut narrow);
             }
         }
+        (sink.stop, false)
     }
 }
 
 /// Mesh `b` of the query, not yet typed, and the query to run once it is.
-struct SideB<'m, 'w, 'q> {
+struct SideB<'m, 'q> {
     mesh: &'m Mesh,
     pose: Option<(&'m Pose, (f64, f64))>,
-    world: &'w mut Stamped<Point>,
-    ring_boxes: &'w mut Stamped<Aabb>,
-    run: Run<'q, 'w>,
+    run: Run<'q>,
+}
+
+/// The volume kind of `mesh`, typed, passed to `then`.
+macro_rules! with_kind {
+    ($mesh:expr, |$kind:ident| $then:expr) => {
+        match &$mesh.volumes {
+            Volumes::Dvh {
+                centre_vertex,
+                spheres,
+            } => {
+                let $kind = VertexSpheres {
+                    centre_vertex,
+                    spheres,
+                };
+                $then
+            }
+            Volumes::Sbv { spheres, .. } => {
+                let $kind = FreeSpheres { spheres };
+                $then
+            }
+            Volumes::Aabb { boxes } => {
+                let $kind = Boxes { boxes };
+                $then
+            }
+        }
+    };
 }
 
 /// Types side `a` by its volume kind, then side `b`.
-fn with_volumes_a<'m, P: Placement<'m>>(
-    place: P,
-    ring_boxes: &mut Stamped<Aabb>,
-    b: SideB<'m, '_, '_>,
-) {
-    match &place.mesh().volumes {
-        Volumes::Dvh {
-            centre_vertex,
-            spheres,
-        } => {
-            let kind = VertexSpheres {
-                centre_vertex,
-                spheres,
-            };
-            with_placement_b(
-                View {
-                    place,
-                    kind,
-                    ring_boxes,
-                },
-                b,
-            )
-        }
-        Volumes::Sbv { spheres, .. } => with_placement_b(
-            View {
-                place,
-                kind: FreeSpheres { spheres },
-                ring_boxes,
-            },
-            b,
-        ),
-        Volumes::Aabb { boxes } => with_placement_b(
-            View {
-                place,
-                kind: Boxes { boxes },
-                ring_boxes,
-            },
-            b,
-        ),
-    }
+fn with_volumes_a<'m, P: Placement<'m>>(place: P, b: SideB<'m, '_>) -> (Option<Stop>, bool) {
+    with_kind!(place.mesh(), |kind| with_placement_b((place, kind), b))
 }
 
 /// Types side `b` by its placement.
-fn with_placement_b<'m, A: QuerySide<'m>>(mut a: A, b: SideB<'m, '_, '_>) {
-    let SideB {
-        mesh,
-        pose,
-        world,
-        ring_boxes,
-        run,
-    } = b;
+fn with_placement_b<'m, PA: Placement<'m>, KA: Kind<'m>>(
+    a: (PA, KA),
+    b: SideB<'m, '_>,
+) -> (Option<Stop>, bool) {
+    let SideB { mesh, pose, run } = b;
     match pose {
-        None => with_volumes_b(&mut a, Local { mesh }, ring_boxes, run),
+        None => with_volumes_b(a, Local { mesh }, run),
         Some((pose, (stretch, pad))) => with_volumes_b(
-            &mut a,
+            a,
             Posed {
                 mesh,
                 pose,
-                cache: world,
                 stretch,
                 pad,
             },
-            ring_boxes,
             run,
         ),
     }
 }
 
 /// Types side `b` by its volume kind and runs the query.
-fn with_volumes_b<'m, A: QuerySide<'m>, P: Placement<'m>>(
-    a: &mut A,
+fn with_volumes_b<'m, PA: Placement<'m>, KA: Kind<'m>, P: Placement<'m>>(
+    a: (PA, KA),
     place: P,
-    ring_boxes: &mut Stamped<Aabb>,
-    run: Run<'_, '_>,
-) {
-    match &place.mesh().volumes {
-        Volumes::Dvh {
-            centre_vertex,
-            spheres,
-        } => {
-            let kind = VertexSpheres {
-                centre_vertex,
-                spheres,
-            };
-            run.run(
-                a,
-                &mut View {
-                    place,
-                    kind,
-                    ring_boxes,
-                },
-            )
-        }
-        Volumes::Sbv { spheres, .. } => run.run(
-            a,
-            &mut View {
-                place,
-                kind: FreeSpheres { spheres },
-                ring_boxes,
-            },
-        ),
-        Volumes::Aabb { boxes } => run.run(
-            a,
-            &mut View {
-                place,
-                kind: Boxes { boxes },
-                ring_boxes,
-            },
-        ),
-    }
+    run: Run<'_>,
+) -> (Option<Stop>, bool) {
+    with_kind!(place.mesh(), |kind| run.run(a, (place, kind)))
 }

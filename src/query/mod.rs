@@ -5,6 +5,7 @@ mod collide;
 mod narrow;
 mod options;
 mod pairs;
+mod parallel;
 mod side;
 mod sink;
 mod sort;

@@ -27,6 +27,14 @@ pub enum QueryMode {
 }
 
 impl QueryMode {
+    /// The depth at which the traversal stops opening nodes.
+    pub(crate) fn max_depth(self) -> u32 {
+        match self {
+            QueryMode::Depth(d) => d,
+            _ => u32::MAX,
+        }
+    }
+
     /// Does this mode report node pairs ([`crate::PairKind::Nodes`]) rather than triangle pairs?
     pub fn reports_nodes(self) -> bool {
         matches!(
@@ -45,14 +53,23 @@ pub struct QueryOptions {
     /// of the pairs, still sorted, and [`crate::QueryStats::truncated`] says so. A bound on the
     /// work and memory of a query whatever the input, as contact-generation APIs usually offer.
     pub max_pairs: Option<usize>,
+    /// Threads the query may use: 0 (the default) for every core, 1 for the calling thread
+    /// only, `n` for at most `n`. Threads come from rayon's global pool, created once per
+    /// process (see the README); no call creates any. The result is the same, pair for pair and
+    /// in the same order, whatever the count; so are the counters, except that a query cut
+    /// short by [`QueryOptions::max_pairs`] or [`QueryMode::FirstHit`] may count work done by
+    /// other threads past the cut. [`QueryMode::Budget`] and small meshes (a few thousand
+    /// triangles between them, where handing work out costs more than it saves) run on the
+    /// calling thread.
+    pub threads: u32,
 }
 
 impl QueryOptions {
-    /// Options with the given mode and no pair limit.
+    /// Options with the given mode, no pair limit, every core.
     pub fn with_mode(mode: QueryMode) -> QueryOptions {
         QueryOptions {
             mode,
-            max_pairs: None,
+            ..QueryOptions::default()
         }
     }
 }

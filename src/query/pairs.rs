@@ -1,6 +1,7 @@
 //! Query results: pairs, the reusable result buffer, counters.
 
 use super::workspace::Workspace;
+use crate::csr::heap_bytes;
 
 /// A pair of indices, one from each mesh: triangles, or nodes for the coarse modes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -24,7 +25,8 @@ pub enum PairKind {
 }
 
 /// A caller-owned, reusable result buffer. It also keeps the scratch space a query needs, so that
-/// once it has grown to a scene's needs a query allocates nothing. Use one per thread.
+/// once it has grown to a scene's needs a query on one thread allocates nothing. Use one per
+/// calling thread.
 #[derive(Debug, Default)]
 pub struct Pairs {
     pub(crate) items: Vec<Pair>,
@@ -59,6 +61,14 @@ impl Pairs {
     /// What the indices refer to.
     pub fn kind(&self) -> PairKind {
         self.kind
+    }
+
+    /// Bytes of memory the buffer holds beyond the struct itself: the result, the spare it
+    /// writes the next one into, and the scratch space of the queries it served (per thread
+    /// that took part: stack, caches of ring boxes and posed vertices, gathered rings, found
+    /// pairs). It grows with the largest query served and is kept for the next.
+    pub fn memory_bytes(&self) -> usize {
+        heap_bytes(&self.items) + heap_bytes(&self.spare) + self.workspace.heap_bytes()
     }
 
     /// Iterates over the pairs.
@@ -97,4 +107,14 @@ pub struct QueryStats {
     pub nodes_refit: u64,
     /// Did [`crate::QueryOptions::max_pairs`] stop the query before every pair was found?
     pub truncated: bool,
+}
+
+impl QueryStats {
+    /// Adds the traversal's counters of `other` (the work of another thread on the same query).
+    pub(crate) fn add(&mut self, other: &QueryStats) {
+        self.bv_tests += other.bv_tests;
+        self.triangle_tests += other.triangle_tests;
+        self.triangle_candidates += other.triangle_candidates;
+        self.leaf_pairs += other.leaf_pairs;
+    }
 }

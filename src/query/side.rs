@@ -70,15 +70,18 @@ impl Volume for Aabb {
 }
 
 /// Where a mesh's coordinates are in the query frame.
-pub(crate) trait Placement<'m> {
+///
+/// A placement is a small value shared by every thread of a query; what it computes lazily (the
+/// world positions of a posed mesh's vertices) goes to the calling thread's cache, `world`.
+pub(crate) trait Placement<'m>: Copy + Send + Sync {
     /// Are the mesh's own coordinates the frame's (no pose)?
     const LOCAL: bool;
     /// The mesh.
     fn mesh(&self) -> &'m Mesh;
     /// Vertex `v` in the frame: exactly the coordinates the triangle test sees.
-    fn vertex(&mut self, v: u32) -> Point;
+    fn vertex(&self, world: &mut Stamped<Point>, v: u32) -> Point;
     /// A sphere centred on vertex `v`, in the frame.
-    fn vertex_sphere(&mut self, s: &Sphere, v: u32) -> Sphere;
+    fn vertex_sphere(&self, world: &mut Stamped<Point>, s: &Sphere, v: u32) -> Sphere;
     /// A sphere centred anywhere, in the frame.
     fn sphere(&self, s: &Sphere) -> Sphere;
     /// A box, in the frame (for a pose, a box holding the moved one).
@@ -86,6 +89,7 @@ pub(crate) trait Placement<'m> {
 }
 
 /// A mesh whose coordinates are world coordinates.
+#[derive(Clone, Copy)]
 pub(crate) struct Local<'m> {
     pub mesh: &'m Mesh,
 }
@@ -99,12 +103,12 @@ impl<'m> Placement<'m> for Local<'m> {
     }
 
     #[inline(always)]
-    fn vertex(&mut self, v: u32) -> Point {
+    fn vertex(&self, _world: &mut Stamped<Point>, v: u32) -> Point {
         self.mesh.positions[v as usize]
     }
 
     #[inline(always)]
-    fn vertex_sphere(&mut self, s: &Sphere, _v: u32) -> Sphere {
+    fn vertex_sphere(&self, _world: &mut Stamped<Point>, s: &Sphere, _v: u32) -> Sphere {
         *s
     }
 
@@ -128,15 +132,15 @@ impl<'m> Placement<'m> for Local<'m> {
 /// keeps it around the coordinates the triangle test sees; spheres are also scaled by the
 /// rotation's `stretch` (its departure from orthonormality). Boxes need no widening (see
 /// [`Placement::aabb`] for [`Posed`]).
-pub(crate) struct Posed<'m, 'w> {
+#[derive(Clone, Copy)]
+pub(crate) struct Posed<'m> {
     pub mesh: &'m Mesh,
     pub pose: &'m Pose,
-    pub cache: &'w mut Stamped<Point>,
     pub stretch: f64,
     pub pad: f64,
 }
 
-impl<'m> Placement<'m> for Posed<'m, '_> {
+impl<'m> Placement<'m> for Posed<'m> {
     const LOCAL: bool = false;
 
     #[inline(always)]
@@ -145,16 +149,15 @@ impl<'m> Placement<'m> for Posed<'m, '_> {
     }
 
     #[inline(always)]
-    fn vertex(&mut self, v: u32) -> Point {
+    fn vertex(&self, world: &mut Stamped<Point>, v: u32) -> Point {
         let (pose, positions) = (self.pose, &self.mesh.positions);
-        self.cache
-            .get_or(v as usize, || pose.transform_point(&positions[v as usize]))
+        world.get_or(v as usize, || pose.transform_point(&positions[v as usize]))
     }
 
     #[inline(always)]
-    fn vertex_sphere(&mut self, s: &Sphere, v: u32) -> Sphere {
+    fn vertex_sphere(&self, world: &mut Stamped<Point>, s: &Sphere, v: u32) -> Sphere {
         Sphere {
-            centre: self.vertex(v),
+            centre: self.vertex(world, v),
             radius: s.radius * self.stretch + self.pad,
         }
     }
@@ -193,12 +196,17 @@ impl<'m> Placement<'m> for Posed<'m, '_> {
 }
 
 /// A volume kind as the query reads it: the per-node arrays of one mesh.
-pub(crate) trait Kind<'m>: Copy {
+pub(crate) trait Kind<'m>: Copy + Send + Sync {
     type Volume: Volume;
     /// Is a leaf's volume, in the mesh's own coordinates, exactly the box of its ring?
     const LEAF_IS_RING_BOX: bool;
     /// Node `n`'s volume in the frame of `place`.
-    fn volume<P: Placement<'m>>(&self, place: &mut P, n: u32) -> Self::Volume;
+    fn volume<P: Placement<'m>>(
+        &self,
+        place: &P,
+        world: &mut Stamped<Point>,
+        n: u32,
+    ) -> Self::Volume;
     /// Node `n`'s box (only called when [`Kind::LEAF_IS_RING_BOX`]).
     fn leaf_box(&self, _n: u32) -> Aabb {
         unreachable!("only box volumes are ring boxes")
@@ -217,8 +225,12 @@ impl<'m> Kind<'m> for VertexSpheres<'m> {
     const LEAF_IS_RING_BOX: bool = false;
 
     #[inline(always)]
-    fn volume<P: Placement<'m>>(&self, place: &mut P, n: u32) -> Sphere {
-        place.vertex_sphere(&self.spheres[n as usize], self.centre_vertex[n as usize])
+    fn volume<P: Placement<'m>>(&self, place: &P, world: &mut Stamped<Point>, n: u32) -> Sphere {
+        place.vertex_sphere(
+            world,
+            &self.spheres[n as usize],
+            self.centre_vertex[n as usize],
+        )
     }
 }
 
@@ -233,7 +245,7 @@ impl<'m> Kind<'m> for FreeSpheres<'m> {
     const LEAF_IS_RING_BOX: bool = false;
 
     #[inline(always)]
-    fn volume<P: Placement<'m>>(&self, place: &mut P, n: u32) -> Sphere {
+    fn volume<P: Placement<'m>>(&self, place: &P, _world: &mut Stamped<Point>, n: u32) -> Sphere {
         place.sphere(&self.spheres[n as usize])
     }
 }
@@ -249,7 +261,7 @@ impl<'m> Kind<'m> for Boxes<'m> {
     const LEAF_IS_RING_BOX: bool = true;
 
     #[inline(always)]
-    fn volume<P: Placement<'m>>(&self, place: &mut P, n: u32) -> Aabb {
+    fn volume<P: Placement<'m>>(&self, place: &P, _world: &mut Stamped<Point>, n: u32) -> Aabb {
         place.aabb(&self.boxes[n as usize])
     }
 
@@ -274,12 +286,29 @@ pub(crate) trait QuerySide<'m> {
     fn ring_box(&mut self, n: u32) -> Aabb;
 }
 
-/// A mesh viewed in the query frame: a placement and a volume kind, with the cache of its ring
-/// boxes.
+/// A mesh viewed in the query frame by one thread: a placement and a volume kind, shared by
+/// the threads, with this thread's caches of world positions and ring boxes.
 pub(crate) struct View<'w, P, K> {
     pub place: P,
     pub kind: K,
+    pub world: &'w mut Stamped<Point>,
     pub ring_boxes: &'w mut Stamped<Aabb>,
+}
+
+impl<'w, P, K> View<'w, P, K> {
+    /// The view of `place` and `kind` with a thread's caches.
+    pub fn new(
+        (place, kind): (P, K),
+        world: &'w mut Stamped<Point>,
+        ring_boxes: &'w mut Stamped<Aabb>,
+    ) -> Self {
+        View {
+            place,
+            kind,
+            world,
+            ring_boxes,
+        }
+    }
 }
 
 impl<'m, P: Placement<'m>, K: Kind<'m>> QuerySide<'m> for View<'_, P, K> {
@@ -297,12 +326,12 @@ impl<'m, P: Placement<'m>, K: Kind<'m>> QuerySide<'m> for View<'_, P, K> {
 
     #[inline(always)]
     fn volume(&mut self, n: u32) -> K::Volume {
-        self.kind.volume(&mut self.place, n)
+        self.kind.volume(&self.place, self.world, n)
     }
 
     #[inline(always)]
     fn vertex(&mut self, v: u32) -> Point {
-        self.place.vertex(v)
+        self.place.vertex(self.world, v)
     }
 
     /// Boxes of unposed box volumes are the ring boxes themselves; otherwise the box is computed
@@ -314,11 +343,11 @@ impl<'m, P: Placement<'m>, K: Kind<'m>> QuerySide<'m> for View<'_, P, K> {
         }
         let mesh = self.place.mesh();
         let r = mesh.tree.nodes[n as usize].ring_start as usize;
-        let place = &mut self.place;
+        let (place, world) = (&self.place, &mut *self.world);
         self.ring_boxes.get_or(r, || {
-            let mut b = Aabb::point(&place.vertex(mesh.rings.centre[r]));
+            let mut b = Aabb::point(&place.vertex(world, mesh.rings.centre[r]));
             for &v in mesh.rings.vertices.row(r) {
-                b.grow(&place.vertex(v));
+                b.grow(&place.vertex(world, v));
             }
             b
         })
@@ -343,7 +372,6 @@ mod tests {
             ..BuildOptions::default()
         };
         let mesh = Mesh::new(&tri, &[0, 1, 2], &options).unwrap();
-        let mut cache = Stamped::default();
         for trial in 0..20_000 {
             let angle = rng.range(0.0, 6.3);
             let axis = [
@@ -375,11 +403,9 @@ mod tests {
                 })
                 .collect();
             let b = Aabb::of_points(&points);
-            cache.begin(3);
             let posed = Posed {
                 mesh: &mesh,
                 pose: &pose,
-                cache: &mut cache,
                 stretch: pose.stretch(),
                 pad: 0.0,
             };

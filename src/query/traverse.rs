@@ -44,6 +44,37 @@ fn open(na: &Node, size_a: f64, nb: &Node, size_b: f64, max_depth: u32) -> Open 
     }
 }
 
+/// The volumes of nodes `na` and `nb`, and which of them to open.
+#[inline(always)]
+fn volumes_and_opening<'m, A: QuerySide<'m>, B: QuerySide<'m>>(
+    a: &mut A,
+    b: &mut B,
+    na: u32,
+    nb: u32,
+    max_depth: u32,
+) -> (A::Volume, B::Volume, Open) {
+    let (va, vb) = (a.volume(na), b.volume(nb));
+    let how = open(
+        &a.nodes()[na as usize],
+        va.size_squared(),
+        &b.nodes()[nb as usize],
+        vb.size_squared(),
+        max_depth,
+    );
+    (va, vb, how)
+}
+
+/// Do the roots' volumes overlap? (One volume test, counted.)
+#[inline]
+fn roots_overlap<'m, A: QuerySide<'m>, B: QuerySide<'m>>(
+    a: &mut A,
+    b: &mut B,
+    stats: &mut QueryStats,
+) -> bool {
+    stats.bv_tests += 1;
+    a.volume(0).overlaps(&b.volume(0))
+}
+
 /// Tests the child pairs `open` makes of `(na, nb)` (volumes `va`, `vb`) and passes the
 /// overlapping ones, with their volumes, to `keep`.
 #[inline(always)]
@@ -111,22 +142,32 @@ where
     B: QuerySide<'m>,
     N: NarrowPhase<'m, A, B>,
 {
-    stack.clear();
-    stats.bv_tests += 1;
-    if !a.volume(0).overlaps(&b.volume(0)) {
+    if !roots_overlap(a, b, stats) {
         return false;
     }
-    let (nodes_a, nodes_b) = (a.nodes(), b.nodes());
-    stack.push((0, 0));
+    descend(a, b, (0, 0), max_depth, stack, stats, narrow)
+}
+
+/// [`depth_first`] below the overlapping pair `start`: every terminal pair under it, in the
+/// order [`depth_first`] reaches them. Returns whether the narrow phase stopped the traversal.
+pub(crate) fn descend<'m, A, B, N>(
+    a: &mut A,
+    b: &mut B,
+    start: (u32, u32),
+    max_depth: u32,
+    stack: &mut Vec<(u32, u32)>,
+    stats: &mut QueryStats,
+    narrow: &mut N,
+) -> bool
+where
+    A: QuerySide<'m>,
+    B: QuerySide<'m>,
+    N: NarrowPhase<'m, A, B>,
+{
+    stack.clear();
+    stack.push(start);
     while let Some((na, nb)) = stack.pop() {
-        let (va, vb) = (a.volume(na), b.volume(nb));
-        let how = open(
-            &nodes_a[na as usize],
-            va.size_squared(),
-            &nodes_b[nb as usize],
-            vb.size_squared(),
-            max_depth,
-        );
+        let (va, vb, how) = volumes_and_opening(a, b, na, nb, max_depth);
         if how == Open::Neither {
             stats.leaf_pairs += 1;
             if narrow.visit(a, b, na, nb, stats) {
@@ -139,6 +180,59 @@ where
         });
     }
     false
+}
+
+/// Levels [`split`] opens at most: enough for hundreds of pairs from octrees (up to 64 child
+/// pairs a level) and binary trees (up to 4) alike when contact is dense.
+const SPLIT_LEVELS: usize = 6;
+
+/// Work for several threads: the overlapping node pairs `depth_first` meets, opened level by
+/// level until there are at least `target` of them, all are terminal, or [`SPLIT_LEVELS`]
+/// levels are open. `items` ends in the order
+/// in which [`depth_first`] reaches them, so running [`descend`] on each in turn visits exactly
+/// the terminal pairs of [`depth_first`], in its order; the volume tests made here are counted.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn split<'m, A: QuerySide<'m>, B: QuerySide<'m>>(
+    a: &mut A,
+    b: &mut B,
+    max_depth: u32,
+    target: usize,
+    items: &mut Vec<(u32, u32)>,
+    next: &mut Vec<(u32, u32)>,
+    stats: &mut QueryStats,
+) {
+    items.clear();
+    if !roots_overlap(a, b, stats) {
+        return;
+    }
+    items.push((0, 0));
+    // A few levels at most: where overlap is sparse the levels stay narrow, and opening them all
+    // here would compute every volume twice (here, and again below each item).
+    for _ in 0..SPLIT_LEVELS {
+        if items.len() >= target {
+            break;
+        }
+        next.clear();
+        let mut opened = false;
+        for &(na, nb) in items.iter() {
+            let (va, vb, how) = volumes_and_opening(a, b, na, nb, max_depth);
+            if how == Open::Neither {
+                next.push((na, nb));
+                continue;
+            }
+            opened = true;
+            let first = next.len();
+            open_pair(a, b, na, nb, &va, &vb, how, stats, |x, y, _, _| {
+                next.push((x, y))
+            });
+            // The depth-first stack pops the last child pair pushed first.
+            next[first..].reverse();
+        }
+        std::mem::swap(items, next);
+        if !opened {
+            break;
+        }
+    }
 }
 
 /// Overlapping pairs are opened largest volume first while fewer than `budget` volume tests have
@@ -202,14 +296,7 @@ where
             }
             return false;
         }
-        let (va, vb) = (a.volume(na), b.volume(nb));
-        let how = open(
-            &nodes_a[na as usize],
-            va.size_squared(),
-            &nodes_b[nb as usize],
-            vb.size_squared(),
-            u32::MAX,
-        );
+        let (va, vb, how) = volumes_and_opening(a, b, na, nb, u32::MAX);
         open_pair(a, b, na, nb, &va, &vb, how, stats, |x, y, vx, vy| {
             found[len] = Queued {
                 key: key(vx.size_squared(), vy.size_squared()),

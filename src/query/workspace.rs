@@ -1,5 +1,8 @@
 //! Scratch space of a query, kept between queries so that steady state allocates nothing.
 
+use super::pairs::{Pair, QueryStats};
+use super::sink::Stop;
+use crate::csr::heap_bytes;
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::Point;
 use crate::geometry::tri_tri::Triangle;
@@ -84,17 +87,84 @@ impl SideSpace {
     }
 }
 
+/// What one thread of a query works with: its traversal stack, its caches of each side, and
+/// (when several threads share the query) the pairs it found.
+#[derive(Debug, Default)]
+pub(crate) struct Worker {
+    /// Node pairs still to open, depth first.
+    pub stack: Vec<(u32, u32)>,
+    pub a: SideSpace,
+    pub b: SideSpace,
+    /// The pairs this thread found, item after item (threaded queries only).
+    pub out: Vec<Pair>,
+    /// The items this thread took: `(item, start, end)` of its pairs in `out`.
+    pub done: Vec<(usize, usize, usize)>,
+    /// `out` distributed into buckets for the result's sort, and where each bucket starts.
+    pub bucketed: Vec<Pair>,
+    pub bucket_starts: Vec<u32>,
+    pub stats: QueryStats,
+    pub stop: Option<Stop>,
+}
+
 /// Everything a query needs besides its inputs and output.
 #[derive(Debug, Default)]
 pub(crate) struct Workspace {
-    /// Node pairs still to open, depth first.
-    pub stack: Vec<(u32, u32)>,
+    /// One per thread that has worked through this buffer; the first is the calling thread's.
+    pub workers: Vec<Worker>,
     /// Node pairs still to open, largest first ([`crate::QueryMode::Budget`]).
     pub queue: BinaryHeap<Queued>,
-    pub a: SideSpace,
-    pub b: SideSpace,
     /// The counters of the result's sort.
-    pub sort_counts: Vec<usize>,
+    pub sort_counts: Vec<u32>,
+    /// A threaded query's items: the node pairs whose subtrees the threads share out, in the
+    /// order the single-threaded traversal reaches them, and the next level being split.
+    pub items: Vec<(u32, u32)>,
+    pub next_items: Vec<(u32, u32)>,
+    /// Per item: the pairs it found (`usize::MAX` while pending), to cut at the pair limit.
+    pub item_counts: Vec<std::sync::atomic::AtomicUsize>,
+    /// Per item: `(worker, start, end)` of its pairs.
+    pub item_pairs: Vec<(usize, usize, usize)>,
+}
+
+impl<T> Stamped<T> {
+    fn heap_bytes(&self) -> usize {
+        heap_bytes(&self.values) + heap_bytes(&self.stamp)
+    }
+}
+
+impl SideSpace {
+    fn heap_bytes(&self) -> usize {
+        let r = &self.ring;
+        self.world.heap_bytes()
+            + self.ring_boxes.heap_bytes()
+            + heap_bytes(&r.tris)
+            + heap_bytes(&r.selected)
+    }
+}
+
+impl Worker {
+    fn heap_bytes(&self) -> usize {
+        heap_bytes(&self.stack)
+            + self.a.heap_bytes()
+            + self.b.heap_bytes()
+            + heap_bytes(&self.out)
+            + heap_bytes(&self.done)
+            + heap_bytes(&self.bucketed)
+            + heap_bytes(&self.bucket_starts)
+    }
+}
+
+impl Workspace {
+    /// Heap bytes held.
+    pub fn heap_bytes(&self) -> usize {
+        heap_bytes(&self.workers)
+            + self.workers.iter().map(Worker::heap_bytes).sum::<usize>()
+            + self.queue.capacity() * std::mem::size_of::<Queued>()
+            + heap_bytes(&self.sort_counts)
+            + heap_bytes(&self.items)
+            + heap_bytes(&self.next_items)
+            + heap_bytes(&self.item_counts)
+            + heap_bytes(&self.item_pairs)
+    }
 }
 
 /// A node pair waiting in the budgeted traversal, ordered by the size of its larger volume.

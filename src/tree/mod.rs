@@ -5,6 +5,6 @@
 mod shape;
 mod tree_build;
 
-pub(crate) use shape::{Node, Tree};
+pub(crate) use shape::{Node, Subtree, Tree};
 pub(crate) use tree_build::MAX_CHILDREN;
 pub use tree_build::TreeKind;

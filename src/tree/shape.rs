@@ -30,6 +30,18 @@ impl Node {
     }
 }
 
+/// A subtree of a cut through the tree: its root, the nodes below the root (contiguous: the
+/// builder allocates depth first) and its rings.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Subtree {
+    pub root: u32,
+    pub nodes: Range<u32>,
+    pub rings: Range<u32>,
+}
+
+/// Subtrees in the cut a threaded refit shares out: enough to balance 16 threads or so.
+const CUT_SUBTREES: usize = 64;
+
 /// The shape of a hierarchy over rings: node 0 is the root; every child comes after its parent,
 /// so a reverse sweep visits children before parents.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -37,6 +49,9 @@ pub(crate) struct Tree {
     pub nodes: Vec<Node>,
     /// The leaf node of each ring (rings in leaf order).
     pub leaf_of_ring: Vec<u32>,
+    /// A cut through the tree: inner nodes, none below another, in node order, whose subtrees
+    /// hold most rings, the largest opened first.
+    pub subtrees: Vec<Subtree>,
 }
 
 impl Tree {
@@ -44,6 +59,51 @@ impl Tree {
     #[inline]
     pub fn len(&self) -> usize {
         self.nodes.len()
+    }
+
+    /// The cut for [`Tree::subtrees`]: the largest subtree (by rings) is replaced by its children
+    /// until there are [`CUT_SUBTREES`] or only leaves remain.
+    pub(crate) fn cut(nodes: &[Node]) -> Vec<Subtree> {
+        // One past the last node below each node: children come after their parent and each
+        // node's descendants are contiguous, so a reverse sweep finds it.
+        let mut end: Vec<u32> = (0..nodes.len() as u32).map(|i| i + 1).collect();
+        for i in (0..nodes.len()).rev() {
+            let n = &nodes[i];
+            if !n.is_leaf() {
+                end[i] = n
+                    .children()
+                    .map(|c| end[c as usize])
+                    .max()
+                    .unwrap_or(end[i]);
+            }
+        }
+        let size = |i: u32| nodes[i as usize].ring_end - nodes[i as usize].ring_start;
+        let mut heap = std::collections::BinaryHeap::from([(size(0), 0u32)]);
+        while heap.len() < CUT_SUBTREES {
+            let Some(&(_, i)) = heap.peek() else { break };
+            let n = &nodes[i as usize];
+            if n.is_leaf() {
+                // The largest holds one ring: so do all.
+                break;
+            }
+            heap.pop();
+            heap.extend(n.children().map(|c| (size(c), c)));
+        }
+        let mut cut: Vec<Subtree> = heap
+            .into_iter()
+            .map(|(_, i)| i)
+            .filter(|&i| !nodes[i as usize].is_leaf())
+            .map(|i| {
+                let n = &nodes[i as usize];
+                Subtree {
+                    root: i,
+                    nodes: n.first_child..end[i as usize],
+                    rings: n.ring_start..n.ring_end,
+                }
+            })
+            .collect();
+        cut.sort_by_key(|s| s.nodes.start);
+        cut
     }
 
     /// Levels: the depth of the deepest node plus one.

@@ -92,10 +92,12 @@ impl Tree {
                 leaf_of_ring[n.ring_start as usize] = i as u32;
             }
         }
+        let subtrees = Tree::cut(&nodes);
         (
             Tree {
                 nodes,
                 leaf_of_ring,
+                subtrees,
             },
             order,
         )

@@ -4,6 +4,7 @@
 
 mod boxes;
 mod dvh_centres;
+mod fit;
 mod spheres;
 
 use crate::geometry::aabb::Aabb;
@@ -11,7 +12,11 @@ use crate::geometry::predicates::Point;
 use crate::geometry::sphere::Sphere;
 use crate::mesh::{RadiusKind, RefitStats, RingTable};
 use crate::tree::Tree;
+use boxes::FitBoxes;
 pub(crate) use dvh_centres::assign_centres;
+pub(crate) use fit::REFIT_PARALLEL_MIN_RINGS;
+use fit::{Part, Window};
+use spheres::{FitDvh, FitSbv};
 
 /// The bounding volume on every node of a mesh's hierarchy.
 ///
@@ -79,24 +84,45 @@ impl Volumes {
         }
     }
 
-    /// Recomputes every volume from `positions`: the leaves ring by ring in leaf order (whose
-    /// vertices the internal numbering keeps close together in memory), then the inner nodes.
-    /// Allocates nothing: `stack` has room for the wrapped-radius search (sized at build).
+    /// Recomputes every volume from `positions` on at most `stacks.len()` threads (each with
+    /// its scratch stack for the wrapped-radius search, sized at build), the same result
+    /// whatever their number. Allocates nothing.
     pub fn refit(
         &mut self,
         input: &RefitInput,
         positions: &[Point],
-        stack: &mut Vec<u32>,
+        stacks: &mut [Vec<u32>],
     ) -> RefitStats {
-        match self {
+        let nodes = input.tree.len() as u64;
+        let evaluations = match self {
             Volumes::Dvh {
                 centre_vertex,
                 spheres,
-            } => spheres::refit_dvh(centre_vertex, spheres, input, positions, stack),
-            Volumes::Sbv { spheres, boxes } => {
-                spheres::refit_sbv(spheres, boxes, input, positions, stack)
+            } => {
+                let w = Window {
+                    spheres: Part::whole(spheres),
+                    boxes: Part::whole(&mut []),
+                };
+                fit::refit(&FitDvh { centre_vertex }, w, input, positions, stacks)
             }
-            Volumes::Aabb { boxes } => boxes::refit_aabb(boxes, input, positions),
+            Volumes::Sbv { spheres, boxes } => {
+                let w = Window {
+                    spheres: Part::whole(spheres),
+                    boxes: Part::whole(boxes),
+                };
+                fit::refit(&FitSbv, w, input, positions, stacks)
+            }
+            Volumes::Aabb { boxes } => {
+                let w = Window {
+                    spheres: Part::whole(&mut []),
+                    boxes: Part::whole(boxes),
+                };
+                fit::refit(&FitBoxes, w, input, positions, stacks)
+            }
+        };
+        RefitStats {
+            nodes_refit: nodes,
+            distance_evaluations: evaluations,
         }
     }
 

@@ -3,10 +3,11 @@
 
 use super::RefitInput;
 use super::boxes::children_union;
+use super::fit::{Fit, Part, Window};
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::Point;
 use crate::geometry::sphere::{Sphere, distance_squared, round_up};
-use crate::mesh::{RadiusKind, RefitStats};
+use crate::mesh::RadiusKind;
 
 /// Largest squared distance from `c` to the listed vertices (0 for none).
 #[inline]
@@ -20,101 +21,110 @@ fn farthest_from(c: &Point, vertices: &[u32], positions: &[Point]) -> f64 {
     far
 }
 
-/// DVH: leaves in ring order, then inner nodes, children before parents (children have higher
-/// indices). Centres are copied from their vertices; radii recomputed.
-pub(super) fn refit_dvh(
-    centre_vertex: &[u32],
-    spheres: &mut [Sphere],
-    input: &RefitInput,
-    positions: &[Point],
-    stack: &mut Vec<u32>,
-) -> RefitStats {
-    let RefitInput {
-        tree,
-        rings,
-        radius,
-    } = *input;
-    let mut evaluations = 0u64;
-    for r in 0..rings.len() {
-        let leaf = tree.leaf_of_ring[r] as usize;
+/// DVH: centres copied from their vertices, radii recomputed.
+pub(super) struct FitDvh<'a> {
+    pub centre_vertex: &'a [u32],
+}
+
+impl Fit for FitDvh<'_> {
+    #[inline]
+    fn leaf(
+        &self,
+        w: &mut Window,
+        input: &RefitInput,
+        positions: &[Point],
+        r: usize,
+        leaf: usize,
+    ) -> u64 {
+        let rings = input.rings;
         // The ring's centre is the sphere's: only the other vertices can be farther.
         let c = positions[rings.centre[r] as usize];
         let verts = rings.vertices.row(r);
-        evaluations += verts.len() as u64;
-        spheres[leaf] = Sphere {
+        w.spheres[leaf] = Sphere {
             centre: c,
             radius: round_up(farthest_from(&c, verts, positions).sqrt()),
         };
+        verts.len() as u64
     }
-    for i in (0..spheres.len()).rev() {
-        if tree.nodes[i].is_leaf() {
-            continue;
-        }
-        spheres[i].centre = positions[centre_vertex[i] as usize];
-        spheres[i].radius = match radius {
-            RadiusKind::Wrapped => {
-                wrapped::<true>(i, spheres, input, positions, stack, &mut evaluations)
-            }
-            RadiusKind::Layered => layered(i, spheres, input, &mut evaluations),
-        };
-    }
-    RefitStats {
-        nodes_refit: spheres.len() as u64,
-        distance_evaluations: evaluations,
+
+    #[inline]
+    fn inner(
+        &self,
+        w: &mut Window,
+        input: &RefitInput,
+        positions: &[Point],
+        i: usize,
+        stack: &mut Vec<u32>,
+    ) -> u64 {
+        w.spheres[i].centre = positions[self.centre_vertex[i] as usize];
+        radius::<true>(i, &mut w.spheres, input, positions, stack)
     }
 }
 
 /// SBV: every node's box of vertices bottom-up, its midpoint as the centre, then the radius.
-pub(super) fn refit_sbv(
-    spheres: &mut [Sphere],
-    boxes: &mut [Aabb],
-    input: &RefitInput,
-    positions: &[Point],
-    stack: &mut Vec<u32>,
-) -> RefitStats {
-    let RefitInput {
-        tree,
-        rings,
-        radius,
-    } = *input;
-    let mut evaluations = 0u64;
-    for r in 0..rings.len() {
-        let leaf = tree.leaf_of_ring[r] as usize;
+pub(super) struct FitSbv;
+
+impl Fit for FitSbv {
+    #[inline]
+    fn leaf(
+        &self,
+        w: &mut Window,
+        input: &RefitInput,
+        positions: &[Point],
+        r: usize,
+        leaf: usize,
+    ) -> u64 {
+        let rings = input.rings;
         let b = Aabb::of_points(rings.all_vertices(r).map(|v| &positions[v as usize]));
         let c = b.centre();
         let verts = rings.vertices.row(r);
-        evaluations += verts.len() as u64 + 1;
         let far = farthest_from(&c, verts, positions)
             .max(distance_squared(&c, &positions[rings.centre[r] as usize]));
-        boxes[leaf] = b;
-        spheres[leaf] = Sphere {
+        w.boxes[leaf] = b;
+        w.spheres[leaf] = Sphere {
             centre: c,
             radius: round_up(far.sqrt()),
         };
+        verts.len() as u64 + 1
     }
-    for i in (0..spheres.len()).rev() {
-        let node = &tree.nodes[i];
-        if node.is_leaf() {
-            continue;
-        }
-        let b = children_union(node, boxes);
-        boxes[i] = b;
-        spheres[i].centre = b.centre();
-        spheres[i].radius = match radius {
-            RadiusKind::Wrapped => {
-                wrapped::<false>(i, spheres, input, positions, stack, &mut evaluations)
-            }
-            RadiusKind::Layered => layered(i, spheres, input, &mut evaluations),
-        };
-    }
-    RefitStats {
-        nodes_refit: spheres.len() as u64,
-        distance_evaluations: evaluations,
+
+    #[inline]
+    fn inner(
+        &self,
+        w: &mut Window,
+        input: &RefitInput,
+        positions: &[Point],
+        i: usize,
+        stack: &mut Vec<u32>,
+    ) -> u64 {
+        let b = children_union(&input.tree.nodes[i], &w.boxes);
+        w.boxes[i] = b;
+        w.spheres[i].centre = b.centre();
+        radius::<false>(i, &mut w.spheres, input, positions, stack)
     }
 }
 
+/// Sets inner node `i`'s radius around its centre, as the radius kind asks (`SEEDED`: see
+/// [`wrapped`]). Returns the distance evaluations.
+fn radius<const SEEDED: bool>(
+    i: usize,
+    spheres: &mut Part<Sphere>,
+    input: &RefitInput,
+    positions: &[Point],
+    stack: &mut Vec<u32>,
+) -> u64 {
+    let mut evaluations = 0;
+    spheres[i].radius = match input.radius {
+        RadiusKind::Wrapped => {
+            wrapped::<SEEDED>(i, spheres, input, positions, stack, &mut evaluations)
+        }
+        RadiusKind::Layered => layered(i, spheres, input, &mut evaluations),
+    };
+    evaluations
+}
+
 /// `max(|c - c_child| + r_child)` over the children of node `i`, rounded up.
-fn layered(i: usize, spheres: &[Sphere], input: &RefitInput, evaluations: &mut u64) -> f64 {
+fn layered(i: usize, spheres: &Part<Sphere>, input: &RefitInput, evaluations: &mut u64) -> f64 {
     let node = &input.tree.nodes[i];
     let c = spheres[i].centre;
     *evaluations += u64::from(node.child_count);
@@ -138,7 +148,7 @@ fn layered(i: usize, spheres: &[Sphere], input: &RefitInput, evaluations: &mut u
 /// true farthest distance is within a few ulps of the result, which [`round_up`] covers.
 fn wrapped<const SEEDED: bool>(
     i: usize,
-    spheres: &[Sphere],
+    spheres: &Part<Sphere>,
     input: &RefitInput,
     positions: &[Point],
     stack: &mut Vec<u32>,

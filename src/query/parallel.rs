@@ -1,0 +1,298 @@
+//! One query on several threads. The calling thread opens the top of the two hierarchies into
+//! items (node pairs, in the order the single-threaded traversal reaches them); the threads
+//! take items in that order from a shared counter, each descending with its own stack, caches
+//! and result; the results are then joined in item order. Joined so, they are the pairs the
+//! single-threaded traversal reports, in its order, so a pair limit cuts them at the same pair
+//! and the sorted answer is identical.
+
+use super::narrow::{NodePairs, TrianglePairs};
+use super::options::QueryMode;
+use super::pairs::{Pair, QueryStats};
+use super::side::{Kind, Placement, View};
+use super::sink::{Sink, Stop};
+use super::sort;
+use super::traverse::{descend, split};
+use super::workspace::{SideSpace, Worker, Workspace};
+use crate::threads;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
+/// Items per thread: enough that a thread finishing early finds more to take when contact is
+/// unevenly spread, few enough that opening them on one thread stays a small part of the query.
+const ITEMS_PER_THREAD: usize = 128;
+
+/// What every thread of a query shares: both sides, typed, and what to compute.
+pub(crate) struct Job<PA, KA, PB, KB> {
+    pub a: (PA, KA),
+    pub b: (PB, KB),
+    pub mode: QueryMode,
+    pub check_domain: bool,
+    /// Pairs to find before stopping.
+    pub limit: usize,
+}
+
+impl<'m, PA, KA, PB, KB> Job<PA, KA, PB, KB>
+where
+    PA: Placement<'m>,
+    KA: Kind<'m>,
+    PB: Placement<'m>,
+    KB: Kind<'m>,
+{
+    /// Starts a thread's caches on this query.
+    pub fn begin(&self, a: &mut SideSpace, b: &mut SideSpace) {
+        let (ma, mb) = (self.a.0.mesh(), self.b.0.mesh());
+        a.begin(ma.vertex_count(), ma.ring_count(), !PA::LOCAL);
+        b.begin(mb.vertex_count(), mb.ring_count(), !PB::LOCAL);
+    }
+
+    /// Both sides seen through a thread's caches.
+    pub fn views<'w>(
+        &self,
+        a: &'w mut SideSpace,
+        b: &'w mut SideSpace,
+    ) -> (View<'w, PA, KA>, View<'w, PB, KB>) {
+        (
+            View::new(self.a, &mut a.world, &mut a.ring_boxes),
+            View::new(self.b, &mut b.world, &mut b.ring_boxes),
+        )
+    }
+
+    /// Every terminal pair below item `start`, to `sink`.
+    fn descend(&self, worker: &mut Worker, start: (u32, u32), sink: &mut Sink) {
+        let Worker {
+            stack, a, b, stats, ..
+        } = worker;
+        let (mut va, mut vb) = (
+            View::new(self.a, &mut a.world, &mut a.ring_boxes),
+            View::new(self.b, &mut b.world, &mut b.ring_boxes),
+        );
+        match self.mode {
+            QueryMode::Triangles | QueryMode::FirstHit => {
+                let mut narrow = TrianglePairs {
+                    sink,
+                    ring_a: &mut a.ring,
+                    ring_b: &mut b.ring,
+                    check_domain: self.check_domain,
+                };
+                descend(&mut va, &mut vb, start, u32::MAX, stack, stats, &mut narrow);
+            }
+            QueryMode::Leaves | QueryMode::Depth(_) => {
+                let mut narrow = NodePairs { sink };
+                let max_depth = self.mode.max_depth();
+                descend(
+                    &mut va,
+                    &mut vb,
+                    start,
+                    max_depth,
+                    stack,
+                    stats,
+                    &mut narrow,
+                );
+            }
+            QueryMode::Budget(_) => unreachable!("a budgeted query runs on one thread"),
+        }
+    }
+}
+
+/// How a threaded query's pairs come out.
+pub(crate) struct Finish<'o> {
+    pub out: &'o mut Vec<Pair>,
+    /// Scratch for sorting them (its contents are lost only once the sort is sure to succeed).
+    pub scratch: &'o mut Vec<Pair>,
+    /// Bounds on the pairs' first and second indices.
+    pub a_count: u64,
+    pub b_count: u64,
+}
+
+/// Runs `job` on `threads` threads (at least 2, and `ws.workers` has as many); its counters go
+/// to `stats`, its pairs to `finish.out`: sorted when the query ran to the end (the threads
+/// share the sort too), otherwise in the single-threaded traversal's order, cut at the limit.
+/// Returns why it stopped early, if it did, and whether `out` is sorted.
+pub(crate) fn run<'m, PA, KA, PB, KB>(
+    job: &Job<PA, KA, PB, KB>,
+    ws: &mut Workspace,
+    threads: usize,
+    finish: Finish,
+    stats: &mut QueryStats,
+) -> (Option<Stop>, bool)
+where
+    PA: Placement<'m>,
+    KA: Kind<'m>,
+    PB: Placement<'m>,
+    KB: Kind<'m>,
+{
+    let Workspace {
+        workers,
+        items,
+        next_items,
+        item_counts,
+        item_pairs,
+        sort_counts,
+        ..
+    } = ws;
+    let Finish {
+        out,
+        scratch,
+        a_count,
+        b_count,
+    } = finish;
+    let workers = &mut workers[..threads];
+    for w in workers.iter_mut() {
+        w.stats = QueryStats::default();
+    }
+    {
+        let w = &mut workers[0];
+        job.begin(&mut w.a, &mut w.b);
+        let (mut va, mut vb) = job.views(&mut w.a, &mut w.b);
+        let target = threads * ITEMS_PER_THREAD;
+        let max_depth = job.mode.max_depth();
+        split(
+            &mut va, &mut vb, max_depth, target, items, next_items, stats,
+        );
+    }
+    let count = items.len();
+    if count < threads * ITEMS_PER_THREAD {
+        out.clear();
+        // The overlap ran out before the split did: too little work to share. The calling
+        // thread descends the items in order, as the single-threaded traversal would.
+        let w = &mut workers[0];
+        let mut sink = Sink {
+            out,
+            limit: job.limit,
+            stop: None,
+        };
+        for &item in items.iter() {
+            job.descend(w, item, &mut sink);
+            if sink.stop.is_some() {
+                break;
+            }
+        }
+        stats.add(&w.stats);
+        return (sink.stop, false);
+    }
+    if item_counts.len() < count {
+        item_counts.resize_with(count, || AtomicUsize::new(usize::MAX));
+    }
+    let counts = &item_counts[..count];
+    for c in counts {
+        c.store(usize::MAX, Ordering::Relaxed);
+    }
+    let items = &items[..];
+    let next = AtomicUsize::new(0);
+    let halt = AtomicBool::new(false);
+    // Items settled in order from the first: how many, and the pairs they found.
+    let settled = Mutex::new((0usize, 0usize));
+    let limit = job.limit;
+    // A query that cannot be cut short is sorted by the threads too: each distributes its
+    // pairs into buckets, then the buckets are shared out.
+    let buckets = sort::buckets_for(a_count);
+    let bucketed = limit == usize::MAX;
+    threads::on_each(workers, &|w: &mut Worker, index| {
+        if index != 0 {
+            job.begin(&mut w.a, &mut w.b);
+        }
+        w.out.clear();
+        w.done.clear();
+        w.stop = None;
+        while !halt.load(Ordering::Relaxed) {
+            let i = next.fetch_add(1, Ordering::Relaxed);
+            if i >= count {
+                break;
+            }
+            let mut out = std::mem::take(&mut w.out);
+            let start = out.len();
+            let mut sink = Sink {
+                out: &mut out,
+                limit: start.saturating_add(limit),
+                stop: None,
+            };
+            job.descend(w, items[i], &mut sink);
+            let stop = sink.stop;
+            w.out = out;
+            if let Some(Stop::OutOfMemory { .. }) = stop {
+                w.stop = stop;
+                halt.store(true, Ordering::Relaxed);
+                break;
+            }
+            let end = w.out.len();
+            w.done.push((i, start, end));
+            if limit != usize::MAX {
+                // Once the items settled from the first hold `limit` pairs, the rest are not
+                // needed: the single-threaded traversal stops within them.
+                counts[i].store(end - start, Ordering::Release);
+                let mut s = settled.lock().unwrap_or_else(|e| e.into_inner());
+                while s.0 < count {
+                    let found = counts[s.0].load(Ordering::Acquire);
+                    if found == usize::MAX {
+                        break;
+                    }
+                    s.1 += found;
+                    s.0 += 1;
+                }
+                if s.1 >= limit {
+                    halt.store(true, Ordering::Relaxed);
+                }
+            }
+        }
+        if bucketed
+            && w.stop.is_none()
+            && !sort::bucket_part(&w.out, &mut w.bucketed, &mut w.bucket_starts, buckets)
+        {
+            w.stop = Some(Stop::OutOfMemory {
+                bytes: w.out.len() * std::mem::size_of::<Pair>(),
+            });
+        }
+    });
+    for w in workers.iter() {
+        if let Some(stop) = w.stop {
+            return (Some(stop), false);
+        }
+        stats.add(&w.stats);
+    }
+    if bucketed {
+        let part = |w: usize| (&workers[w].bucketed[..], &workers[w].bucket_starts[..]);
+        let parts = workers.len();
+        if sort::sort_parts(
+            parts,
+            &part,
+            buckets,
+            b_count,
+            out,
+            scratch,
+            sort_counts,
+            threads,
+        ) {
+            return (None, true);
+        }
+    }
+    // Join in item order, up to the limit.
+    out.clear();
+    item_pairs.clear();
+    item_pairs.resize(count, (usize::MAX, 0, 0));
+    let mut total = 0usize;
+    for (wi, w) in workers.iter().enumerate() {
+        for &(i, start, end) in &w.done {
+            item_pairs[i] = (wi, start, end);
+            total += end - start;
+        }
+    }
+    let wanted = total.min(limit);
+    if out.try_reserve(wanted).is_err() {
+        return (
+            Some(Stop::OutOfMemory {
+                bytes: wanted * std::mem::size_of::<Pair>(),
+            }),
+            false,
+        );
+    }
+    for &(wi, start, end) in item_pairs.iter() {
+        // Items after the cut may not have run.
+        if out.len() >= limit || wi == usize::MAX {
+            break;
+        }
+        let found = &workers[wi].out[start..end];
+        let take = found.len().min(limit - out.len());
+        out.extend_from_slice(&found[..take]);
+    }
+    ((out.len() >= limit).then_some(Stop::Limit), false)
+}

@@ -1,0 +1,48 @@
+//! The threads dvh works on: rayon's global pool, created once per process and shared with the
+//! application's own rayon work, so that no call creates threads and dvh never runs more threads
+//! than the pool has (rayon sizes it to the available cores, or to `RAYON_NUM_THREADS`).
+
+/// How many threads a call asking for `requested` uses: all of the pool's for 0, otherwise at
+/// most `requested`. Asking for 1 never touches the pool (the call runs on the calling thread and
+/// allocates nothing).
+pub(crate) fn resolve(requested: u32) -> usize {
+    match requested {
+        1 => 1,
+        0 => rayon::current_num_threads(),
+        n => (n as usize).min(rayon::current_num_threads()),
+    }
+}
+
+/// Runs `f(worker, index)` for every worker at once: the first on the calling thread, the
+/// others on threads of the pool. The calling thread works rather than waits: a thread that was
+/// running keeps its core, where handing all the work to the pool left it to the scheduler to
+/// wake two pool threads on two cores (measured: after a long pause it often ran them on one).
+/// Allocates one small job per worker beyond the first.
+pub(crate) fn on_each<W: Send, F: Fn(&mut W, usize) + Sync>(workers: &mut [W], f: &F) {
+    let Some((first, rest)) = workers.split_first_mut() else {
+        return;
+    };
+    rayon::in_place_scope(|scope| {
+        for (i, w) in rest.iter_mut().enumerate() {
+            scope.spawn(move |_| f(w, i + 1));
+        }
+        f(first, 0);
+    });
+}
+
+/// Runs `a` on the calling thread and `b` on a thread of the pool, at once (see [`on_each`]
+/// for why the calling thread works rather than waits). Allocates one small job.
+pub(crate) fn join<A, B, RA, RB>(a: A, b: B) -> (RA, RB)
+where
+    A: FnOnce() -> RA + Send,
+    B: FnOnce() -> RB + Send,
+    RA: Send,
+    RB: Send,
+{
+    let mut rb = None;
+    let ra = rayon::in_place_scope(|scope| {
+        scope.spawn(|_| rb = Some(b()));
+        a()
+    });
+    (ra, rb.expect("the scope waits for its jobs"))
+}
