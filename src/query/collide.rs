@@ -1,14 +1,14 @@
 //! The pair query's entry point: checks the options and poses, puts each mesh in the query's
 //! frame, runs the traversal with the narrow phase the mode asks for, and sorts the result.
 
-use super::narrow::{NodePairs, TrianglePairs};
+use super::narrow::NodePairs;
 use super::options::{QueryMode, QueryOptions};
 use super::pairs::{Pair, PairKind, Pairs, QueryStats};
 use super::parallel::{self, Finish, Job};
 use super::side::{Boxes, FreeSpheres, Kind, Local, Placement, Posed, VertexSpheres, View};
 use super::sink::{Sink, Stop};
 use super::sort::sort_pairs;
-use super::traverse::{best_first, depth_first};
+use super::traverse::best_first;
 use super::workspace::{Worker, Workspace};
 use crate::error::{Error, Result, Side};
 use crate::geometry::MAX_POSED_MAGNITUDE;
@@ -209,41 +209,30 @@ impl Run<'_> {
             };
             return parallel::run(&job, ws, threads, finish, self.stats);
         }
-        let Worker {
-            stack,
-            a: space_a,
-            b: space_b,
-            ..
-        } = &mut ws.workers[0];
+        let w = &mut ws.workers[0];
         self.out.clear();
         let mut sink = Sink {
             out: self.out,
             limit: self.limit,
             stop: None,
         };
-        job.begin(space_a, space_b);
-        let mut va = View::new(job.a, &mut space_a.world, &mut space_a.ring_boxes);
-        let mut vb = View::new(job.b, &mut space_b.world, &mut space_b.ring_boxes);
-        let stats = self.stats;
-        match self.mode {
-            QueryMode::Triangles | QueryMode::FirstHit => {
-                let mut narrow = TrianglePairs {
-                    sink: &mut sink,
-                    ring_a: &mut space_a.ring,
-                    ring_b: &mut space_b.ring,
-                    check_domain: self.check_domain,
-                };
-                depth_first(&mut va, &mut vb, u32::MAX, stack, stats, &mut narrow);
-            }
-            QueryMode::Leaves | QueryMode::Depth(_) => {
-                let mut narrow = NodePairs { sink: &mut sink };
-                let max_depth = self.mode.max_depth();
-                depth_first(&mut va, &mut vb, max_depth, stack, stats, &mut narrow);
-            }
-            QueryMode::Budget(budget) => {
-                let mut narrow = NodePairs { sink: &mut sink };
-                best_first(&mut va, &mut vb, budget, &mut ws.queue, stats, &mut narrow);
-            }
+        job.begin(&mut w.a, &mut w.b);
+        if let QueryMode::Budget(budget) = self.mode {
+            let mut va = View::new(job.a, &mut w.a.world, &mut w.a.ring_boxes);
+            let mut vb = View::new(job.b, &mut w.b.world, &mut w.b.ring_boxes);
+            let mut narrow = NodePairs { sink: &mut sink };
+            best_first(
+                &mut va,
+                &mut vb,
+                budget,
+                &mut ws.queue,
+                self.stats,
+                &mut narrow,
+            );
+        } else {
+            w.stats = QueryStats::default();
+            job.traverse(w, None, &mut sink);
+            self.stats.add(&w.stats);
         }
         (sink.stop, false)
     }

@@ -11,7 +11,7 @@ use super::pairs::{Pair, QueryStats};
 use super::side::{Kind, Placement, View};
 use super::sink::{Sink, Stop};
 use super::sort;
-use super::traverse::{descend, split};
+use super::traverse::{depth_first_from, split};
 use super::workspace::{SideSpace, Worker, Workspace};
 use crate::threads;
 use std::sync::Mutex;
@@ -57,8 +57,9 @@ where
         )
     }
 
-    /// Every terminal pair below item `start`, to `sink`.
-    fn descend(&self, worker: &mut Worker, start: (u32, u32), sink: &mut Sink) {
+    /// Every terminal pair from the roots (`None`) or below item `start`, to `sink`, counted in
+    /// the worker's counters. Not for [`QueryMode::Budget`], which has a traversal of its own.
+    pub fn traverse(&self, worker: &mut Worker, start: Option<(u32, u32)>, sink: &mut Sink) {
         let Worker {
             stack, a, b, stats, ..
         } = worker;
@@ -66,6 +67,7 @@ where
             View::new(self.a, &mut a.world, &mut a.ring_boxes),
             View::new(self.b, &mut b.world, &mut b.ring_boxes),
         );
+        let max_depth = self.mode.max_depth();
         match self.mode {
             QueryMode::Triangles | QueryMode::FirstHit => {
                 let mut narrow = TrianglePairs {
@@ -74,12 +76,7 @@ where
                     ring_b: &mut b.ring,
                     check_domain: self.check_domain,
                 };
-                descend(&mut va, &mut vb, start, u32::MAX, stack, stats, &mut narrow);
-            }
-            QueryMode::Leaves | QueryMode::Depth(_) => {
-                let mut narrow = NodePairs { sink };
-                let max_depth = self.mode.max_depth();
-                descend(
+                depth_first_from(
                     &mut va,
                     &mut vb,
                     start,
@@ -89,7 +86,19 @@ where
                     &mut narrow,
                 );
             }
-            QueryMode::Budget(_) => unreachable!("a budgeted query runs on one thread"),
+            QueryMode::Leaves | QueryMode::Depth(_) => {
+                let mut narrow = NodePairs { sink };
+                depth_first_from(
+                    &mut va,
+                    &mut vb,
+                    start,
+                    max_depth,
+                    stack,
+                    stats,
+                    &mut narrow,
+                );
+            }
+            QueryMode::Budget(_) => unreachable!("a budgeted query has a traversal of its own"),
         }
     }
 }
@@ -162,7 +171,7 @@ where
             stop: None,
         };
         for &item in items.iter() {
-            job.descend(w, item, &mut sink);
+            job.traverse(w, Some(item), &mut sink);
             if sink.stop.is_some() {
                 break;
             }
@@ -206,7 +215,7 @@ where
                 limit: start.saturating_add(limit),
                 stop: None,
             };
-            job.descend(w, items[i], &mut sink);
+            job.traverse(w, Some(items[i]), &mut sink);
             let stop = sink.stop;
             w.out = out;
             if let Some(Stop::OutOfMemory { .. }) = stop {

@@ -51,6 +51,12 @@ pub(crate) fn sort_pairs(
     }
 }
 
+/// Bytes of the second indices below `b_count`: the in-bucket sort's passes over `b`.
+fn digit_bytes(b_count: u64) -> u32 {
+    let b_max = b_count.saturating_sub(1).min(u64::from(u32::MAX)) as u32;
+    (32 - b_max.leading_zeros()).div_ceil(8).max(1)
+}
+
 /// Distributes the pairs into `scratch` by bucket (`a / WIDTH`), then sorts each bucket back
 /// into `v`.
 fn bucket_sort(
@@ -61,25 +67,14 @@ fn bucket_sort(
     b_count: u64,
     threads: usize,
 ) {
-    let b_max = b_count.saturating_sub(1).min(u64::from(u32::MAX)) as u32;
-    counts.clear();
-    counts.resize(2 * buckets + 1, 0);
-    let (starts, next) = counts.split_at_mut(buckets + 1);
-    for p in v.iter() {
-        starts[p.a as usize / WIDTH + 1] += 1;
-    }
-    for i in 1..=buckets {
-        starts[i] += starts[i - 1];
-    }
-    next.copy_from_slice(&starts[..buckets]);
-    fit_len(scratch, v.len());
-    for p in v.iter() {
-        let c = &mut next[p.a as usize / WIDTH];
-        scratch[*c as usize] = *p;
-        *c += 1;
+    // `sort_pairs` reserved the room: the distribution cannot fail.
+    if !bucket_part(v, scratch, counts, buckets) {
+        v.sort_unstable();
+        return;
     }
     let threads = threads.min(v.len() / PAIRS_PER_THREAD).max(1);
-    let b_bytes = (32 - b_max.leading_zeros()).div_ceil(8).max(1);
+    let b_bytes = digit_bytes(b_count);
+    let starts = &counts[..=buckets];
     // The pairs are in place already.
     sort_buckets(v, scratch, starts, 0, threads, b_bytes, &|_, _| {});
 }
@@ -240,8 +235,7 @@ where
     }
     fit_len(out, total);
     fit_len(scratch, total);
-    let b_max = b_count.saturating_sub(1).min(u64::from(u32::MAX)) as u32;
-    let b_bytes = (32 - b_max.leading_zeros()).div_ceil(8).max(1);
+    let b_bytes = digit_bytes(b_count);
     let threads = threads.min(total / PAIRS_PER_THREAD).max(1);
     let gather = |k: usize, into: &mut [Pair]| {
         let mut at = 0;

@@ -148,6 +148,27 @@ where
     descend(a, b, (0, 0), max_depth, stack, stats, narrow)
 }
 
+/// [`depth_first`] from the roots (`None`), or [`descend`] below the overlapping pair `start`.
+pub(crate) fn depth_first_from<'m, A, B, N>(
+    a: &mut A,
+    b: &mut B,
+    start: Option<(u32, u32)>,
+    max_depth: u32,
+    stack: &mut Vec<(u32, u32)>,
+    stats: &mut QueryStats,
+    narrow: &mut N,
+) -> bool
+where
+    A: QuerySide<'m>,
+    B: QuerySide<'m>,
+    N: NarrowPhase<'m, A, B>,
+{
+    match start {
+        None => depth_first(a, b, max_depth, stack, stats, narrow),
+        Some(start) => descend(a, b, start, max_depth, stack, stats, narrow),
+    }
+}
+
 /// [`depth_first`] below the overlapping pair `start`: every terminal pair under it, in the
 /// order [`depth_first`] reaches them. Returns whether the narrow phase stopped the traversal.
 pub(crate) fn descend<'m, A, B, N>(
