@@ -107,8 +107,12 @@ fn parse() -> Result<Args, String> {
         }
     }
     for s in &args.scenes {
-        if !scene::EVERY.contains(&s.as_str()) {
-            return Err(format!("unknown scene {s:?}: one of {:?}", scene::EVERY));
+        if !scene::EVERY.contains(&s.as_str()) && !scene::EXTRA.contains(&s.as_str()) {
+            return Err(format!(
+                "unknown scene {s:?}: one of {:?} or {:?}",
+                scene::EVERY,
+                scene::EXTRA
+            ));
         }
     }
     Ok(args)

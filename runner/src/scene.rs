@@ -1,6 +1,7 @@
 //! The scenes: the paper's three experiments and the dense-contact stress scenes, the same as the
 //! cross-check harness builds them (`cross_check/src/scenes.cpp`): the same meshes, seeds,
-//! deformations and motions, so the same world coordinates frame by frame.
+//! deformations and motions, so the same world coordinates frame by frame. One more, `far` (a
+//! small mesh far from the origin), is the runner's alone.
 
 use dvh::Pose;
 use dvh::fixtures::{MeshData, Morph, Rng, cgal_mesh, grid, torus};
@@ -362,12 +363,55 @@ fn near(size: Size) -> Scene {
     }
 }
 
+/// A small mesh far from the origin: two meshes 1e-3 across deforming into each other a
+/// million units out on every axis, where coordinates keep about 7 significant digits of the
+/// mesh's size. Not a cross-check scene: it measures what such placements cost.
+fn far(size: Size) -> Scene {
+    let mut built_in = false;
+    let offset = 1e6;
+    let triangles = if size.full { 20_000 } else { 3_000 };
+    let objects: Vec<Object> = (0..2)
+        .map(|i| {
+            let rest = mesh("elephant", triangles, 1e-3, &mut built_in);
+            let morph = Morph::random(&rest, 4, 0.08, 700 + i as u64);
+            let x = if i == 0 { -0.3e-3 } else { 0.3e-3 };
+            let phase = 0.5 * i as f64;
+            Object {
+                name: format!("far{i}"),
+                rest,
+                morph,
+                motion: Box::new(move |t| {
+                    let tr = [
+                        offset + x + 0.06e-3 * (TAU * (t + phase)).sin(),
+                        offset,
+                        offset,
+                    ];
+                    axis_angle([0.0, 1.0, 0.0], 0.3 * (TAU * t + phase).sin(), tr)
+                }),
+            }
+        })
+        .collect();
+    Scene {
+        name: "far",
+        description: format!(
+            "2 meshes of {} triangles, 1e-3 across, deforming into each other 1e6 from the origin",
+            objects[0].rest.triangle_count()
+        ),
+        objects,
+        pairs: all_pairs(2),
+        frames: 0,
+        built_in,
+    }
+}
+
 /// The paper's three scenes.
 pub const PAPER: [&str; 3] = ["many", "medium", "large"];
 /// The paper's three and the dense-contact ones.
 pub const ALL: [&str; 5] = ["many", "medium", "large", "coplanar", "copy"];
 /// Every scene, the exactness stress included.
 pub const EVERY: [&str; 6] = ["many", "medium", "large", "coplanar", "copy", "near-1e-12"];
+/// Scenes of the runner alone, run when named (`--scene far`).
+pub const EXTRA: [&str; 1] = ["far"];
 
 /// The scene called `name`, sized by `size`; `None` for an unknown name.
 pub fn make(name: &str, size: Size) -> Option<Scene> {
@@ -378,6 +422,7 @@ pub fn make(name: &str, size: Size) -> Option<Scene> {
         "coplanar" => coplanar(size),
         "copy" => copy(size),
         "near-1e-12" => near(size),
+        "far" => far(size),
         _ => return None,
     };
     scene.frames = if size.frames > 0 {

@@ -165,10 +165,25 @@ impl Orient for Adaptive {
         [side(&points[0]), side(&points[1]), side(&points[2])]
     }
 
+    /// Shewchuk's floating-point stage is evaluated here, inline (a call into `robust` per sign
+    /// was a third of a query between coplanar sheets); only uncertain signs go further.
     #[inline]
     fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
-        // `robust` settles c == a and c == b in its first stage but not a == b.
-        if a == b {
+        let detleft = (a[0] - c[0]) * (b[1] - c[1]);
+        let detright = (a[1] - c[1]) * (b[0] - c[0]);
+        let det = detleft - detright;
+        // Shewchuk's bound for terms of one sign; with opposite signs, or a zero term, the
+        // difference is larger than the bound unless both are zero.
+        let bound = ORIENT2D_FILTER * (detleft.abs() + detright.abs());
+        if det > bound {
+            return 1;
+        }
+        if -det > bound {
+            return -1;
+        }
+        // A zero bound has both products exactly zero (no underflow in the safe range); `robust`
+        // settles c == a and c == b in its first stage but not a == b.
+        if bound == 0.0 || a == b {
             return 0;
         }
         let c2 = |p: [f64; 2]| robust::Coord { x: p[0], y: p[1] };

@@ -15,8 +15,9 @@
 //!
 //! # Method
 //!
-//! First the usual rejection: all three vertices of one triangle strictly on one side of the
-//! other's plane. Then:
+//! First, two triangles with a corner in common (the same coordinates) meet there. Then the usual
+//! rejection: all three vertices of one triangle strictly on one side of the other's plane.
+//! Then:
 //! - Two proper (non-degenerate), non-coplanar triangles each cross the line where the planes
 //!   meet in an interval, and intersect iff the intervals overlap; after the triangles are turned
 //!   into a canonical form, that takes two more orientation signs (the interval comparison of
@@ -78,58 +79,73 @@ fn all_zero(s: [Sign; 3]) -> bool {
 }
 
 pub(crate) fn intersect<O: Orient>(t1: &Triangle, t2: &Triangle) -> bool {
+    // A shared corner is a shared point, settled before any arithmetic: meshes touching copies of
+    // themselves, or stitched along seams, meet this way in most of their tested pairs, and the
+    // nine comparisons cost little beside one plane test where no corner is shared.
+    if shares_a_corner(t1, t2) {
+        return true;
+    }
     // s2[i]: side of t2[i] relative to the plane of t1 (all zero when t1 has no plane).
     let s2 = O::plane_sides(t1, t2);
     if strictly_one_side(s2) {
         return false;
     }
+    // With every sign zero, `t2` lies in `t1`'s plane if `t1` has one (is proper). Then `t1`'s
+    // corners lie on `t2`'s plane too, or `t2` has none: the second plane test is skipped, and
+    // `t1`'s projection, one-to-one on the common plane, serves both (a third of a test between
+    // coplanar sheets). A degenerate `t1` takes the general route below.
+    if all_zero(s2)
+        && let Some(projection1) = projection::<O>(t1)
+    {
+        return coplanar_meet::<O>(t1, projection1, t2);
+    }
+    let proper1 = !all_zero(s2);
     let s1 = O::plane_sides(t2, t1);
     if strictly_one_side(s1) {
         return false;
     }
-    // A shared corner is a shared point. Only worth looking for when a corner lies on the other's
-    // plane, as a shared one does; meshes touching copies of themselves hit this all the time.
-    if s1.contains(&0) && s2.contains(&0) && t1.iter().any(|p| t2.contains(p)) {
-        return true;
-    }
-    if !all_zero(s1) && !all_zero(s2) {
+    if proper1 && !all_zero(s1) {
         // Both triangles proper (a degenerate one has no plane: all its signs would be zero) and
         // not coplanar.
         return crossing_intervals_meet::<O>(t1, s1, t2, s2);
     }
-    // A non-zero sign proves the triangle that defines the plane is not degenerate; only when all
-    // are zero (coplanar or degenerate) is the exact test needed, and the projection it finds for
-    // a proper triangle serves the coplanar comparison.
-    let projection1 = if all_zero(s2) {
-        projection::<O>(t1)
+    // Here `t1` is degenerate, or `t2` is: a proper `t1` with `t1` in `t2`'s plane would have
+    // had `t2` in its own, and the coplanar route above. A non-zero sign proves the triangle that
+    // defines the plane proper.
+    let axis2 = if all_zero(s1) {
+        projection::<O>(t2).map(|p| p.0)
     } else {
         None
     };
-    let projection2 = if all_zero(s1) {
-        projection::<O>(t2)
-    } else {
-        None
-    };
-    let proper1 = !all_zero(s2) || projection1.is_some();
-    let proper2 = !all_zero(s1) || projection2.is_some();
+    let proper2 = !all_zero(s1) || axis2.is_some();
+    debug_assert!(
+        !(proper1 && proper2),
+        "proper coplanar pairs took the route above"
+    );
     match (proper1, proper2) {
-        // Both proper and, past the test above, one in the other's plane: coplanar, so every
-        // sign is zero and `t1`'s projection was found.
-        (true, true) => coplanar_triangles_meet::<O>(
-            t1,
-            projection1.expect("coplanar proper triangles have their projections"),
-            t2,
-        ),
         // A degenerate triangle is the union of its edges; the proper one's projection, when
         // already found, serves its in-plane edges.
-        (false, true) => edges_meet_triangle::<O>(t1, s1, t2, projection2.map(|p| p.0)),
-        (true, false) => edges_meet_triangle::<O>(t2, s2, t1, projection1.map(|p| p.0)),
+        (false, true) => edges_meet_triangle::<O>(t1, s1, t2, axis2),
+        (true, _) => edges_meet_triangle::<O>(t2, s2, t1, None),
         (false, false) => EDGES.iter().any(|&(i, j)| {
             EDGES
                 .iter()
                 .any(|&(k, l)| segments_meet_3d::<O>(&t1[i], &t1[j], &t2[k], &t2[l]))
         }),
     }
+}
+
+/// Is some corner of `t1` exactly a corner of `t2`? The first coordinates are compared for all
+/// nine corner pairs at once (no early exit to mispredict); only a match looks further.
+#[inline(always)]
+fn shares_a_corner(t1: &Triangle, t2: &Triangle) -> bool {
+    let mut any = false;
+    for p in t1 {
+        for q in t2 {
+            any |= p[0] == q[0];
+        }
+    }
+    any && t1.iter().any(|p| t2.contains(p))
 }
 
 /// The vertex alone on its side of the other triangle's plane, and which side that is. With
@@ -179,23 +195,20 @@ fn crossing_intervals_meet<O: Orient>(
     O::orient3d(p1, q1, p2, q2) <= 0 && O::orient3d(p1, r1, r2, p2) <= 0
 }
 
-/// Two proper triangles in one plane, compared in a projection one-to-one on that plane. Closed
-/// convex polygons are disjoint iff a line through an edge of one has the whole other polygon
-/// strictly on its outer side (the separating-axis theorem in the plane: the separating direction
-/// can be taken normal to an edge, and the edge's own line then separates).
-/// `(k, inside1)` is [`projection`]`(t1)`: the axis to drop and `t1`'s orientation there.
-fn coplanar_triangles_meet<O: Orient>(
-    t1: &Triangle,
-    (k, inside1): (usize, Sign),
-    t2: &Triangle,
-) -> bool {
-    let a = [project(&t1[0], k), project(&t1[1], k), project(&t1[2], k)];
+/// The proper triangle `t1` and `t2`, which lies in `t1`'s plane, compared in a projection
+/// one-to-one on that plane. `(k, inside1)` is [`projection`]`(t1)`: the axis to drop and
+/// `t1`'s orientation there; `t2` is proper exactly when it stays so in that projection, and
+/// otherwise the union of its edges. Closed convex polygons are disjoint iff a line through an
+/// edge of one has the whole other polygon strictly on its outer side (the separating-axis
+/// theorem in the plane: the separating direction can be taken normal to an edge, and the
+/// edge's own line then separates).
+fn coplanar_meet<O: Orient>(t1: &Triangle, (k, inside1): (usize, Sign), t2: &Triangle) -> bool {
     let b = [project(&t2[0], k), project(&t2[1], k), project(&t2[2], k)];
     let inside2 = O::orient2d(b[0], b[1], b[2]);
-    debug_assert_ne!(
-        inside2, 0,
-        "a proper triangle stays proper in a one-to-one projection"
-    );
+    if inside2 == 0 {
+        return edges_meet_triangle::<O>(t2, [0; 3], t1, Some(k));
+    }
+    let a = [project(&t1[0], k), project(&t1[1], k), project(&t1[2], k)];
     !(separated_by_an_edge::<O>(&a, inside1, &b) || separated_by_an_edge::<O>(&b, inside2, &a))
 }
 
@@ -786,7 +799,7 @@ mod tests {
             let zero = [0, 0, 0];
             let by_edges = edges_meet_triangle::<Adaptive>(&a, zero, &b, None) || edges_meet_triangle::<Adaptive>(&b, zero, &a, None);
             let axis = projection::<Adaptive>(&a).expect("proper");
-            prop_assert_eq!(coplanar_triangles_meet::<Adaptive>(&a, axis, &b), by_edges);
+            prop_assert_eq!(coplanar_meet::<Adaptive>(&a, axis, &b), by_edges);
             prop_assert_eq!(triangles_intersect(&a, &b), by_edges);
         }
 

@@ -204,8 +204,10 @@ where
 }
 
 /// Levels [`split`] opens at most: enough for hundreds of pairs from octrees (up to 64 child
-/// pairs a level) and binary trees (up to 4) alike when contact is dense.
-const SPLIT_LEVELS: usize = 6;
+/// pairs a level) and binary trees (up to 4) alike when contact is dense, including flat
+/// contact, where a level that opens one side of a flat octree only doubles the pairs (two
+/// coplanar sheets of 51,200 triangles: 125 pairs after 6 levels, too few to share).
+const SPLIT_LEVELS: usize = 10;
 
 /// Work for several threads: the overlapping node pairs `depth_first` meets, opened level by
 /// level until there are at least `target` of them, all are terminal, or [`SPLIT_LEVELS`]
