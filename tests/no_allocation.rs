@@ -129,7 +129,10 @@ fn refit_and_steady_state_queries_do_not_allocate() {
 
 /// Shared out over several threads, a steady-state refit or query allocates only the jobs it
 /// hands the pool: one per thread beyond the calling one, for each step that is shared out
-/// (refit: storing the positions and the subtrees; query: the traversal and the sort).
+/// (refit: storing the positions and the subtrees; query: the traversal and the sort). Jobs
+/// handed to rayon's pool from outside it queue in its injector, which allocates a block of 63
+/// slots every 63 jobs: where that falls depends on every job the process handed the pool
+/// before (the other tests' too), so it is allowed once in the measured frames.
 #[test]
 fn threaded_refits_and_queries_allocate_only_their_jobs() {
     let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
@@ -151,15 +154,21 @@ fn threaded_refits_and_queries_allocate_only_their_jobs() {
         ..QueryOptions::default()
     };
     let mut pairs = Pairs::new();
-    for f in &frames {
-        a.refit(f).unwrap();
-        collide(&a, None, &b, None, &threaded, &mut pairs).unwrap();
+    // Threads take work items as they come free, so the share each thread finds, and the size
+    // its own buffers grow to, varies from run to run: a few rounds let every thread's buffers
+    // reach the largest share it takes (steady state), as they do in an application's frames.
+    for _ in 0..4 {
+        for f in &frames {
+            a.refit(f).unwrap();
+            collide(&a, None, &b, None, &threaded, &mut pairs).unwrap();
+        }
     }
     assert!(
         pairs.len() > 1000,
         "{} pairs: not dense enough to share out",
         pairs.len()
     );
+    let (mut jobs, mut total) = (0usize, 0);
     for f in &frames {
         let refit = allocations_during(|| {
             a.refit(f).unwrap();
@@ -167,8 +176,17 @@ fn threaded_refits_and_queries_allocate_only_their_jobs() {
         let query = allocations_during(|| {
             collide(&a, None, &b, None, &threaded, &mut pairs).unwrap();
         });
-        // At most one job per step shared out: two for a refit, two for a query.
-        assert!(refit <= 2, "{refit} allocations in a threaded refit");
-        assert!(query <= 2, "{query} allocations in a threaded query");
+        // At most one job per step shared out: two for a refit, two for a query; plus, at most
+        // once, the injector's block.
+        assert!(refit <= 3, "{refit} allocations in a threaded refit");
+        assert!(query <= 3, "{query} allocations in a threaded query");
+        jobs += 4;
+        total += refit + query;
     }
+    let blocks = jobs.div_ceil(63);
+    assert!(
+        total <= jobs + blocks,
+        "{total} allocations in {} threaded frames: more than {jobs} jobs and {blocks} injector block",
+        frames.len()
+    );
 }
