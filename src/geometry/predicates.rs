@@ -89,6 +89,22 @@ fn orient3d_stage_one(a: &Point, b: &Point, c: &Point, d: &Point) -> (f64, f64) 
     (det, permanent)
 }
 
+/// Shewchuk's error bound for the floating-point `orient2d` (`ccwerrboundA`).
+const ORIENT2D_FILTER: f64 = (3.0 + 16.0 * HALF_ULP) * HALF_ULP;
+
+/// Shewchuk's first, floating-point stage of `orient2d`: the determinant and its error bound
+/// (`ccwerrboundA` times the sum of the two products' magnitudes). With the products of opposite
+/// signs, or one of them zero, the determinant exceeds the bound unless both are zero.
+#[inline(always)]
+fn orient2d_stage_one(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> (f64, f64) {
+    let detleft = (a[0] - c[0]) * (b[1] - c[1]);
+    let detright = (a[1] - c[1]) * (b[0] - c[0]);
+    (
+        detleft - detright,
+        ORIENT2D_FILTER * (detleft.abs() + detright.abs()),
+    )
+}
+
 /// Shewchuk's adaptive predicates; exact when every coordinate is safe.
 pub struct Adaptive;
 
@@ -169,12 +185,7 @@ impl Orient for Adaptive {
     /// was a third of a query between coplanar sheets); only uncertain signs go further.
     #[inline]
     fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
-        let detleft = (a[0] - c[0]) * (b[1] - c[1]);
-        let detright = (a[1] - c[1]) * (b[0] - c[0]);
-        let det = detleft - detright;
-        // Shewchuk's bound for terms of one sign; with opposite signs, or a zero term, the
-        // difference is larger than the bound unless both are zero.
-        let bound = ORIENT2D_FILTER * (detleft.abs() + detright.abs());
+        let (det, bound) = orient2d_stage_one(a, b, c);
         if det > bound {
             return 1;
         }
@@ -195,9 +206,6 @@ thread_local! {
     /// Set by [`FilterProbe`] when a predicate's floating-point stage leaves its sign undecided.
     static UNSETTLED: Cell<bool> = const { Cell::new(false) };
 }
-
-/// Shewchuk's error bound for the floating-point `orient2d` (`ccwerrboundA`).
-const ORIENT2D_FILTER: f64 = (3.0 + 16.0 * HALF_ULP) * HALF_ULP;
 
 /// The adaptive predicates, recording whether any sign needed more than the floating-point
 /// stage (the adaptive stages): how often exactness costs extra arithmetic. Signs decided by
@@ -255,18 +263,8 @@ impl Orient for FilterProbe {
     }
 
     fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
-        // Shewchuk's first stage: opposite-signed or zero terms decide the sign exactly.
-        let detleft = (a[0] - c[0]) * (b[1] - c[1]);
-        let detright = (a[1] - c[1]) * (b[0] - c[0]);
-        let det = detleft - detright;
-        let sum = if detleft > 0.0 && detright > 0.0 {
-            Some(detleft + detright)
-        } else if detleft < 0.0 && detright < 0.0 {
-            Some(-detleft - detright)
-        } else {
-            None
-        };
-        if sum.is_some_and(|s| det.abs() < ORIENT2D_FILTER * s) && a != b {
+        let (det, bound) = orient2d_stage_one(a, b, c);
+        if det.abs() <= bound && !(bound == 0.0 || a == b) {
             FilterProbe::unsettled();
         }
         Adaptive::orient2d(a, b, c)

@@ -206,7 +206,8 @@ where
 /// Levels [`split`] opens at most: enough for hundreds of pairs from octrees (up to 64 child
 /// pairs a level) and binary trees (up to 4) alike when contact is dense, including flat
 /// contact, where a level that opens one side of a flat octree only doubles the pairs (two
-/// coplanar sheets of 51,200 triangles: 125 pairs after 6 levels, too few to share).
+/// coplanar sheets of 51,200 triangles stayed under 256 pairs after 6 levels: too few to share
+/// between two threads).
 const SPLIT_LEVELS: usize = 10;
 
 /// Work for several threads: the overlapping node pairs `depth_first` meets, opened level by
