@@ -63,6 +63,56 @@ pub trait Orient {
     fn plane_sides(t: &[Point; 3], points: &[Point; 3]) -> [Sign; 3] {
         points.map(|p| Self::orient3d(&t[0], &t[1], &t[2], &p))
     }
+    /// With `t` of orientation `inside` (not zero), how the edge lines of `t` place the points
+    /// of `other` (see [`EdgeTest`]), when a cheap stage can tell; `None` when it cannot, and
+    /// the caller asks `orient2d` sign by sign.
+    #[inline(always)]
+    fn edge_test(_t: &[[f64; 2]; 3], _inside: Sign, _other: &[[f64; 2]; 3]) -> Option<EdgeTest> {
+        None
+    }
+}
+
+/// Where the points of a triangle lie relative to the edge lines of another, `t`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EdgeTest {
+    /// All three strictly outside the line through one edge of `t`: the triangles are disjoint.
+    Separated,
+    /// One of them strictly inside `t`: the triangles meet.
+    Inside,
+    /// Neither: no edge of `t` separates the triangles.
+    Open,
+}
+
+/// [`Orient::edge_test`] from the floating-point stage of the nine `orient2d`, computed without
+/// branches (the early exits of asking sign after sign mispredict between coplanar sheets): a
+/// sign is certain when the determinant exceeds Shewchuk's bound, or is zero when the bound is
+/// (both products exactly zero: no underflow for safe coordinates). Only for safe coordinates.
+#[inline(always)]
+fn edge_test_filtered(t: &[[f64; 2]; 3], inside: Sign, other: &[[f64; 2]; 3]) -> Option<EdgeTest> {
+    let s = f64::from(inside);
+    let (mut separated, mut open) = (false, true);
+    let mut strictly_inside = [true; 3];
+    for (i, j) in [(0, 1), (1, 2), (2, 0)] {
+        let (mut outside, mut not_outside) = (true, false);
+        for (p, inner) in other.iter().zip(&mut strictly_inside) {
+            let (det, bound) = orient2d_stage_one(t[i], t[j], *p);
+            let d = s * det;
+            outside &= d < -bound;
+            *inner &= d > bound;
+            not_outside |= d > bound || bound == 0.0;
+        }
+        separated |= outside;
+        open &= not_outside;
+    }
+    if separated {
+        Some(EdgeTest::Separated)
+    } else if strictly_inside.iter().any(|&x| x) {
+        Some(EdgeTest::Inside)
+    } else if open {
+        Some(EdgeTest::Open)
+    } else {
+        None
+    }
 }
 
 /// Shewchuk's error bound for the floating-point orientation determinant (`o3derrboundA`). It
@@ -105,8 +155,98 @@ fn orient2d_stage_one(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> (f64, f64) {
     )
 }
 
+/// A triangle's plane as the `orient3d` filter evaluates it: the floating-point normal
+/// `n = (t1 - t0) x (t2 - t0)` and, per component, the sum of its two products' magnitudes. The
+/// determinant `det[t1 - t0; t2 - t0; p - t0]` is then `n . (p - t0)`, one rounded difference per
+/// coordinate times a rounded minor of rounded differences, summed in order: the shape of
+/// Shewchuk's bound ([`ORIENT3D_FILTER`] times the permanent `k . |p - t0|`). Computed once per
+/// triangle, it serves every point tested against the triangle: the three corners of each
+/// triangle it meets, in a query as many times as the triangle is tested.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Plane {
+    n: [f64; 3],
+    k: [f64; 3],
+}
+
+impl Plane {
+    /// The plane of `t`.
+    #[inline(always)]
+    pub fn of(t: &[Point; 3]) -> Plane {
+        let a = &t[0];
+        let e1 = [t[1][0] - a[0], t[1][1] - a[1], t[1][2] - a[2]];
+        let e2 = [t[2][0] - a[0], t[2][1] - a[1], t[2][2] - a[2]];
+        let m = [
+            e1[1] * e2[2],
+            e1[2] * e2[1],
+            e1[2] * e2[0],
+            e1[0] * e2[2],
+            e1[0] * e2[1],
+            e1[1] * e2[0],
+        ];
+        Plane {
+            n: [m[0] - m[1], m[2] - m[3], m[4] - m[5]],
+            k: [
+                m[0].abs() + m[1].abs(),
+                m[2].abs() + m[3].abs(),
+                m[4].abs() + m[5].abs(),
+            ],
+        }
+    }
+
+    /// The floating-point normal: its components are the triangle's projected areas, doubled
+    /// (each with a rounding error).
+    #[inline(always)]
+    pub fn normal(&self) -> [f64; 3] {
+        self.n
+    }
+
+    /// `det[t1 - t0; t2 - t0; p - t0]` in floating point (`-orient3d(t0, t1, t2, p)`) and its
+    /// error bound, for `a = t0`.
+    #[inline(always)]
+    fn stage_one(&self, a: &Point, p: &Point) -> (f64, f64) {
+        let (n, k) = (&self.n, &self.k);
+        let f = [p[0] - a[0], p[1] - a[1], p[2] - a[2]];
+        let det = f[0] * n[0] + f[1] * n[1] + f[2] * n[2];
+        let bound = ORIENT3D_FILTER * (f[0].abs() * k[0] + f[1].abs() * k[1] + f[2].abs() * k[2]);
+        (det, bound)
+    }
+}
+
 /// Shewchuk's adaptive predicates; exact when every coordinate is safe.
 pub struct Adaptive;
+
+impl Adaptive {
+    /// [`Orient::plane_sides`] for `t` whose [`Plane`] is `plane`: each sign is taken from the
+    /// floating-point determinant when it exceeds Shewchuk's error bound; only uncertain signs
+    /// go to the adaptive predicate. Exact when every coordinate is safe.
+    #[inline]
+    pub(crate) fn sides_of_plane(plane: &Plane, t: &[Point; 3], points: &[Point; 3]) -> [Sign; 3] {
+        [
+            Adaptive::side_of_plane(plane, t, &points[0]),
+            Adaptive::side_of_plane(plane, t, &points[1]),
+            Adaptive::side_of_plane(plane, t, &points[2]),
+        ]
+    }
+
+    /// One sign of [`Adaptive::sides_of_plane`]: a function of its own, always inlined (a closure
+    /// or `array::map` may be left as an out-of-line call per point in the triangle test's
+    /// hottest loop).
+    #[inline(always)]
+    fn side_of_plane(plane: &Plane, t: &[Point; 3], p: &Point) -> Sign {
+        let (det, bound) = plane.stage_one(&t[0], p);
+        if det > bound {
+            -1
+        } else if -det > bound {
+            1
+        } else if bound == 0.0 || t.contains(p) {
+            // A zero bound has every term with an exactly zero factor (no product underflows in
+            // the safe range), so the determinant is exactly zero, as is one with `p` a corner.
+            0
+        } else {
+            Self::orient3d(&t[0], &t[1], &t[2], p)
+        }
+    }
+}
 
 impl Orient for Adaptive {
     /// Shewchuk's first, floating-point stage is evaluated here (the same expression and bound as
@@ -135,50 +275,15 @@ impl Orient for Adaptive {
         sign_of(robust::orient3d(c3(a), c3(b), c3(c), c3(d)))
     }
 
-    /// The triangle's plane (edge vectors and the minors of the determinant) is computed once for
-    /// the three points, and each sign is taken from the floating-point determinant when it
-    /// exceeds Shewchuk's error bound; only uncertain signs go to the adaptive predicate.
+    /// The triangle's plane is computed once for the three points.
     #[inline]
     fn plane_sides(t: &[Point; 3], points: &[Point; 3]) -> [Sign; 3] {
-        let a = &t[0];
-        let e1 = [t[1][0] - a[0], t[1][1] - a[1], t[1][2] - a[2]];
-        let e2 = [t[2][0] - a[0], t[2][1] - a[1], t[2][2] - a[2]];
-        let m = [
-            e1[1] * e2[2],
-            e1[2] * e2[1],
-            e1[2] * e2[0],
-            e1[0] * e2[2],
-            e1[0] * e2[1],
-            e1[1] * e2[0],
-        ];
-        let n = [m[0] - m[1], m[2] - m[3], m[4] - m[5]];
-        let k = [
-            m[0].abs() + m[1].abs(),
-            m[2].abs() + m[3].abs(),
-            m[4].abs() + m[5].abs(),
-        ];
-        // Called by hand, not through `array::map`, which the compiler may leave as an out-of-line
-        // call per point in the triangle test's hottest loop.
-        let side = |p: &Point| {
-            let f = [p[0] - a[0], p[1] - a[1], p[2] - a[2]];
-            // det[e1; e2; f] = -orient3d(t[0], t[1], t[2], p).
-            let det = f[0] * n[0] + f[1] * n[1] + f[2] * n[2];
-            let bound =
-                ORIENT3D_FILTER * (f[0].abs() * k[0] + f[1].abs() * k[1] + f[2].abs() * k[2]);
-            if det > bound {
-                -1
-            } else if -det > bound {
-                1
-            } else if bound == 0.0 || t.contains(p) {
-                // A zero bound has every term with an exactly zero factor (no product underflows
-                // in the safe range), so the determinant is exactly zero, as is one with `p` a
-                // corner.
-                0
-            } else {
-                Self::orient3d(&t[0], &t[1], &t[2], p)
-            }
-        };
-        [side(&points[0]), side(&points[1]), side(&points[2])]
+        Adaptive::sides_of_plane(&Plane::of(t), t, points)
+    }
+
+    #[inline(always)]
+    fn edge_test(t: &[[f64; 2]; 3], inside: Sign, other: &[[f64; 2]; 3]) -> Option<EdgeTest> {
+        edge_test_filtered(t, inside, other)
     }
 
     /// Shewchuk's floating-point stage is evaluated here, inline (a call into `robust` per sign
@@ -236,26 +341,11 @@ impl Orient for FilterProbe {
 
     /// [`Adaptive::plane_sides`]'s per-triangle filter; what it leaves goes to `orient3d` above.
     fn plane_sides(t: &[Point; 3], points: &[Point; 3]) -> [Sign; 3] {
-        let a = &t[0];
-        let e1 = [t[1][0] - a[0], t[1][1] - a[1], t[1][2] - a[2]];
-        let e2 = [t[2][0] - a[0], t[2][1] - a[1], t[2][2] - a[2]];
-        let n = [
-            e1[1] * e2[2] - e1[2] * e2[1],
-            e1[2] * e2[0] - e1[0] * e2[2],
-            e1[0] * e2[1] - e1[1] * e2[0],
-        ];
-        let k = [
-            (e1[1] * e2[2]).abs() + (e1[2] * e2[1]).abs(),
-            (e1[2] * e2[0]).abs() + (e1[0] * e2[2]).abs(),
-            (e1[0] * e2[1]).abs() + (e1[1] * e2[0]).abs(),
-        ];
+        let plane = Plane::of(t);
         points.map(|p| {
-            let f = [p[0] - a[0], p[1] - a[1], p[2] - a[2]];
-            let det = f[0] * n[0] + f[1] * n[1] + f[2] * n[2];
-            let bound =
-                ORIENT3D_FILTER * (f[0].abs() * k[0] + f[1].abs() * k[1] + f[2].abs() * k[2]);
+            let (det, bound) = plane.stage_one(&t[0], &p);
             if det.abs() > bound || t.contains(&p) {
-                Adaptive::plane_sides(t, &[p; 3])[0]
+                Adaptive::sides_of_plane(&plane, t, &[p; 3])[0]
             } else {
                 Self::orient3d(&t[0], &t[1], &t[2], &p)
             }

@@ -30,7 +30,11 @@
 //!   plane is tested with three signs (its line against the other's edges); one that lies in the
 //!   plane is tested in a coordinate plane onto which the triangle projects one-to-one.
 
-use super::predicates::{Adaptive, BigExact, FilterProbe, Orient, Point, Sign, is_safe_point};
+use super::predicates::{
+    Adaptive, BigExact, EdgeTest, FilterProbe, Orient, Plane, Point, Sign, is_safe_point,
+};
+use std::marker::PhantomData;
+use std::sync::atomic::{AtomicU8, Ordering};
 
 /// A triangle as its three corner points.
 pub type Triangle = [Point; 3];
@@ -60,12 +64,120 @@ pub fn settled_by_filter(t1: &Triangle, t2: &Triangle) -> (bool, bool) {
     (hit, !FilterProbe::take())
 }
 
-/// [`triangles_intersect`] for callers that know every coordinate is safe
-/// ([`super::predicates::is_safe_coordinate`]); exact only under that precondition.
+/// A triangle with what the exact test computes of it alone, kept for the many pairs it takes
+/// part in: its [`Plane`] at once, and its projection (an axis that keeps it non-degenerate, and
+/// its orientation there) on first use. Only for triangles whose coordinates are all safe
+/// ([`super::predicates::is_safe_coordinate`]): the test it serves is [`Adaptive`]'s.
+#[derive(Debug, Default)]
+pub(crate) struct PreparedTriangle {
+    pub corners: Triangle,
+    plane: Plane,
+    /// 0: not yet known; 1: degenerate; otherwise `2 + 2 axis + (orientation > 0)`. Atomic only
+    /// so that a query's workspace may be shared between threads once the triangles are tested
+    /// (each is prepared and tested by one thread; relaxed loads and stores are plain moves).
+    projection: AtomicU8,
+}
+
+impl PreparedTriangle {
+    /// Prepares `corners` (for [`prepared_triangles_intersect`], which needs them safe).
+    #[inline(always)]
+    pub fn new(corners: Triangle) -> PreparedTriangle {
+        PreparedTriangle {
+            corners,
+            plane: Plane::of(&corners),
+            projection: AtomicU8::new(0),
+        }
+    }
+}
+
+/// [`triangles_intersect`] for two prepared triangles: the same answer, exact under
+/// [`PreparedTriangle`]'s precondition.
 #[inline]
-pub(crate) fn triangles_intersect_safe(t1: &Triangle, t2: &Triangle) -> bool {
-    debug_assert!(t1.iter().chain(t2.iter()).all(is_safe_point));
-    intersect::<Adaptive>(t1, t2)
+pub(crate) fn prepared_triangles_intersect(t1: &PreparedTriangle, t2: &PreparedTriangle) -> bool {
+    debug_assert!(t1.corners.iter().chain(&t2.corners).all(is_safe_point));
+    meet::<Adaptive, _, _>(t1, t2)
+}
+
+/// What the test asks of one triangle besides its corners: computed on demand for a bare
+/// triangle, or kept by a [`PreparedTriangle`].
+trait Facts<O: Orient> {
+    fn corners(&self) -> &Triangle;
+    /// The sides of `points` relative to the triangle's plane (all zero when it has none).
+    fn plane_sides(&self, points: &Triangle) -> [Sign; 3];
+    /// [`projection`] of the triangle.
+    fn projection(&self) -> Option<(usize, Sign)>;
+    /// The triangle's orientation in the projection dropping axis `k`.
+    #[inline(always)]
+    fn orientation_on(&self, k: usize) -> Sign {
+        let t = self.corners();
+        O::orient2d(project(&t[0], k), project(&t[1], k), project(&t[2], k))
+    }
+}
+
+/// A triangle whose facts are computed when asked.
+struct Bare<'t, O>(&'t Triangle, PhantomData<O>);
+
+impl<O: Orient> Facts<O> for Bare<'_, O> {
+    #[inline(always)]
+    fn corners(&self) -> &Triangle {
+        self.0
+    }
+
+    #[inline(always)]
+    fn plane_sides(&self, points: &Triangle) -> [Sign; 3] {
+        O::plane_sides(self.0, points)
+    }
+
+    #[inline(always)]
+    fn projection(&self) -> Option<(usize, Sign)> {
+        projection::<O>(self.0)
+    }
+}
+
+impl Facts<Adaptive> for PreparedTriangle {
+    #[inline(always)]
+    fn corners(&self) -> &Triangle {
+        &self.corners
+    }
+
+    #[inline(always)]
+    fn plane_sides(&self, points: &Triangle) -> [Sign; 3] {
+        Adaptive::sides_of_plane(&self.plane, &self.corners, points)
+    }
+
+    #[inline]
+    fn projection(&self) -> Option<(usize, Sign)> {
+        let code = match self.projection.load(Ordering::Relaxed) {
+            0 => {
+                let code =
+                    match projection_with_normal::<Adaptive>(&self.corners, self.plane.normal()) {
+                        None => 1,
+                        Some((k, inside)) => 2 + 2 * k as u8 + u8::from(inside > 0),
+                    };
+                self.projection.store(code, Ordering::Relaxed);
+                code
+            }
+            code => code,
+        };
+        (code > 1).then(|| {
+            let k = usize::from((code - 2) / 2);
+            (k, if code % 2 == 1 { 1 } else { -1 })
+        })
+    }
+
+    /// A kept projection on the same axis answers at once; a degenerate triangle is degenerate
+    /// in every projection.
+    #[inline]
+    fn orientation_on(&self, k: usize) -> Sign {
+        match self.projection() {
+            Some((axis, inside)) if axis == k => inside,
+            Some(_) => {
+                let t = &self.corners;
+                Adaptive::orient2d(project(&t[0], k), project(&t[1], k), project(&t[2], k))
+            }
+            None => 0,
+        }
+    }
 }
 
 #[inline]
@@ -79,6 +191,13 @@ fn all_zero(s: [Sign; 3]) -> bool {
 }
 
 pub(crate) fn intersect<O: Orient>(t1: &Triangle, t2: &Triangle) -> bool {
+    meet::<O, _, _>(&Bare(t1, PhantomData), &Bare(t2, PhantomData))
+}
+
+/// The test itself, on triangles given with their [`Facts`].
+#[inline]
+fn meet<O: Orient, F1: Facts<O>, F2: Facts<O>>(f1: &F1, f2: &F2) -> bool {
+    let (t1, t2) = (f1.corners(), f2.corners());
     // A shared corner is a shared point, settled before any arithmetic: meshes touching copies of
     // themselves, or stitched along seams, meet this way in most of their tested pairs, and the
     // nine comparisons cost little beside one plane test where no corner is shared.
@@ -86,7 +205,7 @@ pub(crate) fn intersect<O: Orient>(t1: &Triangle, t2: &Triangle) -> bool {
         return true;
     }
     // s2[i]: side of t2[i] relative to the plane of t1 (all zero when t1 has no plane).
-    let s2 = O::plane_sides(t1, t2);
+    let s2 = f1.plane_sides(t2);
     if strictly_one_side(s2) {
         return false;
     }
@@ -95,12 +214,12 @@ pub(crate) fn intersect<O: Orient>(t1: &Triangle, t2: &Triangle) -> bool {
     // `t1`'s projection, one-to-one on the common plane, serves both (a third of a test between
     // coplanar sheets). A degenerate `t1` takes the general route below.
     if all_zero(s2)
-        && let Some(projection1) = projection::<O>(t1)
+        && let Some(projection1) = f1.projection()
     {
-        return coplanar_meet::<O>(t1, projection1, t2);
+        return coplanar_meet::<O, _>(t1, projection1, f2);
     }
     let proper1 = !all_zero(s2);
-    let s1 = O::plane_sides(t2, t1);
+    let s1 = f2.plane_sides(t1);
     if strictly_one_side(s1) {
         return false;
     }
@@ -113,7 +232,7 @@ pub(crate) fn intersect<O: Orient>(t1: &Triangle, t2: &Triangle) -> bool {
     // had `t2` in its own, and the coplanar route above. A non-zero sign proves the triangle that
     // defines the plane proper.
     let axis2 = if all_zero(s1) {
-        projection::<O>(t2).map(|p| p.0)
+        f2.projection().map(|p| p.0)
     } else {
         None
     };
@@ -202,14 +321,33 @@ fn crossing_intervals_meet<O: Orient>(
 /// edge of one has the whole other polygon strictly on its outer side (the separating-axis
 /// theorem in the plane: the separating direction can be taken normal to an edge, and the
 /// edge's own line then separates).
-fn coplanar_meet<O: Orient>(t1: &Triangle, (k, inside1): (usize, Sign), t2: &Triangle) -> bool {
+fn coplanar_meet<O: Orient, F2: Facts<O>>(
+    t1: &Triangle,
+    (k, inside1): (usize, Sign),
+    f2: &F2,
+) -> bool {
+    let t2 = f2.corners();
     let b = [project(&t2[0], k), project(&t2[1], k), project(&t2[2], k)];
-    let inside2 = O::orient2d(b[0], b[1], b[2]);
+    let inside2 = f2.orientation_on(k);
     if inside2 == 0 {
         return edges_meet_triangle::<O>(t2, [0; 3], t1, Some(k));
     }
     let a = [project(&t1[0], k), project(&t1[1], k), project(&t1[2], k)];
-    !(separated_by_an_edge::<O>(&a, inside1, &b) || separated_by_an_edge::<O>(&b, inside2, &a))
+    match O::edge_test(&a, inside1, &b) {
+        Some(EdgeTest::Separated) => return false,
+        Some(EdgeTest::Inside) => return true,
+        Some(EdgeTest::Open) => {}
+        None => {
+            if separated_by_an_edge::<O>(&a, inside1, &b) {
+                return false;
+            }
+        }
+    }
+    match O::edge_test(&b, inside2, &a) {
+        Some(EdgeTest::Separated) => false,
+        Some(EdgeTest::Inside | EdgeTest::Open) => true,
+        None => !separated_by_an_edge::<O>(&b, inside2, &a),
+    }
 }
 
 /// Is all of `other` strictly outside one of the edge lines of the non-degenerate `t`, whose
@@ -298,10 +436,16 @@ fn projection<O: Orient>(tri: &Triangle) -> Option<(usize, Sign)> {
         tri[2][2] - tri[0][2],
     ];
     let n = [
-        (e1[1] * e2[2] - e1[2] * e2[1]).abs(),
-        (e1[2] * e2[0] - e1[0] * e2[2]).abs(),
-        (e1[0] * e2[1] - e1[1] * e2[0]).abs(),
+        e1[1] * e2[2] - e1[2] * e2[1],
+        e1[2] * e2[0] - e1[0] * e2[2],
+        e1[0] * e2[1] - e1[1] * e2[0],
     ];
+    projection_with_normal::<O>(tri, n)
+}
+
+/// [`projection`] given `tri`'s floating-point normal, which only orders the axes tried.
+fn projection_with_normal<O: Orient>(tri: &Triangle, n: [f64; 3]) -> Option<(usize, Sign)> {
+    let n = n.map(f64::abs);
     // The largest first, then the others in turn (a general sort of three cost 6% of a query
     // between coplanar sheets). Which comes first only matters for speed: every axis tried is
     // decided exactly; NaN (from overflowing coordinates) simply compares false.
@@ -736,12 +880,16 @@ mod tests {
         /// Tiny coordinate range: many coplanar, touching and degenerate configurations.
         #[test]
         fn agrees_with_separating_direction_oracle_small(a in small_int_triangle(2), b in small_int_triangle(2)) {
-            prop_assert_eq!(triangles_intersect(&to_f(&a), &to_f(&b)), oracle(&a, &b), "{:?} {:?}", a, b);
+            let expected = oracle(&a, &b);
+            prop_assert_eq!(triangles_intersect(&to_f(&a), &to_f(&b)), expected, "{:?} {:?}", a, b);
+            prop_assert_eq!(prepared_both_ways(&to_f(&a), &to_f(&b)), expected, "prepared {:?} {:?}", a, b);
         }
 
         #[test]
         fn agrees_with_separating_direction_oracle(a in small_int_triangle(40), b in small_int_triangle(40)) {
-            prop_assert_eq!(triangles_intersect(&to_f(&a), &to_f(&b)), oracle(&a, &b), "{:?} {:?}", a, b);
+            let expected = oracle(&a, &b);
+            prop_assert_eq!(triangles_intersect(&to_f(&a), &to_f(&b)), expected, "{:?} {:?}", a, b);
+            prop_assert_eq!(prepared_both_ways(&to_f(&a), &to_f(&b)), expected, "prepared {:?} {:?}", a, b);
         }
 
         /// Same with one triangle forced into the other's plane z = 0 (coplanar cases).
@@ -749,8 +897,20 @@ mod tests {
         fn agrees_with_oracle_coplanar(a in small_int_triangle(3), b in small_int_triangle(3)) {
             let flat = |t: [[i64; 3]; 3]| t.map(|p| [p[0], p[1], 0]);
             let (a, b) = (flat(a), flat(b));
-            prop_assert_eq!(triangles_intersect(&to_f(&a), &to_f(&b)), oracle(&a, &b), "{:?} {:?}", a, b);
+            let expected = oracle(&a, &b);
+            prop_assert_eq!(triangles_intersect(&to_f(&a), &to_f(&b)), expected, "{:?} {:?}", a, b);
+            prop_assert_eq!(prepared_both_ways(&to_f(&a), &to_f(&b)), expected, "prepared {:?} {:?}", a, b);
         }
+    }
+
+    /// The prepared test's answer, which must not depend on the argument order nor on what the
+    /// prepared triangles kept from earlier pairs (each is asked twice, in both orders).
+    fn prepared_both_ways(a: &Triangle, b: &Triangle) -> bool {
+        let (pa, pb) = (PreparedTriangle::new(*a), PreparedTriangle::new(*b));
+        let r = prepared_triangles_intersect(&pa, &pb);
+        assert_eq!(prepared_triangles_intersect(&pb, &pa), r, "{a:?} {b:?}");
+        assert_eq!(prepared_triangles_intersect(&pa, &pb), r, "{a:?} {b:?}");
+        r
     }
 
     fn real_triangle() -> impl Strategy<Value = Triangle> {
@@ -767,6 +927,7 @@ mod tests {
             prop_assert_eq!(triangles_intersect(&b, &a), r);
             prop_assert_eq!(triangles_intersect(&[a[1], a[2], a[0]], &[b[2], b[1], b[0]]), r);
             prop_assert_eq!(intersect::<BigExact>(&a, &b), r);
+            prop_assert_eq!(prepared_both_ways(&a, &b), r);
         }
 
         /// The interval comparison against the edge-by-edge method it replaces for proper,
@@ -799,7 +960,8 @@ mod tests {
             let zero = [0, 0, 0];
             let by_edges = edges_meet_triangle::<Adaptive>(&a, zero, &b, None) || edges_meet_triangle::<Adaptive>(&b, zero, &a, None);
             let axis = projection::<Adaptive>(&a).expect("proper");
-            prop_assert_eq!(coplanar_meet::<Adaptive>(&a, axis, &b), by_edges);
+            prop_assert_eq!(coplanar_meet::<Adaptive, _>(&a, axis, &Bare(&b, PhantomData)), by_edges);
+            prop_assert_eq!(coplanar_meet::<Adaptive, _>(&a, axis, &PreparedTriangle::new(b)), by_edges);
             prop_assert_eq!(triangles_intersect(&a, &b), by_edges);
         }
 

@@ -16,6 +16,8 @@ pub(crate) struct RingTable {
     pub corners: Vec<[u32; 3]>,
     /// Distinct vertices of each ring's triangles other than its centre.
     pub vertices: Csr<u32>,
+    /// The most triangles of any ring (what a query's cache of prepared rings holds per slot).
+    pub longest: usize,
 }
 
 impl RingTable {
@@ -61,8 +63,10 @@ impl RingTable {
             .iter()
             .map(|&t| triangles[t as usize])
             .collect();
+        let longest = (0..tris.rows()).map(|r| tris.row_len(r)).max().unwrap_or(0);
         RingTable {
             centre,
+            longest,
             triangles: tris,
             corners,
             vertices: verts,

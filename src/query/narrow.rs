@@ -5,10 +5,13 @@ use super::pairs::{Pair, QueryStats};
 use super::side::QuerySide;
 use super::sink::Sink;
 use super::traverse::NarrowPhase;
-use super::workspace::{Gathered, GatheredRing};
+use super::workspace::{Prepared, RingCache};
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::is_safe_point;
-use crate::geometry::tri_tri::{triangles_intersect, triangles_intersect_safe};
+use crate::geometry::tri_tri::{
+    PreparedTriangle, prepared_triangles_intersect, triangles_intersect,
+};
+use std::ops::Range;
 
 /// Reports every terminal node pair.
 pub(crate) struct NodePairs<'s, 'w> {
@@ -27,8 +30,8 @@ impl<'m, A: QuerySide<'m>, B: QuerySide<'m>> NarrowPhase<'m, A, B> for NodePairs
 /// each triangle against the other ring's box, then pair by pair.
 pub(crate) struct TrianglePairs<'s, 'w> {
     pub sink: &'s mut Sink<'w>,
-    pub ring_a: &'s mut GatheredRing,
-    pub ring_b: &'s mut GatheredRing,
+    pub rings_a: &'s mut RingCache,
+    pub rings_b: &'s mut RingCache,
     /// Must each triangle check that its coordinates suit the fast predicates?
     pub check_domain: bool,
 }
@@ -42,30 +45,31 @@ impl<'m, A: QuerySide<'m>, B: QuerySide<'m>> NarrowPhase<'m, A, B> for TriangleP
             * mb.rings.triangles.row_len(rb as usize)) as u64;
         // Most overlapping leaf volumes hold rings whose boxes are apart (about 70% of the
         // spheres on scanned meshes): ring boxes, computed once per ring and query, settle them
-        // before any triangle is gathered.
+        // before any triangle is prepared.
         if !a.ring_box(na).meets(&b.ring_box(nb)) {
             return false;
         }
-        gather(a, ra, self.ring_a, self.check_domain);
-        gather(b, rb, self.ring_b, self.check_domain);
-        let (ga, gb) = (&mut *self.ring_a, &mut *self.ring_b);
-        if !ga.bounds.meets(&gb.bounds) {
+        let (span_a, bounds_a) = prepare(a, ra, self.rings_a, self.check_domain);
+        let (span_b, bounds_b) = prepare(b, rb, self.rings_b, self.check_domain);
+        if !bounds_a.meets(&bounds_b) {
             return false;
         }
-        select(ga, &gb.bounds);
-        select(gb, &ga.bounds);
-        for &i in &ga.selected {
-            let ta = &ga.tris[i as usize];
-            for &j in &gb.selected {
-                let tb = &gb.tris[j as usize];
+        let (ca, cb) = (&mut *self.rings_a, &mut *self.rings_b);
+        select(&ca.tris[span_a.clone()], &bounds_b, &mut ca.selected);
+        select(&cb.tris[span_b.clone()], &bounds_a, &mut cb.selected);
+        let (tris_a, tris_b) = (&ca.tris[span_a], &cb.tris[span_b]);
+        for &i in &ca.selected {
+            let ta = &tris_a[i as usize];
+            for &j in &cb.selected {
+                let tb = &tris_b[j as usize];
                 if !ta.bounds.meets(&tb.bounds) {
                     continue;
                 }
                 stats.triangle_tests += 1;
                 let hit = if ta.safe && tb.safe {
-                    triangles_intersect_safe(&ta.corners, &tb.corners)
+                    prepared_triangles_intersect(&ta.tri, &tb.tri)
                 } else {
-                    triangles_intersect(&ta.corners, &tb.corners)
+                    triangles_intersect(&ta.tri.corners, &tb.tri.corners)
                 };
                 if hit
                     && self.sink.report(Pair {
@@ -81,39 +85,50 @@ impl<'m, A: QuerySide<'m>, B: QuerySide<'m>> NarrowPhase<'m, A, B> for TriangleP
     }
 }
 
-/// Collects ring `r`'s triangles in the side's frame, with their boxes, unless already held.
-fn gather<'m, S: QuerySide<'m>>(side: &mut S, r: u32, into: &mut GatheredRing, check_domain: bool) {
-    if into.ring == r {
-        return;
-    }
-    into.ring = r;
-    into.tris.clear();
-    into.bounds = Aabb::EMPTY;
+/// Ring `r`'s triangles in the side's frame, prepared unless the cache holds them: their span
+/// of the cache, and the box around them all.
+#[inline]
+fn prepare<'m, S: QuerySide<'m>>(
+    side: &mut S,
+    r: u32,
+    cache: &mut RingCache,
+    check_domain: bool,
+) -> (Range<usize>, Aabb) {
     let rings = &side.mesh().rings;
-    let span = rings.triangles.span(r as usize..r as usize + 1);
-    for (&t, &[i, j, k]) in rings.triangles.items()[span.clone()]
+    let items = rings.triangles.span(r as usize..r as usize + 1);
+    let (slot, held) = cache.slot(r);
+    let start = cache.start(slot);
+    let span = start..start + items.len();
+    if held {
+        return (span, cache.bounds[slot]);
+    }
+    let mut bounds = Aabb::EMPTY;
+    for ((&t, &[i, j, k]), into) in rings.triangles.items()[items.clone()]
         .iter()
-        .zip(&rings.corners[span])
+        .zip(&rings.corners[items])
+        .zip(&mut cache.tris[span.clone()])
     {
         let corners = [side.vertex(i), side.vertex(j), side.vertex(k)];
-        let bounds = Aabb::of_points(&corners);
-        into.bounds.merge(&bounds);
-        let safe = !check_domain || corners.iter().all(is_safe_point);
-        into.tris.push(Gathered {
+        let b = Aabb::of_points(&corners);
+        bounds.merge(&b);
+        *into = Prepared {
+            bounds: b,
             index: t,
-            corners,
-            bounds,
-            safe,
-        });
+            safe: !check_domain || corners.iter().all(is_safe_point),
+            tri: PreparedTriangle::new(corners),
+        };
     }
+    cache.bounds[slot] = bounds;
+    (span, bounds)
 }
 
-/// Marks the triangles of `ring` whose boxes meet `other`.
-fn select(ring: &mut GatheredRing, other: &Aabb) {
-    ring.selected.clear();
-    for (i, t) in ring.tris.iter().enumerate() {
+/// Lists in `selected` the triangles of `tris` whose boxes meet `other`.
+#[inline]
+fn select(tris: &[Prepared], other: &Aabb, selected: &mut Vec<u32>) {
+    selected.clear();
+    for (i, t) in tris.iter().enumerate() {
         if t.bounds.meets(other) {
-            ring.selected.push(i as u32);
+            selected.push(i as u32);
         }
     }
 }

@@ -41,8 +41,10 @@ where
     /// Starts a thread's caches on this query.
     pub fn begin(&self, a: &mut SideSpace, b: &mut SideSpace) {
         let (ma, mb) = (self.a.0.mesh(), self.b.0.mesh());
-        a.begin(ma.vertex_count(), ma.ring_count(), !PA::LOCAL);
-        b.begin(mb.vertex_count(), mb.ring_count(), !PB::LOCAL);
+        let triangles = matches!(self.mode, QueryMode::Triangles | QueryMode::FirstHit);
+        let longest = |m: &crate::Mesh| triangles.then_some(m.rings.longest);
+        a.begin(ma.vertex_count(), ma.ring_count(), longest(ma), !PA::LOCAL);
+        b.begin(mb.vertex_count(), mb.ring_count(), longest(mb), !PB::LOCAL);
     }
 
     /// Both sides seen through a thread's caches.
@@ -72,8 +74,8 @@ where
             QueryMode::Triangles | QueryMode::FirstHit => {
                 let mut narrow = TrianglePairs {
                     sink,
-                    ring_a: &mut a.ring,
-                    ring_b: &mut b.ring,
+                    rings_a: &mut a.rings,
+                    rings_b: &mut b.rings,
                     check_domain: self.check_domain,
                 };
                 depth_first_from(
