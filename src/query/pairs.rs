@@ -65,7 +65,7 @@ impl Pairs {
 
     /// Bytes of memory the buffer holds beyond the struct itself: the result, the spare it
     /// writes the next one into, and the scratch space of the queries it served (per thread
-    /// that took part: stack, caches of ring boxes and posed vertices, gathered rings, found
+    /// that took part: stack, caches of ring boxes and posed vertices, prepared rings, found
     /// pairs). It grows with the largest query served and is kept for the next.
     pub fn memory_bytes(&self) -> usize {
         heap_bytes(&self.items) + heap_bytes(&self.spare) + self.workspace.heap_bytes()
