@@ -216,7 +216,9 @@ impl Run<'_> {
             limit: self.limit,
             stop: None,
         };
-        job.begin(&mut w.a, &mut w.b);
+        if let Some(stop) = job.begin(&mut w.a, &mut w.b) {
+            return (Some(stop), false);
+        }
         if let QueryMode::Budget(budget) = self.mode {
             let mut va = View::new(job.a, &mut w.a.world, &mut w.a.ring_boxes);
             let mut vb = View::new(job.b, &mut w.b.world, &mut w.b.ring_boxes);

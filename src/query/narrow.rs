@@ -85,8 +85,8 @@ impl<'m, A: QuerySide<'m>, B: QuerySide<'m>> NarrowPhase<'m, A, B> for TriangleP
     }
 }
 
-/// Ring `r`'s triangles in the side's frame, prepared unless the cache holds them: their span
-/// of the cache, and the box around them all.
+/// Ring `r`'s triangles in the side's frame, prepared unless the cache holds them: where they
+/// are in the cache's arena, and the box around them all.
 #[inline]
 fn prepare<'m, S: QuerySide<'m>>(
     side: &mut S,
@@ -96,12 +96,11 @@ fn prepare<'m, S: QuerySide<'m>>(
 ) -> (Range<usize>, Aabb) {
     let rings = &side.mesh().rings;
     let items = rings.triangles.span(r as usize..r as usize + 1);
-    let (slot, held) = cache.slot(r);
-    let start = cache.start(slot);
-    let span = start..start + items.len();
-    if held {
-        return (span, cache.bounds[slot]);
+    if let Some((start, bounds)) = cache.held(r) {
+        return (start..start + items.len(), bounds);
     }
+    let start = cache.place(r, items.len());
+    let span = start..start + items.len();
     let mut bounds = Aabb::EMPTY;
     for ((&t, &[i, j, k]), into) in rings.triangles.items()[items.clone()]
         .iter()
@@ -118,7 +117,7 @@ fn prepare<'m, S: QuerySide<'m>>(
             tri: PreparedTriangle::new(corners),
         };
     }
-    cache.bounds[slot] = bounds;
+    cache.filled(r, bounds);
     (span, bounds)
 }
 

@@ -38,13 +38,15 @@ where
     PB: Placement<'m>,
     KB: Kind<'m>,
 {
-    /// Starts a thread's caches on this query.
-    pub fn begin(&self, a: &mut SideSpace, b: &mut SideSpace) {
+    /// Starts a thread's caches on this query; out of memory if they cannot grow as needed.
+    pub fn begin(&self, a: &mut SideSpace, b: &mut SideSpace) -> Option<Stop> {
         let (ma, mb) = (self.a.0.mesh(), self.b.0.mesh());
         let triangles = matches!(self.mode, QueryMode::Triangles | QueryMode::FirstHit);
         let longest = |m: &crate::Mesh| triangles.then_some(m.rings.longest);
-        a.begin(ma.vertex_count(), ma.ring_count(), longest(ma), !PA::LOCAL);
-        b.begin(mb.vertex_count(), mb.ring_count(), longest(mb), !PB::LOCAL);
+        a.begin(ma.vertex_count(), ma.ring_count(), longest(ma), !PA::LOCAL)
+            .and_then(|()| b.begin(mb.vertex_count(), mb.ring_count(), longest(mb), !PB::LOCAL))
+            .err()
+            .map(|bytes| Stop::OutOfMemory { bytes })
     }
 
     /// Both sides seen through a thread's caches.
@@ -153,7 +155,9 @@ where
     }
     {
         let w = &mut workers[0];
-        job.begin(&mut w.a, &mut w.b);
+        if let Some(stop) = job.begin(&mut w.a, &mut w.b) {
+            return (Some(stop), false);
+        }
         let (mut va, mut vb) = job.views(&mut w.a, &mut w.b);
         let target = threads * ITEMS_PER_THREAD;
         let max_depth = job.mode.max_depth();
@@ -199,12 +203,16 @@ where
     let buckets = sort::buckets_for(a_count);
     let bucketed = limit == usize::MAX;
     threads::on_each(workers, &|w: &mut Worker, index| {
-        if index != 0 {
-            job.begin(&mut w.a, &mut w.b);
-        }
         w.out.clear();
         w.done.clear();
         w.stop = None;
+        if index != 0 {
+            w.stop = job.begin(&mut w.a, &mut w.b);
+            if w.stop.is_some() {
+                halt.store(true, Ordering::Relaxed);
+                return;
+            }
+        }
         while !halt.load(Ordering::Relaxed) {
             let i = next.fetch_add(1, Ordering::Relaxed);
             if i >= count {

@@ -54,68 +54,107 @@ pub(crate) struct Prepared {
     pub tri: PreparedTriangle,
 }
 
-/// Rings' triangles prepared in the query frame, kept in a small direct-mapped cache: ring `r`
-/// in slot `r mod SLOTS`. Rings are numbered in leaf order, so the rings a stretch of the
-/// traversal meets are near each other in number and fall in different slots; a ring meets
-/// several others, at nearby times (on scanned meshes in dense contact, each was gathered 2.7
-/// to 5.3 times per query when only the last one was kept). Small enough to stay in the core's
-/// cache, unlike one entry per triangle of the mesh.
+/// Rings' triangles prepared in the query frame, kept while the traversal is near them: a ring
+/// meets several others at nearby times (on scanned meshes in dense contact, each was gathered
+/// 2.7 to 5.3 times per query when only the last one was kept).
+///
+/// Ring `r` is looked up in slot `r mod SLOTS` (rings are numbered in leaf order, so the rings a
+/// stretch of the traversal meets fall in different slots); its triangles are written one after
+/// the other into an arena used as a ring buffer, and a slot holds as long as the arena has not
+/// come round over its triangles. The arena holds [`RingCache::ARENA`] triangles, or the longest
+/// ring if that is longer: a fixed size that stays in the core's cache, whatever the mesh's
+/// valences.
 #[derive(Debug, Default)]
 pub(crate) struct RingCache {
     /// Per slot: the query's stamp (high half) and the ring held (low half); zero for none.
     tags: Vec<u64>,
+    /// Per slot: where the ring's triangles start, counted in triangles written since the arena
+    /// was sized, and the box around them.
+    slots: Vec<(u64, Aabb)>,
     /// The current query's stamp.
     current: u32,
-    /// Triangles per slot.
-    slot_len: usize,
-    /// Per slot: the box of the ring's triangles.
-    pub bounds: Vec<Aabb>,
-    /// Per slot: the ring's triangles, from `slot * slot_len`.
+    /// Triangles written into the arena since it was sized (a ring that would cross its end
+    /// starts over at its beginning; the skipped tail counts as written).
+    written: u64,
+    /// The arena of prepared triangles.
     pub tris: Vec<Prepared>,
-    /// Indices in a slot of the triangles of the ring being tested whose boxes meet the other
-    /// ring's box.
+    /// Indices of the triangles of the ring being tested whose boxes meet the other ring's box,
+    /// from the ring's start in `tris`.
     pub selected: Vec<u32>,
 }
 
 impl RingCache {
     /// Slots of the cache.
     const SLOTS: usize = 64;
+    /// Triangles of the arena, at least: 64 rings of 16 (scanned meshes average about 7).
+    pub const ARENA: usize = 1024;
 
-    /// Starts a query whose rings hold at most `longest` triangles: grows the slots if needed and
-    /// empties them.
-    pub fn begin(&mut self, longest: usize) {
+    /// Starts a query whose rings hold at most `longest` triangles: grows the arena if needed
+    /// and forgets every ring. On failure to allocate, the bytes that were wanted.
+    pub fn begin(&mut self, longest: usize) -> Result<(), usize> {
         if self.tags.len() < Self::SLOTS {
             self.tags.resize(Self::SLOTS, 0);
-            self.bounds.resize(Self::SLOTS, Aabb::EMPTY);
+            self.slots.resize(Self::SLOTS, (0, Aabb::EMPTY));
         }
-        if self.slot_len < longest {
-            self.slot_len = longest;
-            self.tris.clear();
-            self.tris
-                .resize_with(Self::SLOTS * longest, Prepared::default);
+        let size = longest.max(Self::ARENA);
+        if self.tris.len() < size {
+            let more = size - self.tris.len();
+            let bytes = more * std::mem::size_of::<Prepared>();
+            self.tris.try_reserve_exact(more).map_err(|_| bytes)?;
+            self.tris.resize_with(size, Prepared::default);
+            self.written = 0;
+        }
+        if self.selected.capacity() < longest {
+            let more = longest - self.selected.len();
+            self.selected
+                .try_reserve(more)
+                .map_err(|_| more * std::mem::size_of::<u32>())?;
         }
         if self.current == u32::MAX {
             self.tags.fill(0);
             self.current = 0;
         }
         self.current += 1;
+        Ok(())
     }
 
-    /// Ring `r`'s slot, and whether it already holds the ring (otherwise the caller fills it,
-    /// and it is marked as holding it).
     #[inline(always)]
-    pub fn slot(&mut self, r: u32) -> (usize, bool) {
+    fn tag(&self, r: u32) -> u64 {
+        (u64::from(self.current) << 32) | u64::from(r)
+    }
+
+    /// Ring `r`'s triangles (from where they start in `tris`) and their box, if still held.
+    #[inline(always)]
+    pub fn held(&self, r: u32) -> Option<(usize, Aabb)> {
         let s = r as usize % Self::SLOTS;
-        let tag = (u64::from(self.current) << 32) | u64::from(r);
-        let held = self.tags[s] == tag;
-        self.tags[s] = tag;
-        (s, held)
+        let (start, bounds) = self.slots[s];
+        let size = self.tris.len() as u64;
+        (self.tags[s] == self.tag(r) && self.written <= start + size)
+            .then_some(((start % size) as usize, bounds))
     }
 
-    /// Where slot `s`'s triangles start in `tris`.
-    #[inline(always)]
-    pub fn start(&self, s: usize) -> usize {
-        s * self.slot_len
+    /// Room for ring `r`'s `len` triangles (at most the arena's size): where they start in
+    /// `tris`. The ring is held once [`RingCache::filled`] gives its box.
+    #[inline]
+    pub fn place(&mut self, r: u32, len: usize) -> usize {
+        let size = self.tris.len() as u64;
+        debug_assert!(len as u64 <= size);
+        let at = self.written % size;
+        if at + len as u64 > size {
+            self.written += size - at;
+        }
+        let start = self.written;
+        self.written += len as u64;
+        let s = r as usize % Self::SLOTS;
+        self.tags[s] = self.tag(r);
+        self.slots[s].0 = start;
+        (start % size) as usize
+    }
+
+    /// Ring `r`, just placed and filled, has the box `bounds`.
+    #[inline]
+    pub fn filled(&mut self, r: u32, bounds: Aabb) {
+        self.slots[r as usize % Self::SLOTS].1 = bounds;
     }
 }
 
@@ -132,14 +171,22 @@ pub(crate) struct SideSpace {
 
 impl SideSpace {
     /// Starts a query on a mesh of `vertices` vertices and `rings` rings, whose longest ring holds
-    /// `longest` triangles (`None` when the query tests no triangles).
-    pub fn begin(&mut self, vertices: usize, rings: usize, longest: Option<usize>, posed: bool) {
+    /// `longest` triangles (`None` when the query tests no triangles). On failure to allocate the
+    /// ring cache, the bytes that were wanted.
+    pub fn begin(
+        &mut self,
+        vertices: usize,
+        rings: usize,
+        longest: Option<usize>,
+        posed: bool,
+    ) -> Result<(), usize> {
         if posed {
             self.world.begin(vertices);
         }
         self.ring_boxes.begin(rings);
-        if let Some(longest) = longest {
-            self.rings.begin(longest);
+        match longest {
+            Some(longest) => self.rings.begin(longest),
+            None => Ok(()),
         }
     }
 }
@@ -194,7 +241,7 @@ impl SideSpace {
         self.world.heap_bytes()
             + self.ring_boxes.heap_bytes()
             + heap_bytes(&r.tags)
-            + heap_bytes(&r.bounds)
+            + heap_bytes(&r.slots)
             + heap_bytes(&r.tris)
             + heap_bytes(&r.selected)
     }
@@ -233,4 +280,49 @@ pub(crate) struct Queued {
     pub key: u64,
     pub a: u32,
     pub b: u32,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A ring is held until the arena comes round over its triangles or another ring takes its
+    /// slot, and never after; a new query forgets every ring.
+    #[test]
+    fn ring_cache_holds_only_intact_rings() {
+        let mut cache = RingCache::default();
+        cache.begin(10).unwrap();
+        let size = cache.tris.len();
+        assert_eq!(size, RingCache::ARENA);
+        // Ring r has r % 13 + 1 triangles; remember where each went and mark its triangles.
+        let mut placed: Vec<Option<(usize, usize)>> = vec![None; 4000];
+        for r in 0..4000u32 {
+            let len = r as usize % 13 + 1;
+            let start = cache.place(r, len);
+            assert!(start + len <= size);
+            for t in &mut cache.tris[start..start + len] {
+                t.index = r;
+            }
+            cache.filled(r, Aabb::point(&[f64::from(r), 0.0, 0.0]));
+            placed[r as usize] = Some((start, len));
+            // Every ring the cache claims to hold is intact, with its own box.
+            for q in r.saturating_sub(200)..=r {
+                if let Some((start, bounds)) = cache.held(q) {
+                    let (s, len) = placed[q as usize].unwrap();
+                    assert_eq!(start, s);
+                    assert!(cache.tris[s..s + len].iter().all(|t| t.index == q));
+                    assert_eq!(bounds.lo[0], f64::from(q));
+                }
+            }
+            // The last ring placed is always held.
+            assert!(cache.held(r).is_some());
+        }
+        cache.begin(10).unwrap();
+        assert!((0..4000).all(|r| cache.held(r).is_none()));
+        // A ring longer than the arena grows it.
+        cache.begin(5000).unwrap();
+        assert_eq!(cache.tris.len(), 5000);
+        let start = cache.place(1, 5000);
+        assert_eq!(start, 0);
+    }
 }
