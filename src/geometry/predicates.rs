@@ -345,7 +345,7 @@ impl Orient for FilterProbe {
         points.map(|p| {
             let (det, bound) = plane.stage_one(&t[0], &p);
             if det.abs() > bound || t.contains(&p) {
-                Adaptive::sides_of_plane(&plane, t, &[p; 3])[0]
+                Adaptive::side_of_plane(&plane, t, &p)
             } else {
                 Self::orient3d(&t[0], &t[1], &t[2], &p)
             }

@@ -109,9 +109,14 @@ trait Facts<O: Orient> {
     /// The triangle's orientation in the projection dropping axis `k`.
     #[inline(always)]
     fn orientation_on(&self, k: usize) -> Sign {
-        let t = self.corners();
-        O::orient2d(project(&t[0], k), project(&t[1], k), project(&t[2], k))
+        orientation_in::<O>(self.corners(), k)
     }
+}
+
+/// `t`'s orientation in the projection dropping axis `k`.
+#[inline(always)]
+fn orientation_in<O: Orient>(t: &Triangle, k: usize) -> Sign {
+    O::orient2d(project(&t[0], k), project(&t[1], k), project(&t[2], k))
 }
 
 /// A triangle whose facts are computed when asked.
@@ -171,10 +176,7 @@ impl Facts<Adaptive> for PreparedTriangle {
     fn orientation_on(&self, k: usize) -> Sign {
         match self.projection() {
             Some((axis, inside)) if axis == k => inside,
-            Some(_) => {
-                let t = &self.corners;
-                Adaptive::orient2d(project(&t[0], k), project(&t[1], k), project(&t[2], k))
-            }
+            Some(_) => orientation_in::<Adaptive>(&self.corners, k),
             None => 0,
         }
     }
@@ -425,22 +427,7 @@ fn projection_axis<O: Orient>(tri: &Triangle) -> usize {
 /// projected orientations are the components of the normal. The largest component of the
 /// floating-point normal is tried first; the exact test decides.
 fn projection<O: Orient>(tri: &Triangle) -> Option<(usize, Sign)> {
-    let e1 = [
-        tri[1][0] - tri[0][0],
-        tri[1][1] - tri[0][1],
-        tri[1][2] - tri[0][2],
-    ];
-    let e2 = [
-        tri[2][0] - tri[0][0],
-        tri[2][1] - tri[0][1],
-        tri[2][2] - tri[0][2],
-    ];
-    let n = [
-        e1[1] * e2[2] - e1[2] * e2[1],
-        e1[2] * e2[0] - e1[0] * e2[2],
-        e1[0] * e2[1] - e1[1] * e2[0],
-    ];
-    projection_with_normal::<O>(tri, n)
+    projection_with_normal::<O>(tri, Plane::of(tri).normal())
 }
 
 /// [`projection`] given `tri`'s floating-point normal, which only orders the axes tried.
@@ -459,11 +446,7 @@ fn projection_with_normal<O: Orient>(tri: &Triangle, n: [f64; 3]) -> Option<(usi
     [first, (first + 1) % 3, (first + 2) % 3]
         .into_iter()
         .find_map(|k| {
-            let inside = O::orient2d(
-                project(&tri[0], k),
-                project(&tri[1], k),
-                project(&tri[2], k),
-            );
+            let inside = orientation_in::<O>(tri, k);
             (inside != 0).then_some((k, inside))
         })
 }

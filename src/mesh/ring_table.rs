@@ -16,7 +16,7 @@ pub(crate) struct RingTable {
     pub corners: Vec<[u32; 3]>,
     /// Distinct vertices of each ring's triangles other than its centre.
     pub vertices: Csr<u32>,
-    /// The most triangles of any ring (what a query's cache of prepared rings holds per slot).
+    /// The most triangles of any ring (the least room a query's cache of prepared rings needs).
     pub longest: usize,
 }
 

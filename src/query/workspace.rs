@@ -104,12 +104,10 @@ impl RingCache {
             self.tris.resize_with(size, Prepared::default);
             self.written = 0;
         }
-        if self.selected.capacity() < longest {
-            let more = longest - self.selected.len();
-            self.selected
-                .try_reserve(more)
-                .map_err(|_| more * std::mem::size_of::<u32>())?;
-        }
+        self.selected.clear();
+        self.selected
+            .try_reserve(longest)
+            .map_err(|_| longest * std::mem::size_of::<u32>())?;
         if self.current == u32::MAX {
             self.tags.fill(0);
             self.current = 0;
