@@ -28,6 +28,9 @@ diff <(runner/run.sh checksums) \
 # The runner's short run: every method, knob and plot, failing if a dvh method is not exact or a
 # conservative mode misses a pair.
 runner/run.sh all --out target/dvh-runner >/dev/null
+# The profiling command (a frame's refit and query repeated) on one thread and on two.
+runner/run.sh profile --frames 2 --repeat 2 >/dev/null
+runner/run.sh profile --scene copy --frames 2 --repeat 2 --threads 2 >/dev/null
 # The main job must keep working.
 cargo run --release --quiet --example demo -- --frames 4 >/dev/null
 echo "all tests passed"

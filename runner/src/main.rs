@@ -2,8 +2,8 @@
 //! the same run, as tables (printed, and written as Markdown and CSV) and SVG plots.
 //!
 //! ```text
-//! dvh-runner [paper|knobs|exactness|rigid|all|checksums] [--full] [--scene NAME]... [--frames N]
-//!            [--knob-frames N] [--out DIR]
+//! dvh-runner [paper|knobs|exactness|rigid|all|checksums|profile] [--full] [--scene NAME]...
+//!            [--frames N] [--knob-frames N] [--repeat N] [--threads N] [--out DIR]
 //! ```
 //!
 //! - `paper`: the paper's three scenes (or those named): every method (dvh with each volume x
@@ -19,6 +19,10 @@
 //!   query time, for the other kind of scene.
 //! - `all`: all of these; `checksums`: a hash of every scene's world coordinates at its first and
 //!   last frame, to compare with the cross-check harness's (`dvh_cross_check --checksums`).
+//! - `profile`: dvh alone, default options, on `--threads` threads (default 1): each of
+//!   `--frames` frames (default 10) spread over the scene's run, refit and queried `--repeat`
+//!   times (default 5); the median over frames of each frame's fastest refit and query. For
+//!   timing one build against another on the same frames, and for `perf record`.
 //!
 //! Without `--full`, small meshes and few frames (the short run the test suite makes); with it,
 //! the paper's sizes and 200 frames. Debian's CGAL demo meshes are used when installed
@@ -34,6 +38,7 @@ mod moller;
 mod paper;
 mod peer_parry;
 mod plot;
+mod profile;
 mod report;
 mod rigid;
 mod scene;
@@ -52,6 +57,7 @@ enum Command {
     Rigid,
     All,
     Checksums,
+    Profile,
 }
 
 struct Args {
@@ -59,12 +65,14 @@ struct Args {
     size: Size,
     scenes: Vec<String>,
     knob_frames: usize,
+    repeat: usize,
+    threads: u32,
     out: PathBuf,
 }
 
 fn usage() -> String {
-    "usage: dvh-runner [paper|knobs|exactness|rigid|all|checksums] [--full] [--scene NAME]... \
-     [--frames N] [--knob-frames N] [--out DIR]"
+    "usage: dvh-runner [paper|knobs|exactness|rigid|all|checksums|profile] [--full] \
+     [--scene NAME]... [--frames N] [--knob-frames N] [--repeat N] [--threads N] [--out DIR]"
         .to_string()
 }
 
@@ -77,6 +85,8 @@ fn parse() -> Result<Args, String> {
         },
         scenes: Vec::new(),
         knob_frames: 0,
+        repeat: 5,
+        threads: 1,
         out: PathBuf::from("target/dvh-runner"),
     };
     let mut it = std::env::args().skip(1);
@@ -89,6 +99,7 @@ fn parse() -> Result<Args, String> {
             "rigid" => args.command = Command::Rigid,
             "all" => args.command = Command::All,
             "checksums" => args.command = Command::Checksums,
+            "profile" => args.command = Command::Profile,
             "--full" => args.size.full = true,
             "--scene" => args.scenes.push(value("--scene")?),
             "--frames" => {
@@ -100,6 +111,16 @@ fn parse() -> Result<Args, String> {
                 args.knob_frames = value("--knob-frames")?
                     .parse()
                     .map_err(|e| format!("--knob-frames: {e}"))?
+            }
+            "--repeat" => {
+                args.repeat = value("--repeat")?
+                    .parse()
+                    .map_err(|e| format!("--repeat: {e}"))?
+            }
+            "--threads" => {
+                args.threads = value("--threads")?
+                    .parse()
+                    .map_err(|e| format!("--threads: {e}"))?
             }
             "--out" => args.out = PathBuf::from(value("--out")?),
             "-h" | "--help" => return Err(usage()),
@@ -191,6 +212,41 @@ fn run(args: &Args) -> Result<bool, Box<dyn std::error::Error>> {
                 s.world(f, &mut world);
                 println!("{} frame {f}: {:016x}", s.name, scene::checksum(&world));
             }
+        }
+        return Ok(true);
+    }
+
+    if args.command == Command::Profile {
+        let frames = if args.size.frames > 0 {
+            args.size.frames
+        } else {
+            10
+        };
+        let mut full = args.size;
+        full.frames = 0;
+        println!(
+            "| scene | frames x repeat | threads | refit ms | query ms | pairs | volume tests | \
+             leaf pairs | triangle tests |"
+        );
+        println!("|---|---|---|---|---|---|---|---|---|");
+        for name in pick(&scene::EVERY) {
+            let s = scene::make(&name, full).expect("a known scene");
+            let chosen = spread(&s, frames);
+            let p = profile::run(&s, &chosen, args.repeat, args.threads)?;
+            let n = chosen.len() as f64;
+            println!(
+                "| {} | {} x {} | {} | {:.3} | {:.3} | {:.0} | {:.0} | {:.0} | {:.0} |",
+                s.name,
+                chosen.len(),
+                args.repeat,
+                args.threads,
+                report::median(&p.refit_ms),
+                report::median(&p.query_ms),
+                p.pairs as f64 / n,
+                p.bv_tests as f64 / n,
+                p.leaf_pairs as f64 / n,
+                p.triangle_tests as f64 / n
+            );
         }
         return Ok(true);
     }
