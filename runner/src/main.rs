@@ -3,7 +3,7 @@
 //!
 //! ```text
 //! dvh-runner [paper|knobs|exactness|rigid|all|checksums|profile] [--full] [--scene NAME]...
-//!            [--frames N] [--knob-frames N] [--repeat N] [--threads N] [--out DIR]
+//!            [--frames N] [--knob-frames N] [--repeat N] [--threads N] [--pause MS] [--out DIR]
 //! ```
 //!
 //! - `paper`: the paper's three scenes (or those named): every method (dvh with each volume x
@@ -21,8 +21,9 @@
 //!   last frame, to compare with the cross-check harness's (`dvh_cross_check --checksums`).
 //! - `profile`: dvh alone, default options, on `--threads` threads (default 1): each of
 //!   `--frames` frames (default 10) spread over the scene's run, refit and queried `--repeat`
-//!   times (default 5); the median over frames of each frame's fastest refit and query. For
-//!   timing one build against another on the same frames, and for `perf record`.
+//!   times (default 5); the mean over frames of each frame's fastest refit and query. For
+//!   timing one build against another on the same frames, and for `perf record`. `--pause MS`
+//!   idles before each repetition, so that the cores start cold, as after other work.
 //!
 //! Without `--full`, small meshes and few frames (the short run the test suite makes); with it,
 //! the paper's sizes and 200 frames. Debian's CGAL demo meshes are used when installed
@@ -67,12 +68,13 @@ struct Args {
     knob_frames: usize,
     repeat: usize,
     threads: u32,
+    pause_ms: u64,
     out: PathBuf,
 }
 
 fn usage() -> String {
     "usage: dvh-runner [paper|knobs|exactness|rigid|all|checksums|profile] [--full] \
-     [--scene NAME]... [--frames N] [--knob-frames N] [--repeat N] [--threads N] [--out DIR]"
+     [--scene NAME]... [--frames N] [--knob-frames N] [--repeat N] [--threads N] [--pause MS] [--out DIR]"
         .to_string()
 }
 
@@ -87,6 +89,7 @@ fn parse() -> Result<Args, String> {
         knob_frames: 0,
         repeat: 5,
         threads: 1,
+        pause_ms: 0,
         out: PathBuf::from("target/dvh-runner"),
     };
     let mut it = std::env::args().skip(1);
@@ -121,6 +124,11 @@ fn parse() -> Result<Args, String> {
                 args.threads = value("--threads")?
                     .parse()
                     .map_err(|e| format!("--threads: {e}"))?
+            }
+            "--pause" => {
+                args.pause_ms = value("--pause")?
+                    .parse()
+                    .map_err(|e| format!("--pause: {e}"))?
             }
             "--out" => args.out = PathBuf::from(value("--out")?),
             "-h" | "--help" => return Err(usage()),
@@ -224,6 +232,7 @@ fn run(args: &Args) -> Result<bool, Box<dyn std::error::Error>> {
         };
         let mut full = args.size;
         full.frames = 0;
+        println!("Per frame: the mean over frames of each frame's fastest repetition.\n");
         println!(
             "| scene | frames x repeat | threads | refit ms | query ms | pairs | volume tests | \
              leaf pairs | triangle tests |"
@@ -232,7 +241,8 @@ fn run(args: &Args) -> Result<bool, Box<dyn std::error::Error>> {
         for name in pick(&scene::EVERY) {
             let s = scene::make(&name, full).expect("a known scene");
             let chosen = spread(&s, frames);
-            let p = profile::run(&s, &chosen, args.repeat, args.threads)?;
+            let pause = std::time::Duration::from_millis(args.pause_ms);
+            let p = profile::run(&s, &chosen, args.repeat, args.threads, pause)?;
             let n = chosen.len() as f64;
             println!(
                 "| {} | {} x {} | {} | {:.3} | {:.3} | {:.0} | {:.0} | {:.0} | {:.0} |",
@@ -240,8 +250,8 @@ fn run(args: &Args) -> Result<bool, Box<dyn std::error::Error>> {
                 chosen.len(),
                 args.repeat,
                 args.threads,
-                report::median(&p.refit_ms),
-                report::median(&p.query_ms),
+                profile::mean(&p.refit_ms),
+                profile::mean(&p.query_ms),
                 p.pairs as f64 / n,
                 p.bv_tests as f64 / n,
                 p.leaf_pairs as f64 / n,
