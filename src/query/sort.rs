@@ -3,8 +3,10 @@
 //! query). Most of a counting sort's time over a million pairs goes to cache misses, one per
 //! pair placed, so the pairs are first distributed by the high bits of `a` into buckets of
 //! [`WIDTH`] first indices (streaming writes, one cache line per bucket at a time), and each
-//! bucket, which fits in cache, is then sorted on its own by counting, byte by byte: `b`, then
-//! the rest of `a`. Buckets are independent, so threads share them. When the first indices
+//! bucket, which fits in cache, is then sorted on its own: by counting, byte by byte (`b`, then
+//! the rest of `a`) when first indices have many pairs each, or by one counting pass on the
+//! rest of `a` and each short run of one `a` in place. Buckets are independent, so threads
+//! share them. When the first indices
 //! are too sparse for buckets, a least-significant-digit radix sort on the whole key.
 
 use super::pairs::Pair;
