@@ -78,6 +78,14 @@ fn usage() -> String {
         .to_string()
 }
 
+/// The value of option `name` as a number.
+fn number<T: std::str::FromStr>(name: &str, value: String) -> Result<T, String>
+where
+    T::Err: std::fmt::Display,
+{
+    value.parse().map_err(|e| format!("{name}: {e}"))
+}
+
 fn parse() -> Result<Args, String> {
     let mut args = Args {
         command: Command::All,
@@ -105,31 +113,11 @@ fn parse() -> Result<Args, String> {
             "profile" => args.command = Command::Profile,
             "--full" => args.size.full = true,
             "--scene" => args.scenes.push(value("--scene")?),
-            "--frames" => {
-                args.size.frames = value("--frames")?
-                    .parse()
-                    .map_err(|e| format!("--frames: {e}"))?
-            }
-            "--knob-frames" => {
-                args.knob_frames = value("--knob-frames")?
-                    .parse()
-                    .map_err(|e| format!("--knob-frames: {e}"))?
-            }
-            "--repeat" => {
-                args.repeat = value("--repeat")?
-                    .parse()
-                    .map_err(|e| format!("--repeat: {e}"))?
-            }
-            "--threads" => {
-                args.threads = value("--threads")?
-                    .parse()
-                    .map_err(|e| format!("--threads: {e}"))?
-            }
-            "--pause" => {
-                args.pause_ms = value("--pause")?
-                    .parse()
-                    .map_err(|e| format!("--pause: {e}"))?
-            }
+            "--frames" => args.size.frames = number("--frames", value("--frames")?)?,
+            "--knob-frames" => args.knob_frames = number("--knob-frames", value("--knob-frames")?)?,
+            "--repeat" => args.repeat = number("--repeat", value("--repeat")?)?,
+            "--threads" => args.threads = number("--threads", value("--threads")?)?,
+            "--pause" => args.pause_ms = number("--pause", value("--pause")?)?,
             "--out" => args.out = PathBuf::from(value("--out")?),
             "-h" | "--help" => return Err(usage()),
             other => return Err(format!("unknown argument {other:?}\n{}", usage())),
