@@ -33,6 +33,7 @@ pub mod ffi;
 pub mod fixtures;
 pub mod geometry;
 mod mesh;
+mod prefetch;
 mod query;
 mod threads;
 mod tree;

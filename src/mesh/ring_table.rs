@@ -84,4 +84,10 @@ impl RingTable {
     pub fn all_vertices(&self, r: usize) -> impl Iterator<Item = u32> + '_ {
         std::iter::once(self.centre[r]).chain(self.vertices.row(r).iter().copied())
     }
+
+    /// [`RingTable::all_vertices`] of ring `r` if it comes before ring `end`.
+    #[inline]
+    pub fn vertices_of(&self, r: usize, end: usize) -> Option<impl Iterator<Item = u32> + '_> {
+        (r < end).then(|| self.all_vertices(r))
+    }
 }

@@ -213,9 +213,14 @@ fn fit_subtrees<F: Fit>(
     a + b
 }
 
-/// Refits the nodes below a subtree's root: its leaves ring by ring in leaf order (whose
-/// vertices the internal numbering keeps close together in memory), then its inner nodes,
-/// children before parents.
+/// How many rings ahead a refit asks for the vertices it will read: rings are visited in leaf
+/// order, but their vertices lie where the caller numbered them, and on a mesh numbered without
+/// regard to space (a subdivided one) each leaf waited on its vertices' cache misses.
+const PREFETCH_RINGS: usize = 8;
+
+/// Refits the nodes below a subtree's root: its leaves ring by ring in leaf order (the order
+/// the ring table is stored in, so it is read straight through; the vertices it names are
+/// asked for [`PREFETCH_RINGS`] rings ahead), then its inner nodes, children before parents.
 fn fit_below<F: Fit>(
     fit: &F,
     w: &mut Window,
@@ -230,6 +235,14 @@ fn fit_below<F: Fit>(
         return 0;
     }
     for r in s.rings.start as usize..s.rings.end as usize {
+        if let Some(ahead) = input
+            .rings
+            .vertices_of(r + PREFETCH_RINGS, s.rings.end as usize)
+        {
+            for v in ahead {
+                crate::prefetch::read(&positions[v as usize]);
+            }
+        }
         evaluations += fit.leaf(w, input, positions, r, tree.leaf_of_ring[r] as usize);
     }
     for i in (s.nodes.start as usize..s.nodes.end as usize).rev() {
