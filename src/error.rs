@@ -99,6 +99,37 @@ pub enum Error {
         /// Bound on the magnitude of its transformed coordinates.
         bound: f64,
     },
+    /// A scene object's pose would move its coordinates beyond the range where the query is
+    /// sound ([`crate::Scene::add_rigid`]; [`crate::Scene::set_pose`] wraps it in
+    /// [`Error::Object`]).
+    ObjectPoseOutOfRange {
+        /// Bound on the magnitude of the object's transformed coordinates.
+        bound: f64,
+    },
+    /// No object of the scene has this id (never added, or removed).
+    UnknownObject {
+        /// The id given.
+        object: u32,
+    },
+    /// A rigid object was given positions, or a deformable one a pose.
+    WrongObjectKind {
+        /// The object.
+        object: u32,
+        /// Is it rigid (moved by a pose) rather than deformable (moved by its positions)?
+        rigid: bool,
+    },
+    /// A pair of an object with itself was given where two objects are needed.
+    SameObject {
+        /// The object.
+        object: u32,
+    },
+    /// What went wrong with one object of a scene.
+    Object {
+        /// The object.
+        object: u32,
+        /// The error, as for a mesh.
+        error: Box<Error>,
+    },
 }
 
 impl fmt::Display for Error {
@@ -167,6 +198,34 @@ impl fmt::Display for Error {
                 "pose of mesh {side:?} moves coordinates up to {bound:e}, beyond the supported magnitude {:e}",
                 crate::geometry::MAX_POSED_MAGNITUDE
             ),
+            Error::ObjectPoseOutOfRange { bound } => write!(
+                f,
+                "pose moves the object's coordinates up to {bound:e}, beyond the supported magnitude {:e}",
+                crate::geometry::MAX_POSED_MAGNITUDE
+            ),
+            Error::UnknownObject { object } => write!(
+                f,
+                "object {object} is not in the scene (never added, or removed)"
+            ),
+            Error::WrongObjectKind {
+                object,
+                rigid: true,
+            } => write!(
+                f,
+                "object {object} is rigid: it is moved by a pose, not given positions"
+            ),
+            Error::WrongObjectKind {
+                object,
+                rigid: false,
+            } => write!(
+                f,
+                "object {object} is deformable: it is moved by its positions, not by a pose"
+            ),
+            Error::SameObject { object } => write!(
+                f,
+                "object {object} was paired with itself: a pair needs two objects"
+            ),
+            Error::Object { object, ref error } => write!(f, "object {object}: {error}"),
         }
     }
 }

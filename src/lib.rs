@@ -35,6 +35,7 @@ pub mod geometry;
 mod mesh;
 mod prefetch;
 mod query;
+mod scene;
 mod threads;
 mod tree;
 mod volume;
@@ -49,6 +50,7 @@ pub use mesh::{
     RefitStats, TreeStats,
 };
 pub use query::{Pair, PairKind, Pairs, QueryMode, QueryOptions, QueryStats, brute_force, collide};
+pub use scene::{Contact, Contacts, Scene, SceneStats};
 pub use tree::TreeKind;
 pub use volume::VolumeKind;
 

@@ -47,23 +47,33 @@ impl Failure {
 
 impl From<Error> for Failure {
     fn from(e: Error) -> Failure {
-        let status = match e {
-            Error::NoTriangles
-            | Error::PositionsLength { .. }
-            | Error::TrianglesLength { .. }
-            | Error::TooManyVertices { .. }
-            | Error::TooManyTriangles { .. }
-            | Error::VertexCountMismatch { .. }
-            | Error::ZeroBudget => DVH_STATUS_INVALID_ARGUMENT,
-            Error::IndexOutOfRange { .. } => DVH_STATUS_INDEX_OUT_OF_RANGE,
-            Error::NonFiniteCoordinate { .. } | Error::NonFinitePose { .. } => {
-                DVH_STATUS_NON_FINITE_COORDINATE
-            }
-            Error::NonRigidPose { .. } => DVH_STATUS_NON_RIGID_POSE,
-            Error::OutOfMemory { .. } => DVH_STATUS_OUT_OF_MEMORY,
-            Error::PoseOutOfRange { .. } => DVH_STATUS_POSE_OUT_OF_RANGE,
-        };
-        Failure::new(status, e.to_string())
+        Failure::new(status_of(&e), e.to_string())
+    }
+}
+
+/// The status that reports `e`: an error about one object reports as the error itself.
+fn status_of(e: &Error) -> DvhStatus {
+    match e {
+        Error::NoTriangles
+        | Error::PositionsLength { .. }
+        | Error::TrianglesLength { .. }
+        | Error::TooManyVertices { .. }
+        | Error::TooManyTriangles { .. }
+        | Error::VertexCountMismatch { .. }
+        | Error::ZeroBudget => DVH_STATUS_INVALID_ARGUMENT,
+        Error::IndexOutOfRange { .. } => DVH_STATUS_INDEX_OUT_OF_RANGE,
+        Error::NonFiniteCoordinate { .. } | Error::NonFinitePose { .. } => {
+            DVH_STATUS_NON_FINITE_COORDINATE
+        }
+        Error::NonRigidPose { .. } => DVH_STATUS_NON_RIGID_POSE,
+        Error::OutOfMemory { .. } => DVH_STATUS_OUT_OF_MEMORY,
+        Error::PoseOutOfRange { .. } | Error::ObjectPoseOutOfRange { .. } => {
+            DVH_STATUS_POSE_OUT_OF_RANGE
+        }
+        Error::UnknownObject { .. } | Error::WrongObjectKind { .. } | Error::SameObject { .. } => {
+            DVH_STATUS_INVALID_ARGUMENT
+        }
+        Error::Object { error, .. } => status_of(error),
     }
 }
 

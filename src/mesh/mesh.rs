@@ -9,6 +9,7 @@ use crate::geometry::predicates::Point;
 use crate::geometry::sphere::Sphere;
 use crate::tree::Tree;
 use crate::volume::Volumes;
+use std::sync::Arc;
 
 /// Counters of one refit (the paper's `NU` and the work behind it).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -56,6 +57,14 @@ pub struct NodeView {
     pub children: std::ops::Range<u32>,
 }
 
+/// What a mesh's positions never change: its triangles, 1-rings and tree. Built once; shared.
+#[derive(Debug)]
+pub(crate) struct Shape {
+    pub triangles: Vec<[u32; 3]>,
+    pub rings: RingTable,
+    pub tree: Tree,
+}
+
 /// A deformable triangle mesh with its bounding-volume hierarchy.
 ///
 /// Built once with [`Mesh::new`]; each frame, [`Mesh::refit`] takes the new vertex positions and
@@ -68,10 +77,10 @@ pub struct Mesh {
     /// Where a refit writes the new positions while it checks them; swapped with `positions`
     /// once they are all valid.
     pub(crate) spare: Vec<Point>,
-    pub(crate) triangles: Vec<[u32; 3]>,
+    /// Topology, rings and the tree's shape: everything positions do not change, shared by the
+    /// clones of a mesh (a scene's objects made from one mesh hold one copy).
+    pub(crate) shape: Arc<Shape>,
     pub(crate) options: BuildOptions,
-    pub(crate) rings: RingTable,
-    pub(crate) tree: Tree,
     pub(crate) volumes: Volumes,
     /// Largest coordinate magnitude of the current positions.
     pub(crate) max_abs: f64,
@@ -89,10 +98,10 @@ impl std::fmt::Debug for Mesh {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Mesh")
             .field("positions", &self.positions)
-            .field("triangles", &self.triangles)
+            .field("triangles", &self.shape.triangles)
             .field("options", &self.options)
-            .field("rings", &self.rings)
-            .field("tree", &self.tree)
+            .field("rings", &self.shape.rings)
+            .field("tree", &self.shape.tree)
             .field("volumes", &self.volumes)
             .field("max_abs", &self.max_abs)
             .field("safe", &self.safe)
@@ -109,7 +118,7 @@ impl Mesh {
 
     /// Number of triangles.
     pub fn triangle_count(&self) -> usize {
-        self.triangles.len()
+        self.shape.triangles.len()
     }
 
     /// Current vertex positions.
@@ -119,7 +128,7 @@ impl Mesh {
 
     /// The triangles, as vertex index triples.
     pub fn triangles(&self) -> &[[u32; 3]] {
-        &self.triangles
+        &self.shape.triangles
     }
 
     /// The options the mesh was built with.
@@ -129,18 +138,18 @@ impl Mesh {
 
     /// Number of 1-rings (leaves).
     pub fn ring_count(&self) -> usize {
-        self.rings.len()
+        self.shape.rings.len()
     }
 
     /// Number of nodes, leaves included. Node 0 is the root.
     pub fn node_count(&self) -> usize {
-        self.tree.len()
+        self.shape.tree.len()
     }
 
     /// One node. Panics if `node >= node_count()`.
     pub fn node(&self, node: u32) -> NodeView {
         let i = node as usize;
-        let n = &self.tree.nodes[i];
+        let n = &self.shape.tree.nodes[i];
         let (volume, centre_vertex) = match &self.volumes {
             Volumes::Dvh {
                 centre_vertex,
@@ -160,21 +169,34 @@ impl Mesh {
     /// The triangles below a node (for a leaf, its ring's triangles). Node pairs reported by the
     /// coarse query modes expand to triangle pairs through this. Panics if `node` is out of range.
     pub fn node_triangles(&self, node: u32) -> &[u32] {
-        let n = &self.tree.nodes[node as usize];
-        self.rings
+        let n = &self.shape.tree.nodes[node as usize];
+        self.shape
+            .rings
             .triangles
             .row_range(n.ring_start as usize..n.ring_end as usize)
     }
 
     /// The centre vertex of each 1-ring, in leaf order.
     pub fn ring_centres(&self) -> &[u32] {
-        &self.rings.centre
+        &self.shape.rings.centre
     }
 
     /// Bytes of memory the mesh holds beyond the struct itself: its copy of the positions and
     /// the spare copy a refit checks new positions into, the triangles, the rings, the tree's
-    /// shape and the volumes. Reported per triangle in `BENCHMARKS.md`.
+    /// shape and the volumes. Reported per triangle in `BENCHMARKS.md`. A clone shares the
+    /// triangles, rings and tree with the mesh it was cloned from; both count them.
     pub fn memory_bytes(&self) -> usize {
+        let tree = heap_bytes(&self.shape.tree.nodes)
+            + heap_bytes(&self.shape.tree.leaf_of_ring)
+            + heap_bytes(&self.shape.tree.subtrees);
+        self.state_bytes()
+            + heap_bytes(&self.shape.triangles)
+            + self.shape.rings.heap_bytes()
+            + tree
+    }
+
+    /// [`Mesh::memory_bytes`] without what clones share: positions, volumes, scratch.
+    pub(crate) fn state_bytes(&self) -> usize {
         let volumes = match &self.volumes {
             Volumes::Dvh {
                 centre_vertex,
@@ -183,18 +205,9 @@ impl Mesh {
             Volumes::Sbv { spheres, boxes } => heap_bytes(spheres) + heap_bytes(boxes),
             Volumes::Aabb { boxes } => heap_bytes(boxes),
         };
-        let tree = heap_bytes(&self.tree.nodes)
-            + heap_bytes(&self.tree.leaf_of_ring)
-            + heap_bytes(&self.tree.subtrees);
         let scratch: usize =
             heap_bytes(&self.scratch) + self.scratch.iter().map(heap_bytes).sum::<usize>();
-        heap_bytes(&self.positions)
-            + heap_bytes(&self.spare)
-            + heap_bytes(&self.triangles)
-            + self.rings.heap_bytes()
-            + tree
-            + volumes
-            + scratch
+        heap_bytes(&self.positions) + heap_bytes(&self.spare) + volumes + scratch
     }
 
     /// Counters of the last refit (or of the build's initial fit).
@@ -208,10 +221,10 @@ impl Mesh {
         TreeStats {
             triangles: self.triangle_count(),
             rings: leaves,
-            inner_nodes: self.tree.len() - leaves,
-            levels: self.tree.levels(),
+            inner_nodes: self.shape.tree.len() - leaves,
+            levels: self.shape.tree.levels(),
             max_ring_triangles: (0..leaves)
-                .map(|r| self.rings.triangles.row_len(r))
+                .map(|r| self.shape.rings.triangles.row_len(r))
                 .max()
                 .unwrap_or(0),
         }

@@ -1,7 +1,7 @@
 //! Building a [`Mesh`]: input checks, 1-rings, the tree's shape, the volumes, first fit.
 
 use super::input::{check_triangles, scan_positions, to_points};
-use super::mesh::{Mesh, RefitStats};
+use super::mesh::{Mesh, RefitStats, Shape};
 use super::options::BuildOptions;
 use super::ring_table::RingTable;
 use super::rings::build_rings;
@@ -11,6 +11,7 @@ use crate::threads;
 use crate::tree::Tree;
 use crate::volume::REFIT_PARALLEL_MIN_RINGS;
 use crate::volume::{VolumeKind, Volumes, assign_centres};
+use std::sync::Arc;
 
 impl Mesh {
     /// [`Mesh::new`] with each vertex's coordinates given by `position(i)` for `i` in
@@ -78,10 +79,12 @@ impl Mesh {
         let mut mesh = Mesh {
             spare: positions.clone(),
             positions,
-            triangles: tris,
+            shape: Arc::new(Shape {
+                triangles: tris,
+                rings,
+                tree,
+            }),
             options: *options,
-            rings,
-            tree,
             volumes,
             max_abs: extent.max_abs,
             safe: extent.safe,

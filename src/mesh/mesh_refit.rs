@@ -26,6 +26,15 @@ impl Mesh {
     /// tree refit at once); the volumes are the same whatever the count. On one thread nothing
     /// is allocated; on more, one small job per extra thread and step.
     pub fn refit(&mut self, positions: &[f64]) -> Result<RefitStats> {
+        self.take_positions(positions)?;
+        self.last_refit = self.update_volumes();
+        Ok(self.last_refit)
+    }
+
+    /// [`Mesh::refit`]'s first half: checks `positions` and makes them current, leaving every
+    /// volume as it was until [`Mesh::update_volumes`] (a scene refits an object only when a
+    /// query needs it). The same errors; on error the mesh is exactly as it was.
+    pub(crate) fn take_positions(&mut self, positions: &[f64]) -> Result<()> {
         if positions.len() != self.positions.len() * 3 {
             if !positions.len().is_multiple_of(3) {
                 return Err(Error::PositionsLength {
@@ -38,7 +47,8 @@ impl Mesh {
             });
         }
         let extent = store_positions(positions, &mut self.spare, self.scratch.len())?;
-        Ok(self.fit_stored(extent))
+        self.install(extent);
+        Ok(())
     }
 
     /// [`Mesh::refit`] with each vertex's coordinates given by `position(i)` for `i` in
@@ -49,6 +59,17 @@ impl Mesh {
         vertex_count: usize,
         position: impl Fn(usize) -> Point,
     ) -> Result<RefitStats> {
+        self.take_points_with(vertex_count, position)?;
+        self.last_refit = self.update_volumes();
+        Ok(self.last_refit)
+    }
+
+    /// [`Mesh::take_positions`] for [`Mesh::refit_with`]'s input.
+    pub(crate) fn take_points_with(
+        &mut self,
+        vertex_count: usize,
+        position: impl Fn(usize) -> Point,
+    ) -> Result<()> {
         if vertex_count != self.positions.len() {
             return Err(Error::VertexCountMismatch {
                 expected: self.positions.len(),
@@ -56,7 +77,8 @@ impl Mesh {
             });
         }
         let extent = store_points(position, &mut self.spare)?;
-        Ok(self.fit_stored(extent))
+        self.install(extent);
+        Ok(())
     }
 
     /// [`Mesh::refit`] from points.
@@ -64,20 +86,18 @@ impl Mesh {
         self.refit(positions.as_flattened())
     }
 
-    /// Makes the checked positions in the spare buffer current and recomputes every volume.
-    fn fit_stored(&mut self, extent: Extent) -> RefitStats {
+    /// Makes the checked positions in the spare buffer current.
+    fn install(&mut self, extent: Extent) {
         std::mem::swap(&mut self.positions, &mut self.spare);
         self.max_abs = extent.max_abs;
         self.safe = extent.safe;
-        self.last_refit = self.update_volumes();
-        self.last_refit
     }
 
     /// Recomputes every volume from the current positions.
     pub(crate) fn update_volumes(&mut self) -> RefitStats {
         let input = RefitInput {
-            tree: &self.tree,
-            rings: &self.rings,
+            tree: &self.shape.tree,
+            rings: &self.shape.rings,
             radius: self.options.radius,
         };
         self.volumes

@@ -39,10 +39,11 @@ pub(crate) struct TrianglePairs<'s, 'w> {
 impl<'m, A: QuerySide<'m>, B: QuerySide<'m>> NarrowPhase<'m, A, B> for TrianglePairs<'_, '_> {
     fn visit(&mut self, a: &mut A, b: &mut B, na: u32, nb: u32, stats: &mut QueryStats) -> bool {
         let (ma, mb) = (a.mesh(), b.mesh());
-        let ra = ma.tree.nodes[na as usize].ring_start;
-        let rb = mb.tree.nodes[nb as usize].ring_start;
-        stats.triangle_candidates += (ma.rings.triangles.row_len(ra as usize)
-            * mb.rings.triangles.row_len(rb as usize)) as u64;
+        let ra = ma.shape.tree.nodes[na as usize].ring_start;
+        let rb = mb.shape.tree.nodes[nb as usize].ring_start;
+        stats.triangle_candidates += (ma.shape.rings.triangles.row_len(ra as usize)
+            * mb.shape.rings.triangles.row_len(rb as usize))
+            as u64;
         // Most overlapping leaf volumes hold rings whose boxes are apart (about 70% of the
         // spheres on scanned meshes): ring boxes, computed once per ring and query, settle them
         // before any triangle is prepared.
@@ -94,7 +95,7 @@ fn prepare<'m, S: QuerySide<'m>>(
     cache: &mut RingCache,
     check_domain: bool,
 ) -> (Range<usize>, Aabb) {
-    let rings = &side.mesh().rings;
+    let rings = &side.mesh().shape.rings;
     let items = rings.triangles.span(r as usize..r as usize + 1);
     if let Some((start, bounds)) = cache.held(r) {
         return (start..start + items.len(), bounds);

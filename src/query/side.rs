@@ -321,7 +321,7 @@ impl<'m, P: Placement<'m>, K: Kind<'m>> QuerySide<'m> for View<'_, P, K> {
 
     #[inline(always)]
     fn nodes(&self) -> &'m [Node] {
-        &self.place.mesh().tree.nodes
+        &self.place.mesh().shape.tree.nodes
     }
 
     #[inline(always)]
@@ -342,11 +342,11 @@ impl<'m, P: Placement<'m>, K: Kind<'m>> QuerySide<'m> for View<'_, P, K> {
             return self.kind.leaf_box(n);
         }
         let mesh = self.place.mesh();
-        let r = mesh.tree.nodes[n as usize].ring_start as usize;
+        let r = mesh.shape.tree.nodes[n as usize].ring_start as usize;
         let (place, world) = (&self.place, &mut *self.world);
         self.ring_boxes.get_or(r, || {
-            let mut b = Aabb::point(&place.vertex(world, mesh.rings.centre[r]));
-            for &v in mesh.rings.vertices.row(r) {
+            let mut b = Aabb::point(&place.vertex(world, mesh.shape.rings.centre[r]));
+            for &v in mesh.shape.rings.vertices.row(r) {
                 b.grow(&place.vertex(world, v));
             }
             b

@@ -1,0 +1,360 @@
+//! The scene's query: the broad phase and the filters choose the object pairs, the deformable
+//! objects among them are refit, and the pairs are queried on the threads allowed, their
+//! contacts merged in order.
+
+use super::{Motion, Object, Scene, volume_box};
+use crate::error::{Error, Result};
+use crate::geometry::aabb::Aabb;
+use crate::query::{PairKind, Pairs, QueryMode, QueryOptions, collide};
+use crate::threads;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// A contact between two objects of a scene: `a` of object `object_a` meets `b` of object
+/// `object_b`, with `object_a < object_b`. Triangle indices, or node indices in the coarse modes
+/// ([`Contacts::kind`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[repr(C)]
+pub struct Contact {
+    /// The object with the lower id.
+    pub object_a: u32,
+    /// The object with the higher id.
+    pub object_b: u32,
+    /// Index in `object_a`'s mesh.
+    pub a: u32,
+    /// Index in `object_b`'s mesh.
+    pub b: u32,
+}
+
+/// Counters of one scene query.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct SceneStats {
+    /// Objects in the scene.
+    pub objects: u64,
+    /// Object pairs that passed the broad phase and the filters, and were queried.
+    pub object_pairs_tested: u64,
+    /// Object pairs with at least one contact.
+    pub object_pairs_colliding: u64,
+    /// Volume pairs tested, over every object pair.
+    pub bv_tests: u64,
+    /// Triangle pairs given to the exact test, over every object pair.
+    pub triangle_tests: u64,
+    /// Nodes recomputed by the refits this query made (deformable objects it needed whose
+    /// positions had changed).
+    pub nodes_refit: u64,
+    /// Contacts reported.
+    pub contacts: u64,
+    /// Did [`QueryOptions::max_pairs`] cut the result short?
+    pub truncated: bool,
+}
+
+/// A caller-owned, reusable result buffer for [`Scene::collide`], with the scratch space of the
+/// threads that fill it. Use one per calling thread.
+#[derive(Debug, Default)]
+pub struct Contacts {
+    items: Vec<Contact>,
+    /// Where a query merges its contacts; swapped with `items` when it succeeds.
+    spare: Vec<Contact>,
+    kind: PairKind,
+    workers: Vec<Worker>,
+    /// Per object pair of the last query: the worker that queried it and where its contacts are.
+    spans: Vec<Span>,
+}
+
+/// One thread's share of a query: its result buffer and the contacts it found, in the order of
+/// the object pairs it took.
+#[derive(Debug, Default)]
+struct Worker {
+    pairs: Pairs,
+    found: Vec<Contact>,
+    /// The object pairs it took (their index among the candidates) and where their contacts are.
+    taken: Vec<(usize, Span)>,
+    bv_tests: u64,
+    triangle_tests: u64,
+    truncated: bool,
+    error: Option<Error>,
+}
+
+/// One thread's part of the refits a query makes.
+#[derive(Default)]
+struct Share<'s> {
+    objects: Vec<&'s mut Object>,
+    vertices: usize,
+    nodes: u64,
+}
+
+#[derive(Clone, Copy, Debug, Default)]
+struct Span {
+    worker: u32,
+    start: usize,
+    len: usize,
+}
+
+impl Contacts {
+    /// An empty buffer.
+    pub fn new() -> Contacts {
+        Contacts::default()
+    }
+
+    /// The contacts of the last successful query, sorted by `(object_a, object_b, a, b)`.
+    pub fn as_slice(&self) -> &[Contact] {
+        &self.items
+    }
+
+    /// Number of contacts.
+    pub fn len(&self) -> usize {
+        self.items.len()
+    }
+
+    /// No contacts?
+    pub fn is_empty(&self) -> bool {
+        self.items.is_empty()
+    }
+
+    /// What `a` and `b` of each contact index: triangles, or nodes in the coarse modes.
+    pub fn kind(&self) -> PairKind {
+        self.kind
+    }
+
+    /// Iterates over the contacts.
+    pub fn iter(&self) -> std::slice::Iter<'_, Contact> {
+        self.items.iter()
+    }
+}
+
+impl Worker {
+    /// Queries object pair `(i, j)` and appends its contacts; returns where they are.
+    fn query(
+        &mut self,
+        objects: &[Option<Object>],
+        (i, j): (u32, u32),
+        opts: &QueryOptions,
+    ) -> Span {
+        let start = self.found.len();
+        if self.error.is_some() {
+            return Span::default();
+        }
+        let (oa, ob) = (
+            objects[i as usize].as_ref().expect("a candidate is live"),
+            objects[j as usize].as_ref().expect("a candidate is live"),
+        );
+        match collide(
+            &oa.mesh,
+            oa.pose(),
+            &ob.mesh,
+            ob.pose(),
+            opts,
+            &mut self.pairs,
+        ) {
+            Ok(stats) => {
+                self.bv_tests += stats.bv_tests;
+                self.triangle_tests += stats.triangle_tests;
+                self.truncated |= stats.truncated;
+                if self.found.try_reserve(self.pairs.len()).is_err() {
+                    self.error = Some(Error::OutOfMemory {
+                        bytes: self.pairs.len() * std::mem::size_of::<Contact>(),
+                    });
+                    return Span::default();
+                }
+                self.found.extend(self.pairs.iter().map(|p| Contact {
+                    object_a: i,
+                    object_b: j,
+                    a: p.a,
+                    b: p.b,
+                }));
+            }
+            Err(e) => self.error = Some(e),
+        }
+        Span {
+            worker: 0,
+            start,
+            len: self.found.len() - start,
+        }
+    }
+}
+
+impl Scene {
+    /// Every contact between two objects that the filters allow (groups and masks, exclusions)
+    /// and whose world boxes overlap, as [`QueryOptions::mode`] asks: for each such pair, exactly
+    /// what [`collide`] reports for the two objects' current geometry and poses
+    /// ([`QueryMode::FirstHit`]: at most one contact per object pair). The result replaces the
+    /// contents of `out`, sorted by `(object_a, object_b, a, b)`; [`QueryOptions::max_pairs`]
+    /// bounds the whole result (some of the contacts, still sorted, and
+    /// [`SceneStats::truncated`]).
+    ///
+    /// Deformable objects whose positions changed are refit here, and only those that some
+    /// object pair needs. Object pairs are shared among [`QueryOptions::threads`] threads (the
+    /// result does not depend on the count); a single pair gets all of them.
+    ///
+    /// Errors: [`Error::ZeroBudget`]; [`Error::OutOfMemory`] when a result cannot grow. On error
+    /// `out` still holds the previous result.
+    pub fn collide(&mut self, options: &QueryOptions, out: &mut Contacts) -> Result<SceneStats> {
+        if options.mode == QueryMode::Budget(0) {
+            return Err(Error::ZeroBudget);
+        }
+        let mut stats = SceneStats {
+            objects: self.len() as u64,
+            ..SceneStats::default()
+        };
+        let mut candidates = std::mem::take(&mut self.candidates);
+        if options.mode.reports_nodes() {
+            // Node pairs are reported wherever the volumes overlap, the roots' included, and
+            // the volumes are known only once refit: every object is refit, and the broad phase
+            // compares boxes around the root volumes.
+            stats.nodes_refit = self.refit_stale(|_| true, options.threads);
+            let boxes: Vec<_> = self
+                .objects
+                .iter()
+                .map(|o| o.as_ref().map_or(Aabb::EMPTY, volume_box))
+                .collect();
+            self.broad.overlapping(&boxes, &mut candidates);
+        } else {
+            self.broad.overlapping(&self.boxes, &mut candidates);
+        }
+        candidates.retain(|&(i, j)| self.allowed(i, j));
+        candidates.sort_unstable();
+        if !options.mode.reports_nodes() {
+            let mut needed = vec![false; self.objects.len()];
+            for &(i, j) in &candidates {
+                needed[i as usize] = true;
+                needed[j as usize] = true;
+            }
+            stats.nodes_refit = self.refit_stale(|id| needed[id], options.threads);
+        }
+        let result = self.query_pairs(&candidates, options, out, &mut stats);
+        self.candidates = candidates;
+        result.map(|()| stats)
+    }
+
+    /// Do the filters let objects `i` and `j` be tested?
+    fn allowed(&self, i: u32, j: u32) -> bool {
+        let (Some(Some(a)), Some(Some(b))) =
+            (self.objects.get(i as usize), self.objects.get(j as usize))
+        else {
+            return false;
+        };
+        a.group & b.mask != 0 && b.group & a.mask != 0 && !self.excluded.contains(&(i, j))
+    }
+
+    /// Refits the stale deformable objects for which `needed(id)` holds, on up to `threads`
+    /// threads, each given a share of about equal vertex count (largest meshes first). Returns
+    /// the nodes recomputed.
+    fn refit_stale(&mut self, needed: impl Fn(usize) -> bool, threads: u32) -> u64 {
+        let mut stale: Vec<&mut Object> = self
+            .objects
+            .iter_mut()
+            .enumerate()
+            .filter_map(|(id, o)| o.as_mut().filter(|_| needed(id)))
+            .filter(|o| matches!(o.motion, Motion::Deformable { stale: true }))
+            .collect();
+        let workers = threads::resolve(threads).min(stale.len()).max(1);
+        stale.sort_by_key(|o| std::cmp::Reverse(o.mesh.vertex_count()));
+        let mut shares: Vec<Share> = (0..workers).map(|_| Share::default()).collect();
+        for o in stale {
+            let share = shares
+                .iter_mut()
+                .min_by_key(|s| s.vertices)
+                .expect("at least one share");
+            share.vertices += o.mesh.vertex_count();
+            share.objects.push(o);
+        }
+        threads::on_each(&mut shares, &|share: &mut Share, _| {
+            for o in &mut share.objects {
+                let s = o.mesh.update_volumes();
+                o.mesh.last_refit = s;
+                o.motion = Motion::Deformable { stale: false };
+                share.nodes += s.nodes_refit;
+            }
+        });
+        shares.iter().map(|s| s.nodes).sum()
+    }
+
+    /// Queries every candidate pair and merges the contacts into `out`.
+    fn query_pairs(
+        &self,
+        candidates: &[(u32, u32)],
+        options: &QueryOptions,
+        out: &mut Contacts,
+        stats: &mut SceneStats,
+    ) -> Result<()> {
+        let threads = threads::resolve(options.threads)
+            .min(candidates.len())
+            .max(1);
+        let mut opts = *options;
+        if candidates.len() > 1 {
+            // The pairs share the threads; each pair's query runs on the thread that took it.
+            opts.threads = 1;
+        }
+        if out.workers.len() < threads {
+            out.workers.resize_with(threads, Worker::default);
+        }
+        for w in &mut out.workers {
+            w.found.clear();
+            w.taken.clear();
+            w.bv_tests = 0;
+            w.triangle_tests = 0;
+            w.truncated = false;
+            w.error = None;
+        }
+        out.spans.clear();
+        out.spans.resize(candidates.len(), Span::default());
+        let objects = &self.objects[..];
+        if threads == 1 {
+            let w = &mut out.workers[0];
+            for (span, &pair) in out.spans.iter_mut().zip(candidates) {
+                *span = w.query(objects, pair, &opts);
+            }
+        } else {
+            // Pairs are handed out one at a time: their costs differ by orders of magnitude.
+            let next = AtomicUsize::new(0);
+            threads::on_each(&mut out.workers[..threads], &|w: &mut Worker, index| {
+                loop {
+                    let k = next.fetch_add(1, Ordering::Relaxed);
+                    let Some(&pair) = candidates.get(k) else {
+                        break;
+                    };
+                    let mut span = w.query(objects, pair, &opts);
+                    span.worker = index as u32;
+                    w.taken.push((k, span));
+                }
+            });
+            for w in &out.workers[..threads] {
+                for &(k, span) in &w.taken {
+                    out.spans[k] = span;
+                }
+            }
+        }
+        if let Some(e) = out.workers.iter_mut().find_map(|w| w.error.take()) {
+            return Err(e);
+        }
+        // Merge in candidate order (the pairs are sorted, and so is each pair's result).
+        let limit = options.max_pairs.unwrap_or(usize::MAX);
+        let found: usize = out.spans.iter().map(|s| s.len).sum();
+        let keep = found.min(limit);
+        let merged = &mut out.spare;
+        merged.clear();
+        merged.try_reserve(keep).map_err(|_| Error::OutOfMemory {
+            bytes: keep * std::mem::size_of::<Contact>(),
+        })?;
+        for s in &out.spans {
+            stats.object_pairs_colliding += u64::from(s.len > 0);
+            let room = keep - merged.len();
+            let w = &out.workers[s.worker as usize];
+            merged.extend_from_slice(&w.found[s.start..s.start + s.len.min(room)]);
+        }
+        for w in &out.workers[..threads] {
+            stats.bv_tests += w.bv_tests;
+            stats.triangle_tests += w.triangle_tests;
+            stats.truncated |= w.truncated;
+        }
+        stats.truncated |= found > limit;
+        stats.object_pairs_tested = candidates.len() as u64;
+        stats.contacts = merged.len() as u64;
+        std::mem::swap(&mut out.items, &mut out.spare);
+        out.kind = if options.mode.reports_nodes() {
+            PairKind::Nodes
+        } else {
+            PairKind::Triangles
+        };
+        Ok(())
+    }
+}

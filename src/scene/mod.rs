@@ -1,0 +1,358 @@
+//! Scenes: many objects, rigid or deformable, sharing meshes, with one query for every contact of
+//! a frame.
+//!
+//! An object is a copy of a mesh's state (positions and volumes) that shares the mesh's topology,
+//! rings and tree ([`Mesh`] clones share them), with a pose (rigid) or positions of its own
+//! (deformable). The scene spends work where contact is possible: a broad phase
+//! ([`broad::SweepAndPrune`]) over the objects' world boxes, collision filters, and refits of
+//! deformable objects put off until a query needs their volumes.
+
+mod broad;
+mod collide;
+
+pub use collide::{Contact, Contacts, SceneStats};
+
+use crate::error::{Error, Result};
+use crate::geometry::MAX_POSED_MAGNITUDE;
+use crate::geometry::aabb::Aabb;
+use crate::geometry::pose::Pose;
+use crate::mesh::Mesh;
+use crate::volume::Volumes;
+use broad::SweepAndPrune;
+use std::collections::HashSet;
+
+/// How an object moves.
+#[derive(Clone, Debug)]
+enum Motion {
+    /// Its mesh's positions at the time it was added, as local coordinates, placed by a pose;
+    /// never refit. `local` is the box of those positions.
+    Rigid { pose: Pose, local: Aabb },
+    /// Positions of its own, in world coordinates. `stale`: they changed since its volumes were
+    /// last computed.
+    Deformable { stale: bool },
+}
+
+/// One object of a scene.
+#[derive(Clone, Debug)]
+struct Object {
+    mesh: Mesh,
+    motion: Motion,
+    group: u32,
+    mask: u32,
+}
+
+impl Object {
+    /// The pose to query the object with (`None` for world coordinates).
+    fn pose(&self) -> Option<&Pose> {
+        match &self.motion {
+            Motion::Rigid { pose, .. } => Some(pose),
+            Motion::Deformable { .. } => None,
+        }
+    }
+}
+
+/// A set of objects queried together: [`Scene::collide`] finds every contact between every two
+/// objects that the collision filters allow and whose world boxes overlap.
+///
+/// Objects are named by small integer ids, stable until the object is removed; a removed id may
+/// be given to a later object. Every method that fails leaves the scene exactly as it was.
+///
+/// Threads: a scene is changed through `&mut` and queried through `&mut` (the query refits
+/// the deformable objects it needs); one scene may be used from one thread at a time, several
+/// scenes from several threads at once.
+#[derive(Clone, Debug, Default)]
+pub struct Scene {
+    objects: Vec<Option<Object>>,
+    /// Removed ids, reused last removed first.
+    free: Vec<u32>,
+    /// World boxes by id (empty for free ids).
+    boxes: Vec<Aabb>,
+    broad: SweepAndPrune,
+    /// Pairs `(lower id, higher id)` never tested.
+    excluded: HashSet<(u32, u32)>,
+    /// Candidate pairs of the last query (kept so that queries reuse its memory).
+    candidates: Vec<(u32, u32)>,
+}
+
+impl Scene {
+    /// An empty scene.
+    pub fn new() -> Scene {
+        Scene::default()
+    }
+
+    /// Number of objects.
+    pub fn len(&self) -> usize {
+        self.objects.len() - self.free.len()
+    }
+
+    /// No objects?
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Adds a rigid object: `mesh`'s current positions as local coordinates, placed by `pose`
+    /// (`None`: the identity). It shares `mesh`'s topology, rings and tree and keeps its own copy
+    /// of the positions and volumes, so `mesh` may be refit or dropped afterwards. Objects `i`
+    /// and `j` are tested when `group_i & mask_j` and `group_j & mask_i` are both non-zero.
+    ///
+    /// Errors: [`Error::ObjectPoseOutOfRange`] when the pose could move the mesh's coordinates
+    /// beyond [`MAX_POSED_MAGNITUDE`].
+    pub fn add_rigid(
+        &mut self,
+        mesh: &Mesh,
+        pose: Option<&Pose>,
+        group: u32,
+        mask: u32,
+    ) -> Result<u32> {
+        let pose = pose.copied().unwrap_or_default();
+        let local = Aabb::of_points(&mesh.positions);
+        let world = posed_box(&pose, &local, mesh.max_abs)?;
+        let mut mesh = mesh.clone();
+        // A rigid object is never refit: no room for new positions.
+        mesh.spare = Vec::new();
+        Ok(self.insert(
+            Object {
+                mesh,
+                motion: Motion::Rigid { pose, local },
+                group,
+                mask,
+            },
+            world,
+        ))
+    }
+
+    /// Adds a deformable object: `mesh`'s current positions as world coordinates, changed by
+    /// [`Scene::set_positions`]. It shares `mesh`'s topology, rings and tree and keeps its own
+    /// positions and volumes, so `mesh` may be refit or dropped afterwards. Filters as for
+    /// [`Scene::add_rigid`].
+    pub fn add_deformable(&mut self, mesh: &Mesh, group: u32, mask: u32) -> u32 {
+        let world = Aabb::of_points(&mesh.positions);
+        self.insert(
+            Object {
+                mesh: mesh.clone(),
+                motion: Motion::Deformable { stale: false },
+                group,
+                mask,
+            },
+            world,
+        )
+    }
+
+    fn insert(&mut self, object: Object, world: Aabb) -> u32 {
+        let id = match self.free.pop() {
+            Some(id) => {
+                self.objects[id as usize] = Some(object);
+                self.boxes[id as usize] = world;
+                id
+            }
+            None => {
+                self.objects.push(Some(object));
+                self.boxes.push(world);
+                (self.objects.len() - 1) as u32
+            }
+        };
+        self.broad.insert(id);
+        id
+    }
+
+    fn object(&self, id: u32) -> Result<&Object> {
+        self.objects
+            .get(id as usize)
+            .and_then(Option::as_ref)
+            .ok_or(Error::UnknownObject { object: id })
+    }
+
+    fn object_mut(&mut self, id: u32) -> Result<&mut Object> {
+        self.objects
+            .get_mut(id as usize)
+            .and_then(Option::as_mut)
+            .ok_or(Error::UnknownObject { object: id })
+    }
+
+    /// Is `id` an object of the scene?
+    pub fn contains(&self, id: u32) -> bool {
+        self.object(id).is_ok()
+    }
+
+    /// Is object `id` rigid? (`None` for an unknown id.)
+    pub fn is_rigid(&self, id: u32) -> Option<bool> {
+        self.object(id)
+            .ok()
+            .map(|o| matches!(o.motion, Motion::Rigid { .. }))
+    }
+
+    /// Places rigid object `id` by `pose` (`None`: the identity).
+    ///
+    /// Errors: [`Error::UnknownObject`]; [`Error::WrongObjectKind`] for a deformable object;
+    /// [`Error::Object`] wrapping [`Error::ObjectPoseOutOfRange`] as for [`Scene::add_rigid`].
+    pub fn set_pose(&mut self, id: u32, pose: Option<&Pose>) -> Result<()> {
+        let new = pose.copied().unwrap_or_default();
+        let object = self.object_mut(id)?;
+        let max_abs = object.mesh.max_abs;
+        let Motion::Rigid { pose, local } = &mut object.motion else {
+            return Err(Error::WrongObjectKind {
+                object: id,
+                rigid: false,
+            });
+        };
+        let world = posed_box(&new, local, max_abs).map_err(|e| Error::Object {
+            object: id,
+            error: Box::new(e),
+        })?;
+        *pose = new;
+        self.boxes[id as usize] = world;
+        Ok(())
+    }
+
+    /// Gives deformable object `id` new world positions (`x, y, z` per vertex, as many vertices
+    /// as its mesh). They are checked and stored now; the volumes are recomputed by the next
+    /// [`Scene::collide`] that needs them, so an object that no overlapping pair reaches costs no
+    /// more than taking its positions.
+    ///
+    /// Errors: [`Error::UnknownObject`]; [`Error::WrongObjectKind`] for a rigid object;
+    /// [`Error::Object`] wrapping the errors of [`Mesh::refit`] (a wrong length or vertex count,
+    /// a non-finite coordinate).
+    pub fn set_positions(&mut self, id: u32, positions: &[f64]) -> Result<()> {
+        self.take_positions(id, |mesh| mesh.take_positions(positions))
+    }
+
+    /// [`Scene::set_positions`] with each vertex's coordinates given by `position(i)` for `i` in
+    /// `0..vertex_count`, for positions stored in another layout (`f32`, a stride).
+    pub fn set_positions_with(
+        &mut self,
+        id: u32,
+        vertex_count: usize,
+        position: impl Fn(usize) -> [f64; 3],
+    ) -> Result<()> {
+        self.take_positions(id, |mesh| mesh.take_points_with(vertex_count, position))
+    }
+
+    fn take_positions(
+        &mut self,
+        id: u32,
+        take: impl FnOnce(&mut Mesh) -> Result<()>,
+    ) -> Result<()> {
+        let object = self.object_mut(id)?;
+        let Motion::Deformable { stale } = &mut object.motion else {
+            return Err(Error::WrongObjectKind {
+                object: id,
+                rigid: true,
+            });
+        };
+        take(&mut object.mesh).map_err(|e| Error::Object {
+            object: id,
+            error: Box::new(e),
+        })?;
+        *stale = true;
+        self.boxes[id as usize] = Aabb::of_points(&object.mesh.positions);
+        Ok(())
+    }
+
+    /// Removes object `id` (and its pair exclusions); its id may be given to a later object.
+    ///
+    /// Errors: [`Error::UnknownObject`].
+    pub fn remove(&mut self, id: u32) -> Result<()> {
+        self.object(id)?;
+        self.objects[id as usize] = None;
+        self.boxes[id as usize] = Aabb::EMPTY;
+        self.free.push(id);
+        self.broad.remove(id);
+        self.excluded.retain(|&(i, j)| i != id && j != id);
+        Ok(())
+    }
+
+    /// Never tests objects `a` and `b` against each other (until one of them is removed).
+    ///
+    /// Errors: [`Error::UnknownObject`]; [`Error::SameObject`] when `a == b`.
+    pub fn exclude_pair(&mut self, a: u32, b: u32) -> Result<()> {
+        self.object(a)?;
+        self.object(b)?;
+        if a == b {
+            return Err(Error::SameObject { object: a });
+        }
+        self.excluded.insert((a.min(b), a.max(b)));
+        Ok(())
+    }
+
+    /// Bytes of memory the scene holds beyond the struct itself: each object's own positions,
+    /// volumes and scratch, and the scene's tables. Not the topology, rings and tree the objects
+    /// share with the meshes they were made from ([`Mesh::memory_bytes`] counts those).
+    pub fn memory_bytes(&self) -> usize {
+        self.objects
+            .iter()
+            .flatten()
+            .map(|o| o.mesh.state_bytes())
+            .sum::<usize>()
+            + self.objects.capacity() * std::mem::size_of::<Option<Object>>()
+            + self.boxes.capacity() * std::mem::size_of::<Aabb>()
+    }
+}
+
+/// The world box of the points of `local` placed by `pose`: the box of its transformed corners,
+/// widened by twice the transformation's rounding bound so that it holds every transformed
+/// vertex as the query computes it, and outwards by one unit in the last place for the rounding
+/// of the widening itself.
+fn posed_box(pose: &Pose, local: &Aabb, max_abs: f64) -> Result<Aabb> {
+    let (error, magnitude) = pose.rounding_bound(max_abs);
+    if magnitude > MAX_POSED_MAGNITUDE {
+        return Err(Error::ObjectPoseOutOfRange { bound: magnitude });
+    }
+    if pose.is_identity() || local.is_empty() {
+        return Ok(*local);
+    }
+    let mut world = Aabb::EMPTY;
+    for corner in 0..8 {
+        let p = [0, 1, 2].map(|k| {
+            if corner & (1 << k) == 0 {
+                local.lo[k]
+            } else {
+                local.hi[k]
+            }
+        });
+        world.grow(&pose.transform_point(&p));
+    }
+    let w = 2.0 * error;
+    Ok(Aabb {
+        lo: world.lo.map(|x| (x - w).next_down()),
+        hi: world.hi.map(|x| (x + w).next_up()),
+    })
+}
+
+/// A box around object `o`'s root volume as a query computes it (moved by the object's pose):
+/// if two objects' boxes are apart, a query between them fails the roots' test and reports
+/// nothing, in every mode. Spheres are widened by far more than the rounding the overlap tests
+/// allow for (16 units in the last place of squared distances).
+fn volume_box(o: &Object) -> Aabb {
+    let mesh = &o.mesh;
+    let pose = o.pose().filter(|p| !p.is_identity());
+    let sphere = match &mesh.volumes {
+        Volumes::Dvh { spheres, .. } | Volumes::Sbv { spheres, .. } => spheres[0],
+        Volumes::Aabb { boxes } => {
+            return match pose {
+                None => boxes[0],
+                Some(p) => posed_box(p, &boxes[0], mesh.max_abs).unwrap_or(Aabb {
+                    lo: [f64::NEG_INFINITY; 3],
+                    hi: [f64::INFINITY; 3],
+                }),
+            };
+        }
+    };
+    let (centre, radius) = match pose {
+        None => (sphere.centre, sphere.radius),
+        Some(p) => {
+            let (error, _) = p.rounding_bound(mesh.max_abs);
+            (
+                p.transform_point(&sphere.centre),
+                sphere.radius * p.stretch() + 2.0 * error,
+            )
+        }
+    };
+    let h = radius * (1.0 + 64.0 * f64::EPSILON);
+    Aabb {
+        lo: centre.map(|c| (c - h).next_down()),
+        hi: centre.map(|c| (c + h).next_up()),
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,436 @@
+use super::*;
+use crate::fixtures::{Morph, Rng, icosphere, torus};
+use crate::{BuildOptions, Pairs, QueryMode, QueryOptions, VolumeKind, collide};
+use nalgebra::{Isometry3, Vector3};
+use std::sync::Arc;
+
+/// What the test knows of an object, to query it pair by pair without the scene.
+#[derive(Clone)]
+struct Model {
+    mesh: Mesh,
+    pose: Option<Pose>,
+    group: u32,
+    mask: u32,
+}
+
+fn random_pose(rng: &mut Rng, spread: f64) -> Pose {
+    let t = Vector3::new(
+        rng.range(-spread, spread),
+        rng.range(-spread, spread),
+        rng.range(-spread, spread),
+    );
+    let axis = Vector3::new(
+        rng.range(-2.0, 2.0),
+        rng.range(-2.0, 2.0),
+        rng.range(-2.0, 2.0),
+    );
+    Pose::from_isometry(&Isometry3::new(t, axis)).unwrap()
+}
+
+/// Every contact of the live models, pair by pair with [`collide`], in the scene's order.
+fn pairwise(
+    models: &[Option<Model>],
+    excluded: &HashSet<(u32, u32)>,
+    opts: &QueryOptions,
+) -> Vec<Contact> {
+    let mut pairs = Pairs::new();
+    let mut out = Vec::new();
+    for (i, a) in models.iter().enumerate() {
+        let Some(a) = a else { continue };
+        for (j, b) in models.iter().enumerate().skip(i + 1) {
+            let Some(b) = b else { continue };
+            let (i, j) = (i as u32, j as u32);
+            if a.group & b.mask == 0 || b.group & a.mask == 0 || excluded.contains(&(i, j)) {
+                continue;
+            }
+            collide(
+                &a.mesh,
+                a.pose.as_ref(),
+                &b.mesh,
+                b.pose.as_ref(),
+                opts,
+                &mut pairs,
+            )
+            .unwrap();
+            out.extend(pairs.iter().map(|p| Contact {
+                object_a: i,
+                object_b: j,
+                a: p.a,
+                b: p.b,
+            }));
+        }
+    }
+    out
+}
+
+/// Random scenes of rigid and deformable objects from two shared meshes, changed between frames
+/// (poses, positions, objects added and removed, exclusions): the scene's contacts are exactly
+/// those of the objects queried pair by pair, on one thread and on every core.
+#[test]
+fn scene_equals_pairwise_queries() {
+    let sphere = icosphere(3);
+    let ring = torus(0.6, 0.2, 24, 12);
+    let options = [
+        BuildOptions::default(),
+        BuildOptions {
+            volume: VolumeKind::Dvh,
+            ..BuildOptions::default()
+        },
+    ];
+    let sources: Vec<(Mesh, Morph, &[f64])> = [&sphere, &ring]
+        .iter()
+        .zip(&options)
+        .enumerate()
+        .map(|(k, (d, o))| {
+            (
+                Mesh::new(&d.positions, &d.triangles, o).unwrap(),
+                Morph::random(d, 4, 0.1, k as u64),
+                &d.positions[..],
+            )
+        })
+        .collect();
+    for seed in 0..4 {
+        let mut rng = Rng::new(100 + seed);
+        let mut scene = Scene::new();
+        let mut models: Vec<Option<Model>> = Vec::new();
+        let mut excluded = HashSet::new();
+        let add = |scene: &mut Scene, models: &mut Vec<Option<Model>>, rng: &mut Rng| {
+            let (mesh, morph, rest) = &sources[rng.below(2) as usize];
+            let group = 1 << rng.below(3);
+            let mask = if rng.below(4) == 0 { 0b011 } else { u32::MAX };
+            let (id, model) = if rng.below(2) == 0 {
+                let pose = random_pose(rng, 1.5);
+                let id = scene.add_rigid(mesh, Some(&pose), group, mask).unwrap();
+                let model = Model {
+                    mesh: mesh.clone(),
+                    pose: Some(pose),
+                    group,
+                    mask,
+                };
+                (id, model)
+            } else {
+                let mut positions = morph.at(rest, rng.unit());
+                let shift = [0, 1, 2].map(|_| rng.range(-1.5, 1.5));
+                for (k, x) in positions.iter_mut().enumerate() {
+                    *x += shift[k % 3];
+                }
+                let mut m = mesh.clone();
+                m.refit(&positions).unwrap();
+                let id = scene.add_deformable(&m, group, mask);
+                let model = Model {
+                    mesh: m,
+                    pose: None,
+                    group,
+                    mask,
+                };
+                (id, model)
+            };
+            if models.len() <= id as usize {
+                models.resize(id as usize + 1, None);
+            }
+            assert!(models[id as usize].is_none(), "id {id} given twice");
+            models[id as usize] = Some(model);
+        };
+        for _ in 0..12 {
+            add(&mut scene, &mut models, &mut rng);
+        }
+        let mut contacts = Contacts::new();
+        for frame in 0..6 {
+            // Move some objects.
+            for id in 0..models.len() as u32 {
+                let Some(model) = models[id as usize].as_mut() else {
+                    continue;
+                };
+                if rng.below(3) != 0 {
+                    continue;
+                }
+                if model.pose.is_some() {
+                    let pose = random_pose(&mut rng, 1.5);
+                    scene.set_pose(id, Some(&pose)).unwrap();
+                    model.pose = Some(pose);
+                } else {
+                    let shift = [0, 1, 2].map(|_| rng.range(-0.2, 0.2));
+                    let positions: Vec<f64> = model
+                        .mesh
+                        .positions()
+                        .as_flattened()
+                        .iter()
+                        .enumerate()
+                        .map(|(k, x)| x + shift[k % 3])
+                        .collect();
+                    scene.set_positions(id, &positions).unwrap();
+                    model.mesh.refit(&positions).unwrap();
+                }
+            }
+            // Remove one, add one (it may take the removed id), exclude a pair.
+            if frame % 2 == 1 {
+                let live: Vec<u32> = (0..models.len() as u32)
+                    .filter(|&i| models[i as usize].is_some())
+                    .collect();
+                let gone = live[rng.below(live.len() as u64) as usize];
+                scene.remove(gone).unwrap();
+                models[gone as usize] = None;
+                excluded.retain(|&(i, j)| i != gone && j != gone);
+                add(&mut scene, &mut models, &mut rng);
+            }
+            let live: Vec<u32> = (0..models.len() as u32)
+                .filter(|&i| models[i as usize].is_some())
+                .collect();
+            let (x, y) = (live[0], live[live.len() - 1]);
+            scene.exclude_pair(y, x).unwrap();
+            excluded.insert((x, y));
+            for mode in [
+                QueryMode::Triangles,
+                QueryMode::FirstHit,
+                QueryMode::Leaves,
+                QueryMode::Depth(2),
+                QueryMode::Budget(40),
+            ] {
+                let expected = pairwise(&models, &excluded, &QueryOptions::with_mode(mode));
+                for threads in [1, 0] {
+                    let opts = QueryOptions {
+                        mode,
+                        threads,
+                        ..QueryOptions::default()
+                    };
+                    let stats = scene.collide(&opts, &mut contacts).unwrap();
+                    assert_eq!(
+                        contacts.as_slice(),
+                        &expected[..],
+                        "seed {seed} frame {frame} {mode:?} threads {threads}"
+                    );
+                    assert_eq!(stats.contacts, expected.len() as u64);
+                    assert_eq!(stats.objects, live.len() as u64);
+                    assert!(!stats.truncated);
+                    let colliding: HashSet<(u32, u32)> =
+                        expected.iter().map(|c| (c.object_a, c.object_b)).collect();
+                    assert_eq!(stats.object_pairs_colliding, colliding.len() as u64);
+                    assert!(stats.object_pairs_tested >= colliding.len() as u64);
+                }
+            }
+            // Objects that share a mesh share its topology.
+            for id in &live {
+                let object = scene.object(*id).unwrap();
+                assert!(
+                    sources
+                        .iter()
+                        .any(|s| Arc::ptr_eq(&s.0.shape, &object.mesh.shape))
+                );
+            }
+        }
+    }
+}
+
+/// A handful of small spheres in a row, each touching its neighbours: pairs (0,1), (1,2), ...
+fn chain(n: usize) -> (Mesh, Scene) {
+    let d = icosphere(2);
+    let mesh = Mesh::new(&d.positions, &d.triangles, &BuildOptions::default()).unwrap();
+    let mut scene = Scene::new();
+    for i in 0..n {
+        let pose = Pose::new(
+            [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+            [1.8 * i as f64, 0.0, 0.0],
+        )
+        .unwrap();
+        assert_eq!(
+            scene.add_rigid(&mesh, Some(&pose), 1, u32::MAX).unwrap(),
+            i as u32
+        );
+    }
+    (mesh, scene)
+}
+
+/// The broad phase, the filters and the exclusions decide which pairs are queried.
+#[test]
+fn filters_and_broad_phase() {
+    let (mesh, mut scene) = chain(6);
+    let mut contacts = Contacts::new();
+    let stats = scene
+        .collide(&QueryOptions::default(), &mut contacts)
+        .unwrap();
+    assert_eq!(
+        stats.object_pairs_tested, 5,
+        "only neighbours' boxes overlap"
+    );
+    assert_eq!(stats.object_pairs_colliding, 5);
+    let touching: Vec<(u32, u32)> = dedup_pairs(&contacts);
+    assert_eq!(touching, vec![(0, 1), (1, 2), (2, 3), (3, 4), (4, 5)]);
+    // Object 6 in group 2 with a mask that ignores group 1, overlapping object 5.
+    let pose = Pose::new(
+        [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        [9.9, 0.5, 0.0],
+    )
+    .unwrap();
+    let id = scene.add_rigid(&mesh, Some(&pose), 2, 2).unwrap();
+    scene.exclude_pair(2, 1).unwrap();
+    scene
+        .collide(&QueryOptions::default(), &mut contacts)
+        .unwrap();
+    assert_eq!(dedup_pairs(&contacts), vec![(0, 1), (2, 3), (3, 4), (4, 5)]);
+    // Its mask now takes group 1: it meets object 5.
+    scene.remove(id).unwrap();
+    let id2 = scene.add_rigid(&mesh, Some(&pose), 2, 3).unwrap();
+    assert_eq!(id2, id, "a removed id is reused");
+    scene
+        .collide(&QueryOptions::default(), &mut contacts)
+        .unwrap();
+    assert_eq!(
+        dedup_pairs(&contacts),
+        vec![(0, 1), (2, 3), (3, 4), (4, 5), (5, 6)]
+    );
+    // Removing object 1 forgets its exclusion; a new object taking id 1 is not excluded.
+    scene.remove(1).unwrap();
+    let pose1 = Pose::new(
+        [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        [1.8, 0.0, 0.0],
+    )
+    .unwrap();
+    assert_eq!(
+        scene.add_rigid(&mesh, Some(&pose1), 1, u32::MAX).unwrap(),
+        1
+    );
+    scene
+        .collide(&QueryOptions::default(), &mut contacts)
+        .unwrap();
+    assert!(dedup_pairs(&contacts).contains(&(1, 2)));
+}
+
+fn dedup_pairs(contacts: &Contacts) -> Vec<(u32, u32)> {
+    let mut v: Vec<(u32, u32)> = contacts.iter().map(|c| (c.object_a, c.object_b)).collect();
+    v.dedup();
+    v
+}
+
+/// `max_pairs` bounds the whole result: some of the contacts, sorted, and the flag.
+#[test]
+fn max_pairs_bounds_the_whole_result() {
+    let (_, mut scene) = chain(5);
+    let mut all = Contacts::new();
+    scene.collide(&QueryOptions::default(), &mut all).unwrap();
+    assert!(all.len() > 40);
+    for max in [0, 1, 7, all.len() - 1, all.len(), all.len() + 5] {
+        for threads in [1, 0] {
+            let opts = QueryOptions {
+                max_pairs: Some(max),
+                threads,
+                ..QueryOptions::default()
+            };
+            let mut some = Contacts::new();
+            let stats = scene.collide(&opts, &mut some).unwrap();
+            assert_eq!(some.len(), max.min(all.len()));
+            assert_eq!(stats.truncated, max < all.len(), "max {max}");
+            assert!(some.as_slice().windows(2).all(|w| w[0] < w[1]));
+            assert!(some.iter().all(|c| all.as_slice().binary_search(c).is_ok()));
+        }
+    }
+}
+
+/// A failed call changes nothing, and says what was wrong.
+#[test]
+fn errors_change_nothing() {
+    let (mesh, mut scene) = chain(3);
+    let d = icosphere(2);
+    let deformable = scene.add_deformable(&mesh, 1, u32::MAX);
+    let mut before = Contacts::new();
+    scene
+        .collide(&QueryOptions::default(), &mut before)
+        .unwrap();
+    let snapshot = format!("{scene:?}");
+    let identity = Pose::default();
+    assert_eq!(
+        scene.set_pose(9, Some(&identity)),
+        Err(Error::UnknownObject { object: 9 })
+    );
+    assert_eq!(
+        scene.set_pose(deformable, Some(&identity)),
+        Err(Error::WrongObjectKind {
+            object: deformable,
+            rigid: false
+        })
+    );
+    assert_eq!(
+        scene.set_positions(0, &d.positions),
+        Err(Error::WrongObjectKind {
+            object: 0,
+            rigid: true
+        })
+    );
+    let mut bad = d.positions.clone();
+    bad[3 * 5 + 1] = f64::NAN;
+    let e = scene.set_positions(deformable, &bad).unwrap_err();
+    assert!(matches!(
+        &e,
+        Error::Object { object, error } if *object == deformable
+            && matches!(**error, Error::NonFiniteCoordinate { vertex: 5, axis: 1, .. })
+    ));
+    assert!(
+        e.to_string()
+            .starts_with(&format!("object {deformable}: vertex 5"))
+    );
+    assert!(matches!(
+        scene.set_positions(deformable, &d.positions[..30]),
+        Err(Error::Object { .. })
+    ));
+    let far = Pose::new(
+        [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        [1e301, 0.0, 0.0],
+    )
+    .unwrap();
+    assert!(matches!(
+        scene.set_pose(0, Some(&far)),
+        Err(Error::Object { object: 0, .. })
+    ));
+    assert!(matches!(
+        scene.add_rigid(&mesh, Some(&far), 1, 1),
+        Err(Error::ObjectPoseOutOfRange { .. })
+    ));
+    assert_eq!(scene.remove(7), Err(Error::UnknownObject { object: 7 }));
+    assert_eq!(
+        scene.exclude_pair(1, 1),
+        Err(Error::SameObject { object: 1 })
+    );
+    assert_eq!(
+        scene.exclude_pair(1, 8),
+        Err(Error::UnknownObject { object: 8 })
+    );
+    let mut after = Contacts::new();
+    assert_eq!(
+        scene.collide(&QueryOptions::with_mode(QueryMode::Budget(0)), &mut after),
+        Err(Error::ZeroBudget)
+    );
+    assert_eq!(format!("{scene:?}"), snapshot, "the scene changed");
+    scene.collide(&QueryOptions::default(), &mut after).unwrap();
+    assert_eq!(after.as_slice(), before.as_slice());
+}
+
+/// A deformable object is refit by the query that needs it, and only then.
+#[test]
+fn refit_waits_for_a_query_that_needs_it() {
+    let (mesh, mut scene) = chain(2);
+    let d = icosphere(2);
+    let id = scene.add_deformable(&mesh, 1, u32::MAX);
+    let far: Vec<f64> = d
+        .positions
+        .iter()
+        .enumerate()
+        .map(|(k, x)| x + if k % 3 == 1 { 50.0 } else { 0.0 })
+        .collect();
+    let mut contacts = Contacts::new();
+    scene.set_positions(id, &far).unwrap();
+    let stats = scene
+        .collide(&QueryOptions::default(), &mut contacts)
+        .unwrap();
+    assert_eq!(stats.nodes_refit, 0, "nothing reaches the moved object");
+    assert_eq!(stats.object_pairs_tested, 1);
+    // Back among the others: refit once, by the query that reaches it.
+    scene.set_positions(id, &d.positions).unwrap();
+    let stats = scene
+        .collide(&QueryOptions::default(), &mut contacts)
+        .unwrap();
+    assert_eq!(stats.nodes_refit, mesh.node_count() as u64);
+    assert!(contacts.iter().any(|c| c.object_b == id));
+    let stats = scene
+        .collide(&QueryOptions::default(), &mut contacts)
+        .unwrap();
+    assert_eq!(stats.nodes_refit, 0, "already fresh");
+}
