@@ -501,6 +501,203 @@ static void test_against_oracle(void) {
     mesh_free(&s2);
 }
 
+/* ---- scenes ---- */
+
+typedef struct SceneModel {
+    const DvhMesh *mesh; /* the geometry to query pair by pair */
+    int posed;
+    DvhPose pose;
+    int alive;
+} SceneModel;
+
+/* The contacts of every live object pair, queried pair by pair with dvh_collide, in the scene's
+ * order; returns the count (at most `cap` written). */
+static size_t scene_expected(const SceneModel *m, size_t n, const DvhQueryOptions *o, DvhContact *out, size_t cap) {
+    DvhPairs *p = dvh_pairs_new();
+    size_t count = 0, i, j, k;
+    for (i = 0; i < n; i++)
+        for (j = i + 1; j < n; j++) {
+            if (!m[i].alive || !m[j].alive) continue;
+            CHECK_STATUS(dvh_collide(m[i].mesh, m[i].posed ? &m[i].pose : NULL, m[j].mesh, m[j].posed ? &m[j].pose : NULL, o, p, NULL),
+                         DVH_STATUS_OK, NULL);
+            for (k = 0; k < dvh_pairs_len(p); k++, count++)
+                if (count < cap) {
+                    out[count].object_a = (uint32_t)i;
+                    out[count].object_b = (uint32_t)j;
+                    out[count].a = dvh_pairs_data(p)[k].a;
+                    out[count].b = dvh_pairs_data(p)[k].b;
+                }
+        }
+    dvh_pairs_free(p);
+    return count;
+}
+
+static int same_contacts(const DvhContacts *c, const DvhContact *expected, size_t n) {
+    size_t i;
+    const DvhContact *d = dvh_contacts_data(c);
+    if (dvh_contacts_len(c) != n) return 0;
+    if (n == 0) return d == NULL;
+    for (i = 0; i < n; i++)
+        if (memcmp(&d[i], &expected[i], sizeof *d) != 0) return 0;
+    return 1;
+}
+
+static void test_scene(void) {
+    enum { CAP = 20000 };
+    Mesh ma = mesh_terrain(6, 0, 0, wave), mb = mesh_terrain(5, 1, 1, ridge);
+    DvhMesh *a = create(&ma, NULL), *b = create(&mb, NULL), *a_moved = create(&ma, NULL), *a16 = NULL;
+    DvhScene *scene = NULL;
+    DvhContacts *contacts = dvh_contacts_new();
+    DvhContact *expected = malloc(CAP * sizeof *expected);
+    DvhSceneStats st;
+    DvhQueryOptions o = dvh_query_options_default();
+    IPose ip1 = ipose_make(5, 5, 0, 4), ip2 = ipose_make(0, 30, 0, 0);
+    SceneModel model[4];
+    uint32_t id = 99, ids[4];
+    double *moved = malloc(ma.vertex_count * 3 * sizeof(double));
+    float *moved32 = malloc(ma.vertex_count * 4 * sizeof(float));
+    uint16_t *tris16 = malloc(ma.triangle_count * 3 * sizeof(uint16_t));
+    size_t n, i;
+    int mode;
+
+    /* 16-bit indices build the same mesh. */
+    for (i = 0; i < ma.triangle_count * 3; i++) tris16[i] = (uint16_t)ma.tris[i];
+    CHECK_STATUS(dvh_mesh_create_u16(ma.pos, ma.vertex_count, tris16, ma.triangle_count, NULL, &a16), DVH_STATUS_OK, NULL);
+    CHECK(a16 != NULL && dvh_mesh_triangle_count(a16) == ma.triangle_count);
+    tris16[4] = 60000;
+    CHECK_STATUS(dvh_mesh_create_u16(ma.pos, ma.vertex_count, tris16, ma.triangle_count, NULL, &a16), DVH_STATUS_INDEX_OUT_OF_RANGE,
+                 "triangle 1, corner 1: vertex index 60000");
+    CHECK_STATUS(dvh_mesh_create_u16(ma.pos, ma.vertex_count, NULL, ma.triangle_count, NULL, &a16), DVH_STATUS_NULL_ARGUMENT, "`triangles`");
+
+    CHECK_STATUS(dvh_scene_create(NULL), DVH_STATUS_NULL_ARGUMENT, "`scene_out`");
+    CHECK_STATUS(dvh_scene_create(&scene), DVH_STATUS_OK, NULL);
+    /* 0: terrain a, deformable; 1, 2: terrain b, rigid, sharing its mesh; 3: a16, deformable. */
+    CHECK_STATUS(dvh_scene_add_deformable(scene, a, 1, 0xffffffffu, &ids[0]), DVH_STATUS_OK, NULL);
+    model[0].mesh = a_moved; model[0].posed = 0; model[0].alive = 1;
+    model[1].mesh = b; model[1].posed = 1; model[1].pose = ipose_to_dvh(&ip1); model[1].alive = 1;
+    model[2].mesh = b; model[2].posed = 1; model[2].pose = ipose_to_dvh(&ip2); model[2].alive = 1;
+    model[3].mesh = a16; model[3].posed = 0; model[3].alive = 1;
+    CHECK_STATUS(dvh_scene_add_rigid(scene, b, &model[1].pose, 1, 0xffffffffu, &ids[1]), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_add_rigid(scene, b, &model[2].pose, 1, 0xffffffffu, &ids[2]), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_add_deformable(scene, a16, 1, 0xffffffffu, &ids[3]), DVH_STATUS_OK, NULL);
+    for (i = 0; i < 4; i++) CHECK(ids[i] == i);
+
+    /* Object 0 moves by (1, 0, 1) in double, the copy a_moved with it; object 3 stays (f32 input
+     * of the same values). */
+    for (i = 0; i < ma.vertex_count; i++) {
+        moved[3 * i] = ma.pos[3 * i] + 1.0;
+        moved[3 * i + 1] = ma.pos[3 * i + 1];
+        moved[3 * i + 2] = ma.pos[3 * i + 2] + 1.0;
+        moved32[4 * i] = (float)ma.pos[3 * i];
+        moved32[4 * i + 1] = (float)ma.pos[3 * i + 1];
+        moved32[4 * i + 2] = (float)ma.pos[3 * i + 2];
+        moved32[4 * i + 3] = 0.0f;
+    }
+    CHECK_STATUS(dvh_scene_set_positions(scene, 0, moved, ma.vertex_count), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_mesh_refit(a_moved, moved, ma.vertex_count), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_set_positions_f32(scene, 3, moved32, 16, ma.vertex_count), DVH_STATUS_OK, NULL);
+
+    for (mode = 0; mode < 5; mode++) {
+        unsigned threads;
+        o = dvh_query_options_default();
+        o.mode = (DvhQueryMode)mode;
+        o.max_depth = 2;
+        o.budget = 30;
+        n = scene_expected(model, 4, &o, expected, CAP);
+        CHECK(n > 0 && n <= CAP);
+        for (threads = 0; threads < 3; threads++) {
+            o.threads = threads;
+            CHECK_STATUS(dvh_scene_collide(scene, &o, contacts, &st), DVH_STATUS_OK, NULL);
+            CHECK(same_contacts(contacts, expected, n));
+            CHECK(st.contacts == n && st.objects == 4 && !st.truncated);
+            CHECK(dvh_contacts_kind(contacts) == (mode >= DVH_QUERY_MODE_LEAVES ? DVH_PAIR_KIND_NODES : DVH_PAIR_KIND_TRIANGLES));
+        }
+    }
+    /* The far object 2 is culled by the broad phase: at most the 3 pairs without it are
+     * queried, and the colliding ones are those with contacts. */
+    CHECK_STATUS(dvh_scene_collide(scene, NULL, contacts, &st), DVH_STATUS_OK, NULL);
+    {
+        uint64_t colliding = 0;
+        const DvhContact *d = dvh_contacts_data(contacts);
+        for (i = 0; i < dvh_contacts_len(contacts); i++) {
+            CHECK(d[i].object_a != 2 && d[i].object_b != 2);
+            colliding += i == 0 || d[i].object_a != d[i - 1].object_a || d[i].object_b != d[i - 1].object_b;
+        }
+        CHECK(colliding >= 2 && st.object_pairs_colliding == colliding);
+        CHECK(st.object_pairs_tested >= colliding && st.object_pairs_tested <= 3);
+    }
+
+    /* max_pairs bounds the whole result. */
+    o = dvh_query_options_default();
+    o.max_pairs = 5;
+    CHECK_STATUS(dvh_scene_collide(scene, &o, contacts, &st), DVH_STATUS_OK, NULL);
+    CHECK(dvh_contacts_len(contacts) == 5 && st.truncated);
+
+    /* Errors name what was wrong and change nothing. */
+    CHECK_STATUS(dvh_scene_set_pose(scene, 9, NULL), DVH_STATUS_INVALID_ARGUMENT, "object 9 is not in the scene");
+    CHECK_STATUS(dvh_scene_set_pose(scene, 0, NULL), DVH_STATUS_INVALID_ARGUMENT, "object 0 is deformable");
+    CHECK_STATUS(dvh_scene_set_positions(scene, 1, moved, mb.vertex_count), DVH_STATUS_INVALID_ARGUMENT, "object 1 is rigid");
+    CHECK_STATUS(dvh_scene_set_positions(scene, 0, moved, 3), DVH_STATUS_INVALID_ARGUMENT, "vertex_count = 3, but object 0 has");
+    CHECK_STATUS(dvh_scene_set_positions(scene, 0, NULL, ma.vertex_count), DVH_STATUS_NULL_ARGUMENT, "`positions`");
+    CHECK_STATUS(dvh_scene_set_positions_f32(scene, 0, moved32, 8, ma.vertex_count), DVH_STATUS_INVALID_ARGUMENT, "stride_bytes = 8");
+    moved[3 * 2 + 1] = NAN;
+    CHECK_STATUS(dvh_scene_set_positions(scene, 0, moved, ma.vertex_count), DVH_STATUS_NON_FINITE_COORDINATE,
+                 "object 0: vertex 2: coordinate y is NaN");
+    {
+        DvhPose bad = model[1].pose;
+        bad.rotation[0] = 2.0;
+        CHECK_STATUS(dvh_scene_set_pose(scene, 1, &bad), DVH_STATUS_NON_RIGID_POSE, "pose");
+        bad = model[1].pose;
+        bad.translation[1] = 1e301;
+        CHECK_STATUS(dvh_scene_set_pose(scene, 1, &bad), DVH_STATUS_POSE_OUT_OF_RANGE, "object 1: pose moves");
+        CHECK_STATUS(dvh_scene_add_rigid(scene, b, &bad, 1, 1, &id), DVH_STATUS_POSE_OUT_OF_RANGE, "pose moves");
+    }
+    CHECK_STATUS(dvh_scene_add_rigid(NULL, b, NULL, 1, 1, &id), DVH_STATUS_NULL_ARGUMENT, "`scene`");
+    CHECK_STATUS(dvh_scene_add_rigid(scene, NULL, NULL, 1, 1, &id), DVH_STATUS_NULL_ARGUMENT, "`mesh`");
+    CHECK_STATUS(dvh_scene_add_deformable(scene, a, 1, 1, NULL), DVH_STATUS_NULL_ARGUMENT, "`object_out`");
+    CHECK_STATUS(dvh_scene_exclude_pair(scene, 1, 1), DVH_STATUS_INVALID_ARGUMENT, "object 1 was paired with itself");
+    CHECK_STATUS(dvh_scene_exclude_pair(scene, 1, 7), DVH_STATUS_INVALID_ARGUMENT, "object 7");
+    CHECK_STATUS(dvh_scene_remove(scene, 7), DVH_STATUS_INVALID_ARGUMENT, "object 7");
+    CHECK_STATUS(dvh_scene_remove(NULL, 0), DVH_STATUS_NULL_ARGUMENT, "`scene`");
+    CHECK_STATUS(dvh_scene_collide(scene, NULL, NULL, &st), DVH_STATUS_NULL_ARGUMENT, "`contacts_out`");
+    o = dvh_query_options_default();
+    o.mode = 9;
+    CHECK_STATUS(dvh_scene_collide(scene, &o, contacts, &st), DVH_STATUS_INVALID_ARGUMENT, "options->mode = 9");
+    CHECK(id == 99);
+    o = dvh_query_options_default();
+    n = scene_expected(model, 4, &o, expected, CAP);
+    CHECK_STATUS(dvh_scene_collide(scene, NULL, contacts, &st), DVH_STATUS_OK, NULL);
+    CHECK(same_contacts(contacts, expected, n));
+
+    /* Exclusions and filters; a removed id is reused. */
+    CHECK_STATUS(dvh_scene_exclude_pair(scene, 3, 0), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_collide(scene, NULL, contacts, &st), DVH_STATUS_OK, NULL);
+    for (i = 0; i < dvh_contacts_len(contacts); i++) CHECK(!(dvh_contacts_data(contacts)[i].object_a == 0 && dvh_contacts_data(contacts)[i].object_b == 3));
+    CHECK(st.object_pairs_tested <= 2 && dvh_contacts_len(contacts) > 0);
+    CHECK_STATUS(dvh_scene_remove(scene, 1), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_add_rigid(scene, b, &model[1].pose, 2, 2, &id), DVH_STATUS_OK, NULL);
+    CHECK(id == 1);
+    CHECK_STATUS(dvh_scene_collide(scene, NULL, contacts, &st), DVH_STATUS_OK, NULL);
+    CHECK(st.objects == 4 && st.object_pairs_tested == 0 && dvh_contacts_len(contacts) == 0 && dvh_contacts_data(contacts) == NULL);
+
+    CHECK(dvh_contacts_len(NULL) == 0 && dvh_contacts_data(NULL) == NULL);
+    CHECK(dvh_contacts_kind(NULL) == DVH_PAIR_KIND_TRIANGLES);
+    dvh_contacts_free(NULL);
+    dvh_scene_free(NULL);
+    dvh_contacts_free(contacts);
+    dvh_scene_free(scene);
+    dvh_mesh_free(a);
+    dvh_mesh_free(b);
+    dvh_mesh_free(a_moved);
+    dvh_mesh_free(a16);
+    free(expected);
+    free(moved);
+    free(moved32);
+    free(tris16);
+    mesh_free(&ma);
+    mesh_free(&mb);
+}
+
 int main(void) {
     test_versions_and_names();
     test_defaults();
@@ -511,5 +708,6 @@ int main(void) {
     test_collide_errors();
     test_triangle_test();
     test_against_oracle();
+    test_scene();
     return finish("test_api");
 }

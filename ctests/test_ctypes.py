@@ -1,5 +1,6 @@
 """Calls dvh from Python through ctypes, with nothing but the header's contract: builds two
-meshes, collides them, reads the pairs and counters, refits, and checks error paths.
+meshes, collides them, reads the pairs and counters, refits, queries a scene of them, and checks
+error paths.
 
 The library path comes from DVH_LIBRARY (default: target/release/libdvh.so)."""
 
@@ -49,8 +50,27 @@ class DvhQueryStats(ctypes.Structure):
     ]
 
 
+class DvhContact(ctypes.Structure):
+    _fields_ = [("object_a", ctypes.c_uint32), ("object_b", ctypes.c_uint32), ("a", ctypes.c_uint32), ("b", ctypes.c_uint32)]
+
+
+class DvhSceneStats(ctypes.Structure):
+    _fields_ = [
+        ("objects", ctypes.c_uint64),
+        ("object_pairs_tested", ctypes.c_uint64),
+        ("object_pairs_colliding", ctypes.c_uint64),
+        ("bv_tests", ctypes.c_uint64),
+        ("triangle_tests", ctypes.c_uint64),
+        ("nodes_refit", ctypes.c_uint64),
+        ("contacts", ctypes.c_uint64),
+        ("truncated", ctypes.c_bool),
+    ]
+
+
 MeshPtr = ctypes.c_void_p
 PairsPtr = ctypes.c_void_p
+ScenePtr = ctypes.c_void_p
+ContactsPtr = ctypes.c_void_p
 lib.dvh_version.restype = ctypes.c_char_p
 lib.dvh_status_name.restype = ctypes.c_char_p
 lib.dvh_status_name.argtypes = [DvhStatus]
@@ -82,6 +102,30 @@ lib.dvh_collide.argtypes = [
     MeshPtr, ctypes.POINTER(DvhPose), MeshPtr, ctypes.POINTER(DvhPose), ctypes.POINTER(DvhQueryOptions), PairsPtr,
     ctypes.POINTER(DvhQueryStats),
 ]
+
+lib.dvh_scene_create.restype = DvhStatus
+lib.dvh_scene_create.argtypes = [ctypes.POINTER(ScenePtr)]
+lib.dvh_scene_free.argtypes = [ScenePtr]
+lib.dvh_scene_add_rigid.restype = DvhStatus
+lib.dvh_scene_add_rigid.argtypes = [ScenePtr, MeshPtr, ctypes.POINTER(DvhPose), ctypes.c_uint32, ctypes.c_uint32, ctypes.POINTER(ctypes.c_uint32)]
+lib.dvh_scene_add_deformable.restype = DvhStatus
+lib.dvh_scene_add_deformable.argtypes = [ScenePtr, MeshPtr, ctypes.c_uint32, ctypes.c_uint32, ctypes.POINTER(ctypes.c_uint32)]
+lib.dvh_scene_set_pose.restype = DvhStatus
+lib.dvh_scene_set_pose.argtypes = [ScenePtr, ctypes.c_uint32, ctypes.POINTER(DvhPose)]
+lib.dvh_scene_set_positions.restype = DvhStatus
+lib.dvh_scene_set_positions.argtypes = [ScenePtr, ctypes.c_uint32, ctypes.POINTER(ctypes.c_double), ctypes.c_size_t]
+lib.dvh_scene_remove.restype = DvhStatus
+lib.dvh_scene_remove.argtypes = [ScenePtr, ctypes.c_uint32]
+lib.dvh_scene_exclude_pair.restype = DvhStatus
+lib.dvh_scene_exclude_pair.argtypes = [ScenePtr, ctypes.c_uint32, ctypes.c_uint32]
+lib.dvh_scene_collide.restype = DvhStatus
+lib.dvh_scene_collide.argtypes = [ScenePtr, ctypes.POINTER(DvhQueryOptions), ContactsPtr, ctypes.POINTER(DvhSceneStats)]
+lib.dvh_contacts_new.restype = ContactsPtr
+lib.dvh_contacts_len.restype = ctypes.c_size_t
+lib.dvh_contacts_len.argtypes = [ContactsPtr]
+lib.dvh_contacts_data.restype = ctypes.POINTER(DvhContact)
+lib.dvh_contacts_data.argtypes = [ContactsPtr]
+lib.dvh_contacts_free.argtypes = [ContactsPtr]
 
 
 def last_error():
@@ -240,6 +284,48 @@ def main():
         check(len(reference) >= 500, "the large sheets are in dense contact")
         for key, found in answers.items():
             check(key[2] != max_pairs or found == reference, f"threads {key}: the single-threaded answer")
+
+    # A scene: the sheet (deformable) and two tents sharing one mesh (rigid), one through the
+    # sheet and one far away; its contacts are the pairwise queries' with object ids.
+    lib.dvh_mesh_refit(tent, (ctypes.c_double * 12)(*tent_pos), 4)
+    scene = ScenePtr()
+    check(lib.dvh_scene_create(ctypes.byref(scene)) == DVH_STATUS_OK, "scene created")
+    ids = [ctypes.c_uint32() for _ in range(3)]
+    far = DvhPose((ctypes.c_double * 9)(1, 0, 0, 0, 1, 0, 0, 0, 1), (ctypes.c_double * 3)(50, 0, 0))
+    check(lib.dvh_scene_add_deformable(scene, sheet, 1, 0xFFFFFFFF, ctypes.byref(ids[0])) == DVH_STATUS_OK, "deformable added")
+    check(lib.dvh_scene_add_rigid(scene, tent, None, 1, 0xFFFFFFFF, ctypes.byref(ids[1])) == DVH_STATUS_OK, "rigid added")
+    check(lib.dvh_scene_add_rigid(scene, tent, ctypes.byref(far), 1, 0xFFFFFFFF, ctypes.byref(ids[2])) == DVH_STATUS_OK, "far rigid added")
+    check([i.value for i in ids] == [0, 1, 2], "object ids")
+    contacts = lib.dvh_contacts_new()
+    scene_stats = DvhSceneStats()
+
+    def contacts_of():
+        data = lib.dvh_contacts_data(contacts)
+        return [(data[i].object_a, data[i].object_b, data[i].a, data[i].b) for i in range(lib.dvh_contacts_len(contacts))]
+
+    check(lib.dvh_scene_collide(scene, None, contacts, ctypes.byref(scene_stats)) == DVH_STATUS_OK, "scene collide")
+    lib.dvh_collide(sheet, None, tent, None, None, pairs, None)
+    check(contacts_of() == [(0, 1, a, b) for a, b in pairs_of(pairs)] and len(contacts_of()) > 0, "scene contacts are the pairwise ones")
+    check(scene_stats.objects == 3 and scene_stats.object_pairs_tested == 1 and scene_stats.contacts == len(contacts_of()), "scene counters")
+    # The sheet lifted by 5 through new positions: no contact; back down by a pose on the tent.
+    lifted_sheet = [c + (5.0 if k % 3 == 2 else 0.0) for k, c in enumerate(sheet_pos)]
+    n = len(lifted_sheet) // 3
+    check(lib.dvh_scene_set_positions(scene, 0, (ctypes.c_double * len(lifted_sheet))(*lifted_sheet), n) == DVH_STATUS_OK, "set positions")
+    lib.dvh_scene_collide(scene, None, contacts, None)
+    check(contacts_of() == [], "lifted sheet: no contact")
+    up = DvhPose((ctypes.c_double * 9)(1, 0, 0, 0, 1, 0, 0, 0, 1), (ctypes.c_double * 3)(0, 0, 5))
+    check(lib.dvh_scene_set_pose(scene, 1, ctypes.byref(up)) == DVH_STATUS_OK, "set pose")
+    lib.dvh_scene_collide(scene, None, contacts, None)
+    check(contacts_of() == [(0, 1, a, b) for a, b in pairs_of(pairs)], "tent moved up with the sheet: the same contacts")
+    check(lib.dvh_scene_exclude_pair(scene, 1, 0) == DVH_STATUS_OK, "pair excluded")
+    lib.dvh_scene_collide(scene, None, contacts, None)
+    check(contacts_of() == [], "excluded pair: no contact")
+    check(lib.dvh_scene_set_pose(scene, 0, ctypes.byref(up)) == DVH_STATUS_INVALID_ARGUMENT, "pose of a deformable refused")
+    check("object 0 is deformable" in last_error(), "deformable message: " + last_error())
+    check(lib.dvh_scene_remove(scene, 2) == DVH_STATUS_OK and lib.dvh_scene_remove(scene, 2) == DVH_STATUS_INVALID_ARGUMENT, "remove once")
+    check("object 2 is not in the scene" in last_error(), "removed object message: " + last_error())
+    lib.dvh_contacts_free(contacts)
+    lib.dvh_scene_free(scene)
 
     lib.dvh_pairs_free(pairs)
     lib.dvh_mesh_free(sheet)

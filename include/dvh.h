@@ -7,14 +7,17 @@
  * - Every fallible call returns a DvhStatus: DVH_STATUS_OK (0) or a DVH_STATUS_* code, and
  *   dvh_last_error_message() then says exactly what was wrong (which argument, index, value).
  * - Out-parameters come last and are written only on success; a failed call changes nothing.
- * - Handles (DvhMesh, DvhPairs) are opaque, created by dvh_*_create / dvh_*_new, released by
- *   dvh_*_free, which accept NULL. Input arrays are copied; nothing is kept after a call returns.
+ * - Handles (DvhMesh, DvhPairs, DvhScene, DvhContacts) are opaque, created by dvh_*_create /
+ *   dvh_*_new, released by dvh_*_free, which accept NULL. Input arrays are copied; nothing is
+ *   kept after a call returns. A scene object copies what it needs of its mesh: the mesh may be
+ *   refit or freed afterwards.
  * - No input makes the library crash: pointers are checked for NULL and alignment, sizes for
  *   overflow, option values for range, coordinates for NaN and infinity; internal panics are
  *   caught and reported as DVH_STATUS_INTERNAL_PANIC.
  * - Thread safety: a const DvhMesh* may be queried by any number of threads at once, each with
- *   its own DvhPairs; dvh_mesh_refit needs exclusive access to its mesh. The last error message
- *   is per thread.
+ *   its own DvhPairs; dvh_mesh_refit needs exclusive access to its mesh. Every dvh_scene_* call,
+ *   dvh_scene_collide included (it refits objects), needs exclusive access to its scene; distinct
+ *   scenes may be used from distinct threads at once. The last error message is per thread.
  * - Threads of the library's own: a query (DvhQueryOptions.threads) and a refit
  *   (DvhBuildOptions.refit_threads) may share their work among threads of one pool, created on
  *   first use and kept for the life of the process (set RAYON_NUM_THREADS to size it); the
@@ -40,6 +43,12 @@
 #include <stdint.h>
 
 /**
+ * A reusable result buffer for `dvh_scene_collide`. Opaque; created by `dvh_contacts_new`,
+ * released by `dvh_contacts_free`. Use one per thread.
+ */
+typedef struct DvhContacts DvhContacts;
+
+/**
  * A mesh with its hierarchy: topology, current positions, 1-rings, spheres. Opaque; created by
  * `dvh_mesh_create`, released by `dvh_mesh_free`.
  */
@@ -50,6 +59,12 @@ typedef struct DvhMesh DvhMesh;
  * `dvh_pairs_new`, released by `dvh_pairs_free`. Use one per thread.
  */
 typedef struct DvhPairs DvhPairs;
+
+/**
+ * A set of objects (rigid or deformable, sharing meshes) queried together. Opaque; created by
+ * `dvh_scene_create`, released by `dvh_scene_free`.
+ */
+typedef struct DvhScene DvhScene;
 
 /**
  * Result of every fallible call: `DVH_STATUS_OK` (0) or one of the `DVH_STATUS_*` codes.
@@ -258,6 +273,67 @@ typedef struct DvhQueryStats {
    */
   uint64_t frontier_pairs;
 } DvhQueryStats;
+
+/**
+ * Counters of one scene query.
+ */
+typedef struct DvhSceneStats {
+  /**
+   * Objects in the scene.
+   */
+  uint64_t objects;
+  /**
+   * Object pairs that passed the broad phase and the filters, and were queried.
+   */
+  uint64_t object_pairs_tested;
+  /**
+   * Object pairs with at least one contact.
+   */
+  uint64_t object_pairs_colliding;
+  /**
+   * Volume pairs tested, over every object pair.
+   */
+  uint64_t bv_tests;
+  /**
+   * Triangle pairs given to the exact test, over every object pair.
+   */
+  uint64_t triangle_tests;
+  /**
+   * Nodes recomputed by the refits the query made.
+   */
+  uint64_t nodes_refit;
+  /**
+   * Contacts reported.
+   */
+  uint64_t contacts;
+  /**
+   * Did `max_pairs` cut the result short?
+   */
+  bool truncated;
+} DvhSceneStats;
+
+/**
+ * One contact of a scene query: `a` in object `object_a` meets `b` in object `object_b`, with
+ * `object_a < object_b` (triangles, or nodes in the coarse modes: see `dvh_contacts_kind`).
+ */
+typedef struct DvhContact {
+  /**
+   * The object with the lower id.
+   */
+  uint32_t object_a;
+  /**
+   * The object with the higher id.
+   */
+  uint32_t object_b;
+  /**
+   * Index in `object_a`'s mesh.
+   */
+  uint32_t a;
+  /**
+   * Index in `object_b`'s mesh.
+   */
+  uint32_t b;
+} DvhContact;
 
 /**
  * The call succeeded.
@@ -473,6 +549,22 @@ DvhStatus dvh_mesh_create(const double *positions,
                           size_t triangle_count,
                           const struct DvhBuildOptions *options,
                           struct DvhMesh **mesh_out);
+
+/**
+ * `dvh_mesh_create` with 16-bit triangle indices, as engines keep the index buffers of small
+ * meshes. The same contract, arguments and errors; the indices are widened to 32 bits.
+ *
+ * # Safety
+ * `positions` must point to `3 * vertex_count` readable doubles, `triangles` to
+ * `3 * triangle_count` readable 16-bit indices, `options` be NULL or readable, `mesh_out`
+ * writable.
+ */
+DvhStatus dvh_mesh_create_u16(const double *positions,
+                              size_t vertex_count,
+                              const uint16_t *triangles,
+                              size_t triangle_count,
+                              const struct DvhBuildOptions *options,
+                              struct DvhMesh **mesh_out);
 
 /**
  * Builds a mesh from `float` positions laid out at a byte stride, as engines keep vertex
@@ -722,6 +814,227 @@ DvhStatus dvh_collide(const struct DvhMesh *a,
  * `t1` and `t2` point to 9 readable doubles each; `result_out` is NULL or writable.
  */
 DvhStatus dvh_triangles_intersect(const double *t1, const double *t2, bool *result_out);
+
+/**
+ * Creates an empty scene and writes it to `*scene_out`. Release it with `dvh_scene_free`.
+ *
+ * Errors: NULL_ARGUMENT; OUT_OF_MEMORY.
+ *
+ * Thread safety: any thread, any time.
+ *
+ * # Safety
+ * `scene_out` is NULL or writable.
+ */
+DvhStatus dvh_scene_create(struct DvhScene **scene_out);
+
+/**
+ * Releases a scene and its objects (not the meshes they were made from). NULL is a no-op.
+ *
+ * Thread safety: needs exclusive access to `scene`; it must not be used afterwards.
+ *
+ * # Safety
+ * `scene` is NULL or a live scene from `dvh_scene_create`, not freed before.
+ */
+void dvh_scene_free(struct DvhScene *scene);
+
+/**
+ * Adds a rigid object: `mesh`'s current positions as local coordinates, placed by `pose` (NULL:
+ * the identity). The object shares the mesh's topology, rings and tree, and keeps its own copy
+ * of the positions and volumes: the mesh may be refit or freed afterwards without affecting
+ * it. Objects `i` and `j` are tested when `group_i & mask_j` and `group_j & mask_i` are both
+ * non-zero. The new object's id goes to `*object_out`: a small integer, stable until the
+ * object is removed (a removed id may be given to a later object).
+ *
+ * Errors: NULL_ARGUMENT (`scene`, `mesh`, `object_out`); NON_FINITE_COORDINATE and
+ * NON_RIGID_POSE (the pose); POSE_OUT_OF_RANGE; OUT_OF_MEMORY; INTERNAL_PANIC (a mesh whose
+ * refit panicked). On failure the scene is unchanged.
+ *
+ * Thread safety: exclusive access to `scene`; `mesh` is only read (no refit of it meanwhile).
+ *
+ * # Safety
+ * `scene` is NULL or a live scene; `mesh` is NULL or a live mesh; `pose` is NULL or readable;
+ * `object_out` is NULL or writable.
+ */
+DvhStatus dvh_scene_add_rigid(struct DvhScene *scene,
+                              const struct DvhMesh *mesh,
+                              const struct DvhPose *pose,
+                              uint32_t group,
+                              uint32_t mask,
+                              uint32_t *object_out);
+
+/**
+ * Adds a deformable object: `mesh`'s current positions as world coordinates, changed by
+ * `dvh_scene_set_positions`. It shares the mesh's topology, rings and tree and keeps its own
+ * positions and volumes; filters and ids as for `dvh_scene_add_rigid`.
+ *
+ * Errors: NULL_ARGUMENT; OUT_OF_MEMORY; INTERNAL_PANIC (a mesh whose refit panicked). On
+ * failure the scene is unchanged.
+ *
+ * Thread safety: as `dvh_scene_add_rigid`.
+ *
+ * # Safety
+ * `scene` is NULL or a live scene; `mesh` is NULL or a live mesh; `object_out` is NULL or
+ * writable.
+ */
+DvhStatus dvh_scene_add_deformable(struct DvhScene *scene,
+                                   const struct DvhMesh *mesh,
+                                   uint32_t group,
+                                   uint32_t mask,
+                                   uint32_t *object_out);
+
+/**
+ * Places rigid object `object` by `pose` (NULL: the identity).
+ *
+ * Errors: NULL_ARGUMENT (`scene`); INVALID_ARGUMENT (an unknown or removed id, a deformable
+ * object); NON_FINITE_COORDINATE and NON_RIGID_POSE (the pose); POSE_OUT_OF_RANGE. On failure
+ * the scene is unchanged.
+ *
+ * Thread safety: exclusive access to `scene`.
+ *
+ * # Safety
+ * `scene` is NULL or a live scene; `pose` is NULL or readable.
+ */
+DvhStatus dvh_scene_set_pose(struct DvhScene *scene, uint32_t object, const struct DvhPose *pose);
+
+/**
+ * Gives deformable object `object` new world positions (`x, y, z` per vertex, as many vertices
+ * as its mesh). They are checked and stored now; its volumes are recomputed by the next
+ * `dvh_scene_collide` that needs them.
+ *
+ * Errors: NULL_ARGUMENT; INVALID_ARGUMENT (an unknown or removed id, a rigid object, a
+ * different vertex count, a misaligned array); NON_FINITE_COORDINATE. On failure the scene is
+ * unchanged.
+ *
+ * Thread safety: exclusive access to `scene`.
+ *
+ * # Safety
+ * `scene` is NULL or a live scene; `positions` points to `3 * vertex_count` readable doubles.
+ */
+DvhStatus dvh_scene_set_positions(struct DvhScene *scene,
+                                  uint32_t object,
+                                  const double *positions,
+                                  size_t vertex_count);
+
+/**
+ * `dvh_scene_set_positions` with `float` positions at a byte stride (see
+ * `dvh_mesh_create_f32`).
+ *
+ * Errors: as `dvh_scene_set_positions`, plus INVALID_ARGUMENT for a stride below 12 bytes. On
+ * failure the scene is unchanged.
+ *
+ * Thread safety: exclusive access to `scene`.
+ *
+ * # Safety
+ * `scene` is NULL or a live scene; for each `i < vertex_count`, 12 bytes at
+ * `positions + i * stride_bytes` are readable.
+ */
+DvhStatus dvh_scene_set_positions_f32(struct DvhScene *scene,
+                                      uint32_t object,
+                                      const float *positions,
+                                      size_t stride_bytes,
+                                      size_t vertex_count);
+
+/**
+ * Removes object `object` and its pair exclusions; its id may be given to a later object.
+ *
+ * Errors: NULL_ARGUMENT; INVALID_ARGUMENT (an unknown or removed id).
+ *
+ * Thread safety: exclusive access to `scene`.
+ *
+ * # Safety
+ * `scene` is NULL or a live scene.
+ */
+DvhStatus dvh_scene_remove(struct DvhScene *scene, uint32_t object);
+
+/**
+ * Never tests objects `object_a` and `object_b` against each other (until one is removed).
+ *
+ * Errors: NULL_ARGUMENT; INVALID_ARGUMENT (an unknown or removed id, the same object twice).
+ *
+ * Thread safety: exclusive access to `scene`.
+ *
+ * # Safety
+ * `scene` is NULL or a live scene.
+ */
+DvhStatus dvh_scene_exclude_pair(struct DvhScene *scene, uint32_t object_a, uint32_t object_b);
+
+/**
+ * Every contact of the frame: for every two objects that the filters allow (groups and masks,
+ * exclusions) and whose world boxes overlap, exactly what `dvh_collide` reports for the two
+ * objects' current geometry and poses, in the mode `options` asks (NULL: the defaults; in
+ * `DVH_QUERY_MODE_FIRST_HIT` at most one contact per object pair). The contacts replace those
+ * in `contacts_out`, sorted by `(object_a, object_b, a, b)`; `max_pairs` bounds the whole
+ * result. The counters go to `*stats_out` unless it is NULL. Deformable objects whose
+ * positions changed are refit here, only those a pair needs (every one in the coarse modes).
+ * Object pairs are shared among `options->threads` threads; the result does not depend on the
+ * count. On failure neither `contacts_out` nor `*stats_out` changes.
+ *
+ * Errors: NULL_ARGUMENT (`scene`, `contacts_out`); INVALID_ARGUMENT (options out of range, a
+ * budget of 0); OUT_OF_MEMORY (set `max_pairs`).
+ *
+ * Thread safety: exclusive access to `scene` (the query refits objects), and a `contacts_out`
+ * used by no other thread.
+ *
+ * # Safety
+ * `scene` is NULL or a live scene; `options` is NULL or readable; `contacts_out` is NULL or a
+ * live buffer; `stats_out` is NULL or writable.
+ */
+DvhStatus dvh_scene_collide(struct DvhScene *scene,
+                            const struct DvhQueryOptions *options,
+                            struct DvhContacts *contacts_out,
+                            struct DvhSceneStats *stats_out);
+
+/**
+ * A new, empty contact buffer, or NULL when memory ran out. Owned by the caller, released with
+ * `dvh_contacts_free`; it keeps the scratch space of the queries that use it.
+ *
+ * Thread safety: any thread; a buffer must be used by one thread at a time.
+ */
+struct DvhContacts *dvh_contacts_new(void);
+
+/**
+ * Number of contacts of the last successful query into `contacts` (0 for NULL or a new
+ * buffer).
+ *
+ * Thread safety: not alongside a query writing the same buffer.
+ *
+ * # Safety
+ * `contacts` is NULL or a live buffer.
+ */
+size_t dvh_contacts_len(const struct DvhContacts *contacts);
+
+/**
+ * The contacts of the last successful query into `contacts`: `dvh_contacts_len(contacts)`
+ * entries sorted by `(object_a, object_b, a, b)`. NULL when there are none. Owned by the
+ * buffer; valid until the next `dvh_scene_collide` into it or `dvh_contacts_free`.
+ *
+ * Thread safety: as `dvh_contacts_len`.
+ *
+ * # Safety
+ * `contacts` is NULL or a live buffer.
+ */
+const struct DvhContact *dvh_contacts_data(const struct DvhContacts *contacts);
+
+/**
+ * What `a` and `b` of the contacts in `contacts` index: `DVH_PAIR_KIND_TRIANGLES` or
+ * `DVH_PAIR_KIND_NODES` (triangles for NULL or a new buffer).
+ *
+ * Thread safety: as `dvh_contacts_len`.
+ *
+ * # Safety
+ * `contacts` is NULL or a live buffer.
+ */
+DvhPairKind dvh_contacts_kind(const struct DvhContacts *contacts);
+
+/**
+ * Releases a contact buffer. NULL is a no-op.
+ *
+ * Thread safety: needs exclusive access; the buffer must not be used afterwards.
+ *
+ * # Safety
+ * `contacts` is NULL or a live buffer from `dvh_contacts_new`, not freed before.
+ */
+void dvh_contacts_free(struct DvhContacts *contacts);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -4,6 +4,7 @@ use super::boundary::{Failure, choice, guard, guard_value, slice_from, times_thr
 use super::types::*;
 use crate::geometry::predicates::Point;
 use crate::{BuildOptions, LeftoverPolicy, Mesh, RadiusKind, TreeKind, VolumeKind};
+use std::borrow::Cow;
 
 /// The default build options, the fastest measured for meshes that deform: octree, box volumes
 /// (`DVH_VOLUME_KIND_AABB`), layered radii (for sphere volumes), leftover triangles joined to
@@ -97,7 +98,7 @@ unsafe fn read_build_options(options: *const DvhBuildOptions) -> Result<BuildOpt
 
 /// Reads `f32` positions at a byte stride, checked so that the span they cover fits in memory.
 /// Reads are unaligned, so any stride of at least 12 bytes works.
-struct StridedF32 {
+pub(super) struct StridedF32 {
     base: *const u8,
     stride: usize,
 }
@@ -106,7 +107,7 @@ impl StridedF32 {
     /// # Safety
     /// If `base` is non-NULL, `vertex_count` vertices of three `f32` each must be readable at
     /// `base + i * stride_bytes` for the duration of the use.
-    unsafe fn new(
+    pub(super) unsafe fn new(
         base: *const f32,
         stride_bytes: usize,
         vertex_count: usize,
@@ -135,7 +136,7 @@ impl StridedF32 {
     }
 
     #[inline]
-    fn get(&self, i: usize) -> Point {
+    pub(super) fn get(&self, i: usize) -> Point {
         // SAFETY: `i` is below the vertex count this reader was checked for; the caller of `new`
         // guarantees three readable floats there. Unaligned reads accept any stride.
         unsafe {
@@ -203,6 +204,86 @@ pub unsafe extern "C" fn dvh_mesh_create(
     options: *const DvhBuildOptions,
     mesh_out: *mut *mut DvhMesh,
 ) -> DvhStatus {
+    // SAFETY: the caller's contract is this function's.
+    unsafe {
+        create_f64(
+            positions,
+            vertex_count,
+            triangles,
+            triangle_count,
+            options,
+            mesh_out,
+        )
+    }
+}
+
+/// `dvh_mesh_create` with 16-bit triangle indices, as engines keep the index buffers of small
+/// meshes. The same contract, arguments and errors; the indices are widened to 32 bits.
+///
+/// # Safety
+/// `positions` must point to `3 * vertex_count` readable doubles, `triangles` to
+/// `3 * triangle_count` readable 16-bit indices, `options` be NULL or readable, `mesh_out`
+/// writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_mesh_create_u16(
+    positions: *const f64,
+    vertex_count: usize,
+    triangles: *const u16,
+    triangle_count: usize,
+    options: *const DvhBuildOptions,
+    mesh_out: *mut *mut DvhMesh,
+) -> DvhStatus {
+    // SAFETY: the caller's contract is this function's.
+    unsafe {
+        create_f64(
+            positions,
+            vertex_count,
+            triangles,
+            triangle_count,
+            options,
+            mesh_out,
+        )
+    }
+}
+
+/// A triangle index type of the C ABI.
+trait TriangleIndex: Copy {
+    /// The indices as `u32`: borrowed when they are, widened into a fallibly allocated copy
+    /// otherwise.
+    fn widen(indices: &[Self]) -> Result<Cow<'_, [u32]>, Failure>;
+}
+
+impl TriangleIndex for u32 {
+    fn widen(indices: &[u32]) -> Result<Cow<'_, [u32]>, Failure> {
+        Ok(Cow::Borrowed(indices))
+    }
+}
+
+impl TriangleIndex for u16 {
+    fn widen(indices: &[u16]) -> Result<Cow<'_, [u32]>, Failure> {
+        let mut wide: Vec<u32> = Vec::new();
+        wide.try_reserve_exact(indices.len()).map_err(|_| {
+            Failure::from(crate::Error::OutOfMemory {
+                bytes: indices.len() * 4,
+            })
+        })?;
+        wide.extend(indices.iter().map(|&i| u32::from(i)));
+        Ok(Cow::Owned(wide))
+    }
+}
+
+/// `dvh_mesh_create` for either index type.
+///
+/// # Safety
+/// As `dvh_mesh_create`, with `triangles` pointing to `3 * triangle_count` readable `I`.
+unsafe fn create_f64<I: TriangleIndex>(
+    positions: *const f64,
+    vertex_count: usize,
+    triangles: *const I,
+    triangle_count: usize,
+    options: *const DvhBuildOptions,
+    mesh_out: *mut *mut DvhMesh,
+) -> DvhStatus {
     guard(|| {
         if mesh_out.is_null() {
             return Err(Failure::null("mesh_out"));
@@ -224,9 +305,10 @@ pub unsafe extern "C" fn dvh_mesh_create(
                 "triangles",
             )?
         };
+        let triangles = I::widen(triangles)?;
         // SAFETY: NULL or readable per the contract.
         let options = unsafe { read_build_options(options)? };
-        let mesh = Mesh::new(positions, triangles, &options)?;
+        let mesh = Mesh::new(positions, &triangles, &options)?;
         // SAFETY: `mesh_out` checked non-NULL above.
         unsafe { publish(mesh, mesh_out) }
     })

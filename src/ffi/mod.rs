@@ -11,10 +11,12 @@
 mod boundary;
 mod mesh;
 mod query;
+mod scene;
 mod types;
 
 pub use mesh::*;
 pub use query::*;
+pub use scene::*;
 pub use types::*;
 
 use boundary::{guard_value, with_last_error};

@@ -20,7 +20,7 @@ pub extern "C" fn dvh_query_options_default() -> DvhQueryOptions {
     guard_value(DEFAULT, || DEFAULT)
 }
 
-fn query_options(o: &DvhQueryOptions) -> Result<QueryOptions, Failure> {
+pub(super) fn query_options(o: &DvhQueryOptions) -> Result<QueryOptions, Failure> {
     let mode = choice(
         "mode",
         "DVH_QUERY_MODE",
@@ -46,7 +46,7 @@ fn query_options(o: &DvhQueryOptions) -> Result<QueryOptions, Failure> {
     })
 }
 
-fn pose(p: &DvhPose, name: &str) -> Result<Pose, Failure> {
+pub(super) fn pose(p: &DvhPose, name: &str) -> Result<Pose, Failure> {
     let r = &p.rotation;
     Pose::new(
         [[r[0], r[1], r[2]], [r[3], r[4], r[5]], [r[6], r[7], r[8]]],

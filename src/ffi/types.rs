@@ -4,7 +4,7 @@
 //! enums: a C caller can pass any integer, and an out-of-range value read as a Rust enum would be
 //! undefined behaviour. Every such value is checked and reported as an invalid argument.
 
-use crate::Pair;
+use crate::{Contact, Pair};
 
 /// Result of every fallible call: `DVH_STATUS_OK` (0) or one of the `DVH_STATUS_*` codes.
 /// `dvh_last_error_message` gives the details of a failure.
@@ -224,4 +224,64 @@ pub struct DvhMesh {
 /// `dvh_pairs_new`, released by `dvh_pairs_free`. Use one per thread.
 pub struct DvhPairs {
     pub(crate) pairs: crate::Pairs,
+}
+
+/// One contact of a scene query: `a` in object `object_a` meets `b` in object `object_b`, with
+/// `object_a < object_b` (triangles, or nodes in the coarse modes: see `dvh_contacts_kind`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DvhContact {
+    /// The object with the lower id.
+    pub object_a: u32,
+    /// The object with the higher id.
+    pub object_b: u32,
+    /// Index in `object_a`'s mesh.
+    pub a: u32,
+    /// Index in `object_b`'s mesh.
+    pub b: u32,
+}
+
+// `dvh_contacts_data` hands out the library's own `Contact` array as `DvhContact`: same fields,
+// same order, both `repr(C)`.
+const _: () = {
+    assert!(std::mem::size_of::<DvhContact>() == std::mem::size_of::<Contact>());
+    assert!(std::mem::align_of::<DvhContact>() == std::mem::align_of::<Contact>());
+    assert!(std::mem::offset_of!(DvhContact, object_a) == std::mem::offset_of!(Contact, object_a));
+    assert!(std::mem::offset_of!(DvhContact, object_b) == std::mem::offset_of!(Contact, object_b));
+    assert!(std::mem::offset_of!(DvhContact, a) == std::mem::offset_of!(Contact, a));
+    assert!(std::mem::offset_of!(DvhContact, b) == std::mem::offset_of!(Contact, b));
+};
+
+/// Counters of one scene query.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DvhSceneStats {
+    /// Objects in the scene.
+    pub objects: u64,
+    /// Object pairs that passed the broad phase and the filters, and were queried.
+    pub object_pairs_tested: u64,
+    /// Object pairs with at least one contact.
+    pub object_pairs_colliding: u64,
+    /// Volume pairs tested, over every object pair.
+    pub bv_tests: u64,
+    /// Triangle pairs given to the exact test, over every object pair.
+    pub triangle_tests: u64,
+    /// Nodes recomputed by the refits the query made.
+    pub nodes_refit: u64,
+    /// Contacts reported.
+    pub contacts: u64,
+    /// Did `max_pairs` cut the result short?
+    pub truncated: bool,
+}
+
+/// A set of objects (rigid or deformable, sharing meshes) queried together. Opaque; created by
+/// `dvh_scene_create`, released by `dvh_scene_free`.
+pub struct DvhScene {
+    pub(crate) scene: crate::Scene,
+}
+
+/// A reusable result buffer for `dvh_scene_collide`. Opaque; created by `dvh_contacts_new`,
+/// released by `dvh_contacts_free`. Use one per thread.
+pub struct DvhContacts {
+    pub(crate) contacts: crate::Contacts,
 }

@@ -60,6 +60,8 @@ impl Object {
 /// Threads: a scene is changed through `&mut` and queried through `&mut` (the query refits
 /// the deformable objects it needs); one scene may be used from one thread at a time, several
 /// scenes from several threads at once.
+///
+/// The README's "Scenes" section shows one in use (tested with the crate's doctests).
 #[derive(Clone, Debug, Default)]
 pub struct Scene {
     objects: Vec<Option<Object>>,
@@ -96,7 +98,8 @@ impl Scene {
     /// and `j` are tested when `group_i & mask_j` and `group_j & mask_i` are both non-zero.
     ///
     /// Errors: [`Error::ObjectPoseOutOfRange`] when the pose could move the mesh's coordinates
-    /// beyond [`MAX_POSED_MAGNITUDE`].
+    /// beyond [`MAX_POSED_MAGNITUDE`]; [`Error::OutOfMemory`] when the object's copy cannot be
+    /// allocated.
     pub fn add_rigid(
         &mut self,
         mesh: &Mesh,
@@ -105,6 +108,7 @@ impl Scene {
         mask: u32,
     ) -> Result<u32> {
         let pose = pose.copied().unwrap_or_default();
+        self.make_room(mesh.state_bytes())?;
         let local = Aabb::of_points(&mesh.positions);
         let world = posed_box(&pose, &local, mesh.max_abs)?;
         let mut mesh = mesh.clone();
@@ -125,9 +129,12 @@ impl Scene {
     /// [`Scene::set_positions`]. It shares `mesh`'s topology, rings and tree and keeps its own
     /// positions and volumes, so `mesh` may be refit or dropped afterwards. Filters as for
     /// [`Scene::add_rigid`].
-    pub fn add_deformable(&mut self, mesh: &Mesh, group: u32, mask: u32) -> u32 {
+    ///
+    /// Errors: [`Error::OutOfMemory`] when the object's copy cannot be allocated.
+    pub fn add_deformable(&mut self, mesh: &Mesh, group: u32, mask: u32) -> Result<u32> {
+        self.make_room(mesh.state_bytes())?;
         let world = Aabb::of_points(&mesh.positions);
-        self.insert(
+        Ok(self.insert(
             Object {
                 mesh: mesh.clone(),
                 motion: Motion::Deformable { stale: false },
@@ -135,7 +142,20 @@ impl Scene {
                 mask,
             },
             world,
-        )
+        ))
+    }
+
+    /// Fails with [`Error::OutOfMemory`] unless a new object's copy of `bytes` and the scene's
+    /// tables' growth can be allocated: Rust aborts on a failed allocation, so the copy is
+    /// asked for once, fallibly, and given back (under overcommit no page is touched).
+    fn make_room(&mut self, bytes: usize) -> Result<()> {
+        let oom = |bytes| Error::OutOfMemory { bytes };
+        if self.free.is_empty() {
+            self.objects.try_reserve(1).map_err(|_| oom(1))?;
+            self.boxes.try_reserve(1).map_err(|_| oom(1))?;
+        }
+        let mut probe: Vec<u8> = Vec::new();
+        probe.try_reserve_exact(bytes).map_err(|_| oom(bytes))
     }
 
     fn insert(&mut self, object: Object, world: Aabb) -> u32 {
@@ -172,6 +192,13 @@ impl Scene {
     /// Is `id` an object of the scene?
     pub fn contains(&self, id: u32) -> bool {
         self.object(id).is_ok()
+    }
+
+    /// Number of vertices of object `id`'s mesh.
+    ///
+    /// Errors: [`Error::UnknownObject`].
+    pub fn vertex_count(&self, id: u32) -> Result<usize> {
+        Ok(self.object(id)?.mesh.vertex_count())
     }
 
     /// Is object `id` rigid? (`None` for an unknown id.)

@@ -116,7 +116,7 @@ fn scene_equals_pairwise_queries() {
                 }
                 let mut m = mesh.clone();
                 m.refit(&positions).unwrap();
-                let id = scene.add_deformable(&m, group, mask);
+                let id = scene.add_deformable(&m, group, mask).unwrap();
                 let model = Model {
                     mesh: m,
                     pose: None,
@@ -330,7 +330,7 @@ fn max_pairs_bounds_the_whole_result() {
 fn errors_change_nothing() {
     let (mesh, mut scene) = chain(3);
     let d = icosphere(2);
-    let deformable = scene.add_deformable(&mesh, 1, u32::MAX);
+    let deformable = scene.add_deformable(&mesh, 1, u32::MAX).unwrap();
     let mut before = Contacts::new();
     scene
         .collide(&QueryOptions::default(), &mut before)
@@ -408,7 +408,7 @@ fn errors_change_nothing() {
 fn refit_waits_for_a_query_that_needs_it() {
     let (mesh, mut scene) = chain(2);
     let d = icosphere(2);
-    let id = scene.add_deformable(&mesh, 1, u32::MAX);
+    let id = scene.add_deformable(&mesh, 1, u32::MAX).unwrap();
     let far: Vec<f64> = d
         .positions
         .iter()

@@ -1,0 +1,451 @@
+//! Scenes through the C ABI: objects, filters, the frame's query and its contact buffer.
+
+use super::boundary::{
+    Failure, guard, guard_value, set_last_error, slice_from, times_three, try_box,
+};
+use super::mesh::StridedF32;
+use super::query::{pose, query_options};
+use super::types::*;
+use crate::{Contacts, Mesh, PairKind, Pose, Scene};
+
+/// Creates an empty scene and writes it to `*scene_out`. Release it with `dvh_scene_free`.
+///
+/// Errors: NULL_ARGUMENT; OUT_OF_MEMORY.
+///
+/// Thread safety: any thread, any time.
+///
+/// # Safety
+/// `scene_out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_create(scene_out: *mut *mut DvhScene) -> DvhStatus {
+    guard(|| {
+        if scene_out.is_null() {
+            return Err(Failure::null("scene_out"));
+        }
+        let ptr = try_box(DvhScene {
+            scene: Scene::new(),
+        })?;
+        // SAFETY: non-NULL (checked) and writable per the contract.
+        unsafe { scene_out.write(ptr) };
+        Ok(())
+    })
+}
+
+/// Releases a scene and its objects (not the meshes they were made from). NULL is a no-op.
+///
+/// Thread safety: needs exclusive access to `scene`; it must not be used afterwards.
+///
+/// # Safety
+/// `scene` is NULL or a live scene from `dvh_scene_create`, not freed before.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_free(scene: *mut DvhScene) {
+    guard_value((), || {
+        if !scene.is_null() {
+            // SAFETY: allocated by `try_box`, owned by the caller and released once (contract).
+            drop(unsafe { Box::from_raw(scene) });
+        }
+    })
+}
+
+/// The scene behind `scene`, for a call that changes it.
+///
+/// # Safety
+/// `scene` is NULL or a live scene used by no other thread during the call.
+unsafe fn scene_mut<'a>(scene: *mut DvhScene) -> Result<&'a mut Scene, Failure> {
+    // SAFETY: per the contract.
+    unsafe { scene.as_mut() }
+        .map(|s| &mut s.scene)
+        .ok_or_else(|| Failure::null("scene"))
+}
+
+/// The mesh an object is made from, refused if an earlier refit of it panicked.
+///
+/// # Safety
+/// `mesh` is NULL or a live mesh not being refit.
+unsafe fn source_mesh<'a>(mesh: *const DvhMesh) -> Result<&'a Mesh, Failure> {
+    // SAFETY: per the contract.
+    let m = unsafe { mesh.as_ref() }.ok_or_else(|| Failure::null("mesh"))?;
+    if m.poisoned {
+        return Err(Failure::new(
+            DVH_STATUS_INTERNAL_PANIC,
+            "the mesh is unusable: an internal panic interrupted an earlier refit",
+        ));
+    }
+    Ok(&m.mesh)
+}
+
+/// Adds an object made from `mesh` with `make` and writes its id to `*object_out`.
+///
+/// # Safety
+/// `scene` is NULL or a live scene used by no other thread; `mesh` is NULL or a live mesh not
+/// being refit; `object_out` is NULL or writable.
+unsafe fn add(
+    scene: *mut DvhScene,
+    mesh: *const DvhMesh,
+    object_out: *mut u32,
+    make: impl FnOnce(&mut Scene, &Mesh) -> Result<u32, Failure>,
+) -> DvhStatus {
+    guard(|| {
+        // SAFETY: per the contract.
+        let (s, m) = unsafe { (scene_mut(scene)?, source_mesh(mesh)?) };
+        if object_out.is_null() {
+            return Err(Failure::null("object_out"));
+        }
+        let id = make(s, m)?;
+        // SAFETY: non-NULL (checked), writable (contract).
+        unsafe { object_out.write(id) };
+        Ok(())
+    })
+}
+
+/// Adds a rigid object: `mesh`'s current positions as local coordinates, placed by `pose` (NULL:
+/// the identity). The object shares the mesh's topology, rings and tree, and keeps its own copy
+/// of the positions and volumes: the mesh may be refit or freed afterwards without affecting
+/// it. Objects `i` and `j` are tested when `group_i & mask_j` and `group_j & mask_i` are both
+/// non-zero. The new object's id goes to `*object_out`: a small integer, stable until the
+/// object is removed (a removed id may be given to a later object).
+///
+/// Errors: NULL_ARGUMENT (`scene`, `mesh`, `object_out`); NON_FINITE_COORDINATE and
+/// NON_RIGID_POSE (the pose); POSE_OUT_OF_RANGE; OUT_OF_MEMORY; INTERNAL_PANIC (a mesh whose
+/// refit panicked). On failure the scene is unchanged.
+///
+/// Thread safety: exclusive access to `scene`; `mesh` is only read (no refit of it meanwhile).
+///
+/// # Safety
+/// `scene` is NULL or a live scene; `mesh` is NULL or a live mesh; `pose` is NULL or readable;
+/// `object_out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_add_rigid(
+    scene: *mut DvhScene,
+    mesh: *const DvhMesh,
+    pose: *const DvhPose,
+    group: u32,
+    mask: u32,
+    object_out: *mut u32,
+) -> DvhStatus {
+    // SAFETY: NULL or readable (contract); read inside the guard below.
+    let pose = unsafe { pose.as_ref() };
+    // SAFETY: the caller's contract is `add`'s.
+    unsafe {
+        add(scene, mesh, object_out, |s, m| {
+            let p = pose.map(|p| self::pose(p, "pose")).transpose()?;
+            Ok(s.add_rigid(m, p.as_ref(), group, mask)?)
+        })
+    }
+}
+
+/// Adds a deformable object: `mesh`'s current positions as world coordinates, changed by
+/// `dvh_scene_set_positions`. It shares the mesh's topology, rings and tree and keeps its own
+/// positions and volumes; filters and ids as for `dvh_scene_add_rigid`.
+///
+/// Errors: NULL_ARGUMENT; OUT_OF_MEMORY; INTERNAL_PANIC (a mesh whose refit panicked). On
+/// failure the scene is unchanged.
+///
+/// Thread safety: as `dvh_scene_add_rigid`.
+///
+/// # Safety
+/// `scene` is NULL or a live scene; `mesh` is NULL or a live mesh; `object_out` is NULL or
+/// writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_add_deformable(
+    scene: *mut DvhScene,
+    mesh: *const DvhMesh,
+    group: u32,
+    mask: u32,
+    object_out: *mut u32,
+) -> DvhStatus {
+    // SAFETY: the caller's contract is `add`'s.
+    unsafe {
+        add(scene, mesh, object_out, |s, m| {
+            Ok(s.add_deformable(m, group, mask)?)
+        })
+    }
+}
+
+/// Places rigid object `object` by `pose` (NULL: the identity).
+///
+/// Errors: NULL_ARGUMENT (`scene`); INVALID_ARGUMENT (an unknown or removed id, a deformable
+/// object); NON_FINITE_COORDINATE and NON_RIGID_POSE (the pose); POSE_OUT_OF_RANGE. On failure
+/// the scene is unchanged.
+///
+/// Thread safety: exclusive access to `scene`.
+///
+/// # Safety
+/// `scene` is NULL or a live scene; `pose` is NULL or readable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_set_pose(
+    scene: *mut DvhScene,
+    object: u32,
+    pose: *const DvhPose,
+) -> DvhStatus {
+    guard(|| {
+        // SAFETY: per the contract.
+        let s = unsafe { scene_mut(scene)? };
+        // SAFETY: NULL or readable (contract).
+        let p: Option<Pose> = unsafe { pose.as_ref() }
+            .map(|p| self::pose(p, "pose"))
+            .transpose()?;
+        s.set_pose(object, p.as_ref())?;
+        Ok(())
+    })
+}
+
+/// Checks an object's vertex count before its positions are read.
+fn check_vertex_count(s: &Scene, object: u32, vertex_count: usize) -> Result<(), Failure> {
+    let n = s.vertex_count(object)?;
+    if vertex_count != n {
+        return Err(Failure::invalid(format!(
+            "vertex_count = {vertex_count}, but object {object} has {n} vertices"
+        )));
+    }
+    Ok(())
+}
+
+/// Gives deformable object `object` new world positions (`x, y, z` per vertex, as many vertices
+/// as its mesh). They are checked and stored now; its volumes are recomputed by the next
+/// `dvh_scene_collide` that needs them.
+///
+/// Errors: NULL_ARGUMENT; INVALID_ARGUMENT (an unknown or removed id, a rigid object, a
+/// different vertex count, a misaligned array); NON_FINITE_COORDINATE. On failure the scene is
+/// unchanged.
+///
+/// Thread safety: exclusive access to `scene`.
+///
+/// # Safety
+/// `scene` is NULL or a live scene; `positions` points to `3 * vertex_count` readable doubles.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_set_positions(
+    scene: *mut DvhScene,
+    object: u32,
+    positions: *const f64,
+    vertex_count: usize,
+) -> DvhStatus {
+    guard(|| {
+        // SAFETY: per the contract.
+        let s = unsafe { scene_mut(scene)? };
+        check_vertex_count(s, object, vertex_count)?;
+        let len = times_three(vertex_count, "vertex_count")?;
+        // SAFETY: readable per the contract; NULL, alignment and size are checked inside.
+        let positions = unsafe { slice_from(positions, len, "positions")? };
+        s.set_positions(object, positions)?;
+        Ok(())
+    })
+}
+
+/// `dvh_scene_set_positions` with `float` positions at a byte stride (see
+/// `dvh_mesh_create_f32`).
+///
+/// Errors: as `dvh_scene_set_positions`, plus INVALID_ARGUMENT for a stride below 12 bytes. On
+/// failure the scene is unchanged.
+///
+/// Thread safety: exclusive access to `scene`.
+///
+/// # Safety
+/// `scene` is NULL or a live scene; for each `i < vertex_count`, 12 bytes at
+/// `positions + i * stride_bytes` are readable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_set_positions_f32(
+    scene: *mut DvhScene,
+    object: u32,
+    positions: *const f32,
+    stride_bytes: usize,
+    vertex_count: usize,
+) -> DvhStatus {
+    guard(|| {
+        // SAFETY: per the contract.
+        let s = unsafe { scene_mut(scene)? };
+        check_vertex_count(s, object, vertex_count)?;
+        // SAFETY: readable per the contract; NULL, stride and span are checked inside.
+        let reader = unsafe { StridedF32::new(positions, stride_bytes, vertex_count)? };
+        s.set_positions_with(object, vertex_count, |i| reader.get(i))?;
+        Ok(())
+    })
+}
+
+/// Removes object `object` and its pair exclusions; its id may be given to a later object.
+///
+/// Errors: NULL_ARGUMENT; INVALID_ARGUMENT (an unknown or removed id).
+///
+/// Thread safety: exclusive access to `scene`.
+///
+/// # Safety
+/// `scene` is NULL or a live scene.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_remove(scene: *mut DvhScene, object: u32) -> DvhStatus {
+    guard(|| {
+        // SAFETY: per the contract.
+        unsafe { scene_mut(scene)? }.remove(object)?;
+        Ok(())
+    })
+}
+
+/// Never tests objects `object_a` and `object_b` against each other (until one is removed).
+///
+/// Errors: NULL_ARGUMENT; INVALID_ARGUMENT (an unknown or removed id, the same object twice).
+///
+/// Thread safety: exclusive access to `scene`.
+///
+/// # Safety
+/// `scene` is NULL or a live scene.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_exclude_pair(
+    scene: *mut DvhScene,
+    object_a: u32,
+    object_b: u32,
+) -> DvhStatus {
+    guard(|| {
+        // SAFETY: per the contract.
+        unsafe { scene_mut(scene)? }.exclude_pair(object_a, object_b)?;
+        Ok(())
+    })
+}
+
+/// Every contact of the frame: for every two objects that the filters allow (groups and masks,
+/// exclusions) and whose world boxes overlap, exactly what `dvh_collide` reports for the two
+/// objects' current geometry and poses, in the mode `options` asks (NULL: the defaults; in
+/// `DVH_QUERY_MODE_FIRST_HIT` at most one contact per object pair). The contacts replace those
+/// in `contacts_out`, sorted by `(object_a, object_b, a, b)`; `max_pairs` bounds the whole
+/// result. The counters go to `*stats_out` unless it is NULL. Deformable objects whose
+/// positions changed are refit here, only those a pair needs (every one in the coarse modes).
+/// Object pairs are shared among `options->threads` threads; the result does not depend on the
+/// count. On failure neither `contacts_out` nor `*stats_out` changes.
+///
+/// Errors: NULL_ARGUMENT (`scene`, `contacts_out`); INVALID_ARGUMENT (options out of range, a
+/// budget of 0); OUT_OF_MEMORY (set `max_pairs`).
+///
+/// Thread safety: exclusive access to `scene` (the query refits objects), and a `contacts_out`
+/// used by no other thread.
+///
+/// # Safety
+/// `scene` is NULL or a live scene; `options` is NULL or readable; `contacts_out` is NULL or a
+/// live buffer; `stats_out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_collide(
+    scene: *mut DvhScene,
+    options: *const DvhQueryOptions,
+    contacts_out: *mut DvhContacts,
+    stats_out: *mut DvhSceneStats,
+) -> DvhStatus {
+    guard(|| {
+        // SAFETY: per the contract.
+        let s = unsafe { scene_mut(scene)? };
+        // SAFETY: NULL or a live buffer used by this thread only (contract).
+        let out = unsafe { contacts_out.as_mut() }.ok_or_else(|| Failure::null("contacts_out"))?;
+        // SAFETY: NULL or readable (contract).
+        let o = unsafe { options.as_ref() }
+            .map(query_options)
+            .transpose()?
+            .unwrap_or_default();
+        let st = s.collide(&o, &mut out.contacts)?;
+        if !stats_out.is_null() {
+            // SAFETY: non-NULL and writable (contract).
+            unsafe {
+                stats_out.write(DvhSceneStats {
+                    objects: st.objects,
+                    object_pairs_tested: st.object_pairs_tested,
+                    object_pairs_colliding: st.object_pairs_colliding,
+                    bv_tests: st.bv_tests,
+                    triangle_tests: st.triangle_tests,
+                    nodes_refit: st.nodes_refit,
+                    contacts: st.contacts,
+                    truncated: st.truncated,
+                })
+            };
+        }
+        Ok(())
+    })
+}
+
+/// A new, empty contact buffer, or NULL when memory ran out. Owned by the caller, released with
+/// `dvh_contacts_free`; it keeps the scratch space of the queries that use it.
+///
+/// Thread safety: any thread; a buffer must be used by one thread at a time.
+#[unsafe(no_mangle)]
+pub extern "C" fn dvh_contacts_new() -> *mut DvhContacts {
+    guard_value(std::ptr::null_mut(), || {
+        match try_box(DvhContacts {
+            contacts: Contacts::new(),
+        }) {
+            Ok(p) => p,
+            Err(f) => {
+                set_last_error(&f.message);
+                std::ptr::null_mut()
+            }
+        }
+    })
+}
+
+/// # Safety
+/// `contacts` is NULL or a live buffer not written by another thread during the call.
+unsafe fn contacts_ref<'a>(contacts: *const DvhContacts) -> Option<&'a Contacts> {
+    // SAFETY: per the contract.
+    unsafe { contacts.as_ref() }.map(|c| &c.contacts)
+}
+
+/// Number of contacts of the last successful query into `contacts` (0 for NULL or a new
+/// buffer).
+///
+/// Thread safety: not alongside a query writing the same buffer.
+///
+/// # Safety
+/// `contacts` is NULL or a live buffer.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_contacts_len(contacts: *const DvhContacts) -> usize {
+    // SAFETY: per the contract.
+    guard_value(0, || {
+        unsafe { contacts_ref(contacts) }.map_or(0, Contacts::len)
+    })
+}
+
+/// The contacts of the last successful query into `contacts`: `dvh_contacts_len(contacts)`
+/// entries sorted by `(object_a, object_b, a, b)`. NULL when there are none. Owned by the
+/// buffer; valid until the next `dvh_scene_collide` into it or `dvh_contacts_free`.
+///
+/// Thread safety: as `dvh_contacts_len`.
+///
+/// # Safety
+/// `contacts` is NULL or a live buffer.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_contacts_data(contacts: *const DvhContacts) -> *const DvhContact {
+    guard_value(std::ptr::null(), || {
+        // SAFETY: per the contract.
+        match unsafe { contacts_ref(contacts) } {
+            Some(c) if !c.is_empty() => c.as_slice().as_ptr().cast::<DvhContact>(),
+            _ => std::ptr::null(),
+        }
+    })
+}
+
+/// What `a` and `b` of the contacts in `contacts` index: `DVH_PAIR_KIND_TRIANGLES` or
+/// `DVH_PAIR_KIND_NODES` (triangles for NULL or a new buffer).
+///
+/// Thread safety: as `dvh_contacts_len`.
+///
+/// # Safety
+/// `contacts` is NULL or a live buffer.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_contacts_kind(contacts: *const DvhContacts) -> DvhPairKind {
+    guard_value(DVH_PAIR_KIND_TRIANGLES, || {
+        // SAFETY: per the contract.
+        match unsafe { contacts_ref(contacts) }.map(Contacts::kind) {
+            Some(PairKind::Nodes) => DVH_PAIR_KIND_NODES,
+            _ => DVH_PAIR_KIND_TRIANGLES,
+        }
+    })
+}
+
+/// Releases a contact buffer. NULL is a no-op.
+///
+/// Thread safety: needs exclusive access; the buffer must not be used afterwards.
+///
+/// # Safety
+/// `contacts` is NULL or a live buffer from `dvh_contacts_new`, not freed before.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_contacts_free(contacts: *mut DvhContacts) {
+    guard_value((), || {
+        if !contacts.is_null() {
+            // SAFETY: allocated by `try_box`, owned by the caller, released once (contract).
+            drop(unsafe { Box::from_raw(contacts) });
+        }
+    })
+}
