@@ -6,6 +6,7 @@
 #   runner/run.sh all --full      paper sizes and 200 frames (about 25 minutes)
 #   runner/run.sh paper --full --scene large --out DIR
 #   runner/run.sh profile --full --scene copy --threads 2   dvh alone, each frame repeated
+#   runner/run.sh scenes --full --threads 1   dvh::Scene against the same work pair by pair
 #
 # Output: target/dvh-runner (or --out DIR): summary.md, CSV files, SVG plots.
 set -euo pipefail

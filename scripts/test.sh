@@ -31,6 +31,9 @@ runner/run.sh all --out target/dvh-runner >/dev/null
 # The profiling command (a frame's refit and query repeated) on one thread and on two.
 runner/run.sh profile --frames 2 --repeat 2 >/dev/null
 runner/run.sh profile --scene copy --frames 2 --repeat 2 --threads 2 >/dev/null
+# Scenes against the same work pair by pair (fails if their contacts differ), on both thread counts.
+runner/run.sh scenes --frames 3 --repeat 1 >/dev/null
+runner/run.sh scenes --frames 3 --repeat 1 --threads 0 >/dev/null
 # The main job must keep working.
 cargo run --release --quiet --example demo -- --frames 4 >/dev/null
 echo "all tests passed"

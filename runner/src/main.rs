@@ -2,7 +2,7 @@
 //! the same run, as tables (printed, and written as Markdown and CSV) and SVG plots.
 //!
 //! ```text
-//! dvh-runner [paper|knobs|exactness|rigid|all|checksums|profile] [--full] [--scene NAME]...
+//! dvh-runner [paper|knobs|exactness|rigid|all|checksums|profile|scenes] [--full] [--scene NAME]...
 //!            [--frames N] [--knob-frames N] [--repeat N] [--threads N] [--pause MS] [--out DIR]
 //! ```
 //!
@@ -43,6 +43,7 @@ mod profile;
 mod report;
 mod rigid;
 mod scene;
+mod scenes;
 
 use method::Method;
 use scene::{Scene, Size};
@@ -59,6 +60,7 @@ enum Command {
     All,
     Checksums,
     Profile,
+    Scenes,
 }
 
 struct Args {
@@ -73,7 +75,7 @@ struct Args {
 }
 
 fn usage() -> String {
-    "usage: dvh-runner [paper|knobs|exactness|rigid|all|checksums|profile] [--full] \
+    "usage: dvh-runner [paper|knobs|exactness|rigid|all|checksums|profile|scenes] [--full] \
      [--scene NAME]... [--frames N] [--knob-frames N] [--repeat N] [--threads N] [--pause MS] [--out DIR]"
         .to_string()
 }
@@ -111,6 +113,7 @@ fn parse() -> Result<Args, String> {
             "all" => args.command = Command::All,
             "checksums" => args.command = Command::Checksums,
             "profile" => args.command = Command::Profile,
+            "scenes" => args.command = Command::Scenes,
             "--full" => args.size.full = true,
             "--scene" => args.scenes.push(value("--scene")?),
             "--frames" => args.size.frames = number("--frames", value("--frames")?)?,
@@ -212,6 +215,18 @@ fn run(args: &Args) -> Result<bool, Box<dyn std::error::Error>> {
         return Ok(true);
     }
 
+    if args.command == Command::Scenes {
+        let frames = if args.size.frames > 0 {
+            args.size.frames
+        } else {
+            10
+        };
+        print!(
+            "{}",
+            scenes::run(args.size, frames, args.repeat, args.threads)?
+        );
+        return Ok(true);
+    }
     if args.command == Command::Profile {
         let frames = if args.size.frames > 0 {
             args.size.frames

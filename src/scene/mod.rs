@@ -25,8 +25,8 @@ use std::collections::HashSet;
 #[derive(Clone, Debug)]
 enum Motion {
     /// Its mesh's positions at the time it was added, as local coordinates, placed by a pose;
-    /// never refit. `local` is the box of those positions.
-    Rigid { pose: Pose, local: Aabb },
+    /// never refit. `local` bounds those positions.
+    Rigid { pose: Pose, local: LocalBounds },
     /// Positions of its own, in world coordinates. `stale`: they changed since its volumes were
     /// last computed.
     Deformable { stale: bool },
@@ -109,8 +109,8 @@ impl Scene {
     ) -> Result<u32> {
         let pose = pose.copied().unwrap_or_default();
         self.make_room(mesh.state_bytes())?;
-        let local = Aabb::of_points(&mesh.positions);
-        let world = posed_box(&pose, &local, mesh.max_abs)?;
+        let local = LocalBounds::of(&mesh.positions);
+        let world = local.posed(&pose, mesh.max_abs)?;
         let mut mesh = mesh.clone();
         // A rigid object is never refit: no room for new positions.
         mesh.spare = Vec::new();
@@ -222,7 +222,7 @@ impl Scene {
                 rigid: false,
             });
         };
-        let world = posed_box(&new, local, max_abs).map_err(|e| Error::Object {
+        let world = local.posed(&new, max_abs).map_err(|e| Error::Object {
             object: id,
             error: Box::new(e),
         })?;
@@ -312,6 +312,50 @@ impl Scene {
             .sum::<usize>()
             + self.objects.capacity() * std::mem::size_of::<Option<Object>>()
             + self.boxes.capacity() * std::mem::size_of::<Aabb>()
+    }
+}
+
+/// What a rigid object keeps to bound itself wherever its pose puts it: the box of its local
+/// positions and a ball around them. A turned box's axis-aligned box grows up to `√3` times;
+/// the ball's does not, so the world box is the intersection of both (both hold every vertex).
+#[derive(Clone, Copy, Debug)]
+struct LocalBounds {
+    aabb: Aabb,
+    centre: [f64; 3],
+    radius: f64,
+}
+
+impl LocalBounds {
+    fn of(points: &[[f64; 3]]) -> LocalBounds {
+        let aabb = Aabb::of_points(points);
+        let centre = aabb.centre();
+        let radius = points
+            .iter()
+            .map(|p| crate::geometry::sphere::distance_squared(p, &centre))
+            .fold(0.0, f64::max)
+            .sqrt();
+        LocalBounds {
+            aabb,
+            centre,
+            radius: crate::geometry::sphere::round_up(radius),
+        }
+    }
+
+    /// The world box of the points placed by `pose` (as [`posed_box`], tightened by the ball).
+    fn posed(&self, pose: &Pose, max_abs: f64) -> Result<Aabb> {
+        let corners = posed_box(pose, &self.aabb, max_abs)?;
+        if pose.is_identity() || self.aabb.is_empty() {
+            return Ok(corners);
+        }
+        // The centre moves within `error` of its exact image, every vertex too; the ball's radius
+        // grows by the rotation's stretch.
+        let (error, _) = pose.rounding_bound(max_abs);
+        let c = pose.transform_point(&self.centre);
+        let h = (self.radius * pose.stretch() + 2.0 * error) * (1.0 + 64.0 * f64::EPSILON);
+        Ok(Aabb {
+            lo: [0, 1, 2].map(|k| corners.lo[k].max((c[k] - h).next_down())),
+            hi: [0, 1, 2].map(|k| corners.hi[k].min((c[k] + h).next_up())),
+        })
     }
 }
 

@@ -434,3 +434,30 @@ fn refit_waits_for_a_query_that_needs_it() {
         .unwrap();
     assert_eq!(stats.nodes_refit, 0, "already fresh");
 }
+
+/// A rigid object's world box holds every vertex as the query computes it, for turned poses at
+/// every scale and far from the origin.
+#[test]
+fn rigid_world_box_holds_every_posed_vertex() {
+    let mut rng = Rng::new(3);
+    for scale in [1e-9, 1.0, 1e7] {
+        let mut d = icosphere(2);
+        d.scale(scale);
+        for _ in 0..50 {
+            let points: Vec<[f64; 3]> = d
+                .positions
+                .chunks_exact(3)
+                .map(|v| [v[0], v[1], v[2]])
+                .collect();
+            let local = LocalBounds::of(&points);
+            let mut pose = random_pose(&mut rng, 1.0);
+            let far = [0, 1, 2].map(|_| rng.range(-1e6, 1e6) * scale);
+            pose = Pose::new(pose.rotation(), far).unwrap();
+            let world = local.posed(&pose, scale * 2.0).unwrap();
+            for v in d.positions.chunks_exact(3) {
+                let p = pose.transform_point(&[v[0], v[1], v[2]]);
+                assert!(world.contains(&p), "scale {scale}: {p:?} outside {world:?}");
+            }
+        }
+    }
+}

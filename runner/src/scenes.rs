@@ -1,0 +1,414 @@
+//! `scenes`: dvh's [`dvh::Scene`] against the same work done pair by pair, on three scenes.
+//!
+//! - **many** (the paper's scene 1): every object deforms and moves. Pair by pair, each frame
+//!   refits every mesh and queries every object pair; the scene takes the positions and queries
+//!   once (broad phase, refits only of objects some overlapping pair needs).
+//! - **static**: 10,000 rigid objects from 4 shared meshes on a grid, 1% of them given a new
+//!   pose each frame. The same scene with every pair filtered out (masks 0) times the broad
+//!   phase and the filters alone.
+//! - **cloth**: one deforming sheet (cloth-sized) sinking onto 1,000 rigid balls. Pair by pair:
+//!   a refit of the sheet and a query of it against every ball.
+//!
+//! Each frame is run `repeat` times and its fastest time kept; the table gives medians over the
+//! frames. Every frame checks that the scene's contacts are the pairwise ones.
+
+use crate::report::median;
+use crate::scene::{self, Size};
+use dvh::fixtures::{MeshData, Rng, grid, icosphere, torus};
+use dvh::{BuildOptions, Contact, Contacts, Mesh, Pairs, Pose, QueryOptions, Scene, collide};
+use std::fmt::Write;
+use std::time::Instant;
+
+/// One row of the table.
+struct Row {
+    scene: String,
+    method: &'static str,
+    ms: Vec<f64>,
+    nodes_refit: u64,
+    pairs_queried: u64,
+    contacts: u64,
+}
+
+/// The fastest of `repeat` runs of `f`, in milliseconds, and its last result.
+fn fastest<T>(repeat: usize, mut f: impl FnMut() -> T) -> (f64, T) {
+    let mut best = f64::INFINITY;
+    let mut last = None;
+    for _ in 0..repeat.max(1) {
+        let t = Instant::now();
+        let r = f();
+        best = best.min(t.elapsed().as_secs_f64() * 1e3);
+        last = Some(r);
+    }
+    (best, last.expect("at least one run"))
+}
+
+fn contacts_of(pairs: &Pairs, i: usize, j: usize, out: &mut Vec<Contact>) {
+    out.extend(pairs.iter().map(|p| Contact {
+        object_a: i as u32,
+        object_b: j as u32,
+        a: p.a,
+        b: p.b,
+    }));
+}
+
+fn check(scene: &Contacts, pairwise: &[Contact], what: &str) -> Result<(), String> {
+    if scene.as_slice() != pairwise {
+        return Err(format!(
+            "{what}: the scene found {} contacts, pair by pair {}",
+            scene.len(),
+            pairwise.len()
+        ));
+    }
+    Ok(())
+}
+
+/// The paper's scene 1 as a scene, against every pair queried after an eager refit.
+fn many(
+    size: Size,
+    frames: usize,
+    repeat: usize,
+    threads: u32,
+    rows: &mut Vec<Row>,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let s = scene::make("many", size).expect("a known scene");
+    let options = BuildOptions {
+        refit_threads: threads,
+        ..BuildOptions::default()
+    };
+    let query = QueryOptions {
+        threads,
+        ..QueryOptions::default()
+    };
+    let mut world = vec![Vec::new(); s.objects.len()];
+    s.world(0, &mut world);
+    let mut meshes = s
+        .objects
+        .iter()
+        .zip(&world)
+        .map(|(o, w)| Mesh::new(w, &o.rest.triangles, &options))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut scene = Scene::new();
+    for m in &meshes {
+        scene.add_deformable(m, 1, u32::MAX)?;
+    }
+    let (mut pairwise, mut together) = (
+        Row {
+            scene: format!("many ({} objects)", meshes.len()),
+            method: "pair by pair, eager refit",
+            ms: Vec::new(),
+            nodes_refit: 0,
+            pairs_queried: 0,
+            contacts: 0,
+        },
+        Row {
+            scene: format!("many ({} objects)", meshes.len()),
+            method: "scene",
+            ms: Vec::new(),
+            nodes_refit: 0,
+            pairs_queried: 0,
+            contacts: 0,
+        },
+    );
+    let mut pairs = Pairs::new();
+    let mut contacts = Contacts::new();
+    let mut expected = Vec::new();
+    for k in 0..frames {
+        let f = k * s.frames / frames.max(1);
+        s.world(f, &mut world);
+        let (ms, r) = fastest(repeat, || -> Result<(u64, Vec<Contact>), dvh::Error> {
+            let mut nodes = 0;
+            for (m, w) in meshes.iter_mut().zip(&world) {
+                nodes += m.refit(w)?.nodes_refit;
+            }
+            expected.clear();
+            for &(i, j) in &s.pairs {
+                collide(&meshes[i], None, &meshes[j], None, &query, &mut pairs)?;
+                contacts_of(&pairs, i, j, &mut expected);
+            }
+            Ok((nodes, std::mem::take(&mut expected)))
+        });
+        let (nodes, found) = r?;
+        pairwise.ms.push(ms);
+        pairwise.nodes_refit += nodes;
+        pairwise.pairs_queried += s.pairs.len() as u64;
+        pairwise.contacts += found.len() as u64;
+        let (ms, st) = fastest(repeat, || -> Result<dvh::SceneStats, dvh::Error> {
+            for (id, w) in world.iter().enumerate() {
+                scene.set_positions(id as u32, w)?;
+            }
+            scene.collide(&query, &mut contacts)
+        });
+        let st = st?;
+        check(&contacts, &found, &format!("many, frame {f}"))?;
+        together.ms.push(ms);
+        together.nodes_refit += st.nodes_refit;
+        together.pairs_queried += st.object_pairs_tested;
+        together.contacts += st.contacts;
+    }
+    rows.push(pairwise);
+    rows.push(together);
+    Ok(())
+}
+
+/// A pose turning by `angle` about `axis` (Rodrigues' formula) and moved to `at`.
+fn pose(axis: [f64; 3], angle: f64, at: [f64; 3]) -> Pose {
+    let n = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
+    let [x, y, z] = axis.map(|v| v / n);
+    let (s, c) = angle.sin_cos();
+    let t = 1.0 - c;
+    let r = [
+        [t * x * x + c, t * x * y - s * z, t * x * z + s * y],
+        [t * x * y + s * z, t * y * y + c, t * y * z - s * x],
+        [t * x * z - s * y, t * y * z + s * x, t * z * z + c],
+    ];
+    Pose::new(r, at).expect("a rotation")
+}
+
+/// 10,000 rigid objects from 4 shared meshes, 1% of them moved each frame.
+fn static_objects(
+    count: usize,
+    frames: usize,
+    repeat: usize,
+    threads: u32,
+    rows: &mut Vec<Row>,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let shapes: Vec<MeshData> = vec![icosphere(1), icosphere(2), torus(0.4, 0.15, 16, 8), {
+        let mut g = grid(6, 0.9);
+        g.translate([-0.45, -0.45, 0.0]);
+        g
+    }];
+    let meshes = shapes
+        .iter()
+        .map(|d| Mesh::new(&d.positions, &d.triangles, &BuildOptions::rigid()))
+        .collect::<Result<Vec<_>, _>>()?;
+    let side = (count as f64).cbrt().ceil() as usize;
+    // Shapes of radius at most 1, 2 apart along x: neighbours' boxes overlap where they turn,
+    // and some touch.
+    let place = |i: usize, rng: &mut Rng| {
+        let (x, y, z) = (i % side, (i / side) % side, i / (side * side));
+        let axis = [
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+            rng.range(0.1, 1.0),
+        ];
+        pose(
+            axis,
+            rng.range(0.0, 3.0),
+            [2.0 * x as f64, 2.4 * y as f64, 2.4 * z as f64],
+        )
+    };
+    let query = QueryOptions {
+        threads,
+        ..QueryOptions::default()
+    };
+    for (filtered, method) in [
+        (false, "scene, 1% moved per frame"),
+        (true, "the same, every pair filtered: broad phase alone"),
+    ] {
+        let mut rng = Rng::new(9);
+        let mut scene = Scene::new();
+        for i in 0..count {
+            let p = place(i, &mut rng);
+            scene.add_rigid(
+                &meshes[i % meshes.len()],
+                Some(&p),
+                1,
+                if filtered { 0 } else { u32::MAX },
+            )?;
+        }
+        let mut row = Row {
+            scene: format!("static ({count} rigid objects)"),
+            method,
+            ms: Vec::new(),
+            nodes_refit: 0,
+            pairs_queried: 0,
+            contacts: 0,
+        };
+        let mut contacts = Contacts::new();
+        for _ in 0..frames {
+            let moved: Vec<(u32, Pose)> = (0..count / 100)
+                .map(|_| {
+                    let i = rng.below(count as u64) as usize;
+                    (i as u32, place(i, &mut rng))
+                })
+                .collect();
+            let (ms, st) = fastest(repeat, || -> Result<dvh::SceneStats, dvh::Error> {
+                for (i, p) in &moved {
+                    scene.set_pose(*i, Some(p))?;
+                }
+                scene.collide(&query, &mut contacts)
+            });
+            let st = st?;
+            row.ms.push(ms);
+            row.pairs_queried += st.object_pairs_tested;
+            row.contacts += st.contacts;
+        }
+        rows.push(row);
+    }
+    Ok(())
+}
+
+/// A deforming sheet sinking onto 1,000 rigid balls.
+fn cloth(
+    size: Size,
+    frames: usize,
+    repeat: usize,
+    threads: u32,
+    rows: &mut Vec<Row>,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let n = if size.full { 224 } else { 64 }; // 2 n^2 triangles: 100,352 in full
+    let balls = 1000;
+    let sheet = grid(n, 40.0);
+    let mut ball = icosphere(2);
+    ball.scale(0.5);
+    let query = QueryOptions {
+        threads,
+        ..QueryOptions::default()
+    };
+    let build = BuildOptions {
+        refit_threads: threads,
+        ..BuildOptions::default()
+    };
+    let mut cloth_mesh = Mesh::new(&sheet.positions, &sheet.triangles, &build)?;
+    let ball_mesh = Mesh::new(&ball.positions, &ball.triangles, &BuildOptions::rigid())?;
+    let mut rng = Rng::new(5);
+    // Balls of radius 0.5 on a 32 x 32 grid 1.25 apart (none touching), their heights varied.
+    let poses: Vec<Pose> = (0..balls)
+        .map(|i| {
+            let (x, y) = ((i % 32) as f64, (i / 32) as f64);
+            let at = [0.6 + 1.25 * x, 0.6 + 1.25 * y, rng.range(-0.5, 0.5)];
+            pose([0.0, 0.0, 1.0], rng.range(0.0, 6.0), at)
+        })
+        .collect();
+    let mut scene = Scene::new();
+    let cloth_id = scene.add_deformable(&cloth_mesh, 1, u32::MAX)?;
+    for p in &poses {
+        scene.add_rigid(&ball_mesh, Some(p), 1, u32::MAX)?;
+    }
+    // The sheet sags from height 3 to touch and then pass through the balls' tops.
+    let at = |t: f64, out: &mut Vec<f64>| {
+        out.clear();
+        for v in sheet.positions.chunks_exact(3) {
+            let (x, y) = (v[0], v[1]);
+            let sag = ((x / 40.0 * std::f64::consts::PI).sin()
+                * (y / 40.0 * std::f64::consts::PI).sin())
+                * 1.5;
+            out.extend([
+                x,
+                y,
+                3.0 - 2.5 * t - sag * t + 0.2 * (x * 0.7 + y * 0.3 + 6.0 * t).sin(),
+            ]);
+        }
+    };
+    let name = format!(
+        "cloth ({} triangles, {balls} rigid balls)",
+        sheet.triangle_count()
+    );
+    let (mut pairwise, mut together) = (
+        Row {
+            scene: name.clone(),
+            method: "pair by pair: refit, sheet against every ball",
+            ms: Vec::new(),
+            nodes_refit: 0,
+            pairs_queried: 0,
+            contacts: 0,
+        },
+        Row {
+            scene: name,
+            method: "scene",
+            ms: Vec::new(),
+            nodes_refit: 0,
+            pairs_queried: 0,
+            contacts: 0,
+        },
+    );
+    let mut positions = Vec::new();
+    let mut pairs = Pairs::new();
+    let mut contacts = Contacts::new();
+    for k in 0..frames {
+        at(k as f64 / frames.max(1) as f64, &mut positions);
+        let (ms, r) = fastest(repeat, || -> Result<(u64, Vec<Contact>), dvh::Error> {
+            let nodes = cloth_mesh.refit(&positions)?.nodes_refit;
+            let mut found = Vec::new();
+            for (b, p) in poses.iter().enumerate() {
+                collide(&cloth_mesh, None, &ball_mesh, Some(p), &query, &mut pairs)?;
+                contacts_of(&pairs, cloth_id as usize, b + 1, &mut found);
+            }
+            Ok((nodes, found))
+        });
+        let (nodes, found) = r?;
+        pairwise.ms.push(ms);
+        pairwise.nodes_refit += nodes;
+        pairwise.pairs_queried += balls as u64;
+        pairwise.contacts += found.len() as u64;
+        let (ms, st) = fastest(repeat, || -> Result<dvh::SceneStats, dvh::Error> {
+            scene.set_positions(cloth_id, &positions)?;
+            scene.collide(&query, &mut contacts)
+        });
+        let st = st?;
+        // Balls that touch each other add contacts of their own: compare the sheet's only.
+        let sheet_contacts: Vec<Contact> = contacts
+            .iter()
+            .copied()
+            .filter(|c| c.object_a == cloth_id)
+            .collect();
+        if sheet_contacts != found {
+            return Err(format!(
+                "cloth, frame {k}: the scene found {} sheet contacts, pair by pair {}",
+                sheet_contacts.len(),
+                found.len()
+            )
+            .into());
+        }
+        together.ms.push(ms);
+        together.nodes_refit += st.nodes_refit;
+        together.pairs_queried += st.object_pairs_tested;
+        together.contacts += st.contacts;
+    }
+    rows.push(pairwise);
+    rows.push(together);
+    Ok(())
+}
+
+/// Runs the three scenes and returns the table.
+pub fn run(
+    size: Size,
+    frames: usize,
+    repeat: usize,
+    threads: u32,
+) -> Result<String, Box<dyn std::error::Error>> {
+    let mut rows = Vec::new();
+    many(size, frames, repeat, threads, &mut rows)?;
+    static_objects(
+        if size.full { 10_000 } else { 1_000 },
+        frames,
+        repeat,
+        threads,
+        &mut rows,
+    )?;
+    cloth(size, frames, repeat, threads, &mut rows)?;
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "Medians over {frames} frames of each frame's fastest of {repeat} runs; counters are means per frame; threads = {threads}.\n"
+    );
+    let _ = writeln!(
+        out,
+        "| scene | method | ms per frame | nodes refit | object pairs queried | contacts |"
+    );
+    let _ = writeln!(out, "|---|---|---|---|---|---|");
+    let f = frames.max(1) as f64;
+    for r in &rows {
+        let _ = writeln!(
+            out,
+            "| {} | {} | {:.3} | {:.0} | {:.0} | {:.0} |",
+            r.scene,
+            r.method,
+            median(&r.ms),
+            r.nodes_refit as f64 / f,
+            r.pairs_queried as f64 / f,
+            r.contacts as f64 / f
+        );
+    }
+    Ok(out)
+}
