@@ -1,6 +1,7 @@
 //! Checking user input before anything is built or changed.
 
 use crate::error::{Error, Result};
+use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::{Point, SAFE_MAX, SAFE_MIN};
 
 /// What a scan of the coordinates learned, besides that they are valid.
@@ -10,6 +11,9 @@ pub(crate) struct Extent {
     pub max_abs: f64,
     /// Is every coordinate inside the range where the adaptive predicates are exact?
     pub safe: bool,
+    /// The box of the points (a scene's broad phase reads it; the scan has every coordinate
+    /// at hand, where a second pass would read the positions again).
+    pub bounds: Aabb,
 }
 
 /// Checks a flat `x, y, z` position array: length a multiple of 3, every value finite.
@@ -52,6 +56,9 @@ struct Scan {
     largest: [f64; SCAN_LANES],
     smallest: [f64; SCAN_LANES],
     poison: [f64; SCAN_LANES],
+    /// Least and greatest value per lane (lane `k` holds axis `k % 3`).
+    lo: [f64; SCAN_LANES],
+    hi: [f64; SCAN_LANES],
 }
 
 impl Scan {
@@ -60,6 +67,8 @@ impl Scan {
             largest: [0.0; SCAN_LANES],
             smallest: [f64::INFINITY; SCAN_LANES],
             poison: [0.0; SCAN_LANES],
+            lo: [f64::INFINITY; SCAN_LANES],
+            hi: [f64::NEG_INFINITY; SCAN_LANES],
         }
     }
 
@@ -81,6 +90,8 @@ impl Scan {
         #[allow(clippy::eq_op)]
         let poisoned = v - v;
         self.poison[k] += poisoned;
+        self.lo[k] = if v < self.lo[k] { v } else { self.lo[k] };
+        self.hi[k] = if v > self.hi[k] { v } else { self.hi[k] };
     }
 
     /// The scan of both inputs.
@@ -90,6 +101,8 @@ impl Scan {
             out.largest[k] = self.largest[k].max(other.largest[k]);
             out.smallest[k] = self.smallest[k].min(other.smallest[k]);
             out.poison[k] = self.poison[k] + other.poison[k];
+            out.lo[k] = self.lo[k].min(other.lo[k]);
+            out.hi[k] = self.hi[k].max(other.hi[k]);
         }
         out
     }
@@ -104,6 +117,10 @@ impl Scan {
         Extent {
             max_abs: largest,
             safe: largest <= SAFE_MAX && smallest >= SAFE_MIN,
+            bounds: Aabb {
+                lo: [0, 1, 2].map(|k| self.lo[k].min(self.lo[k + 3])),
+                hi: [0, 1, 2].map(|k| self.hi[k].max(self.hi[k + 3])),
+            },
         }
     }
 }
@@ -275,7 +292,11 @@ mod tests {
             e,
             Extent {
                 max_abs: 2.0,
-                safe: true
+                safe: true,
+                bounds: Aabb {
+                    lo: [1.0, -2.0, 0.0],
+                    hi: [1.0, -2.0, 0.0]
+                }
             }
         );
         assert!(!scan_positions(&[1e-300, 0.0, 0.0]).unwrap().safe);

@@ -3,6 +3,7 @@
 use super::input::{Extent, store_points, store_positions};
 use super::mesh::{Mesh, RefitStats};
 use crate::error::{Error, Result};
+use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::Point;
 use crate::volume::RefitInput;
 
@@ -33,8 +34,9 @@ impl Mesh {
 
     /// [`Mesh::refit`]'s first half: checks `positions` and makes them current, leaving every
     /// volume as it was until [`Mesh::update_volumes`] (a scene refits an object only when a
-    /// query needs it). The same errors; on error the mesh is exactly as it was.
-    pub(crate) fn take_positions(&mut self, positions: &[f64]) -> Result<()> {
+    /// query needs it). Returns their box. The same errors; on error the mesh is exactly as it
+    /// was.
+    pub(crate) fn take_positions(&mut self, positions: &[f64]) -> Result<Aabb> {
         if positions.len() != self.positions.len() * 3 {
             if !positions.len().is_multiple_of(3) {
                 return Err(Error::PositionsLength {
@@ -48,7 +50,7 @@ impl Mesh {
         }
         let extent = store_positions(positions, &mut self.spare, self.scratch.len())?;
         self.install(extent);
-        Ok(())
+        Ok(extent.bounds)
     }
 
     /// [`Mesh::refit`] with each vertex's coordinates given by `position(i)` for `i` in
@@ -69,7 +71,7 @@ impl Mesh {
         &mut self,
         vertex_count: usize,
         position: impl Fn(usize) -> Point,
-    ) -> Result<()> {
+    ) -> Result<Aabb> {
         if vertex_count != self.positions.len() {
             return Err(Error::VertexCountMismatch {
                 expected: self.positions.len(),
@@ -78,7 +80,7 @@ impl Mesh {
         }
         let extent = store_points(position, &mut self.spare)?;
         self.install(extent);
-        Ok(())
+        Ok(extent.bounds)
     }
 
     /// [`Mesh::refit`] from points.

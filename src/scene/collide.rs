@@ -2,7 +2,7 @@
 //! objects among them are refit, and the pairs are queried on the threads allowed, their
 //! contacts merged in order.
 
-use super::{Motion, Object, Scene, volume_box};
+use super::{Apart, Motion, Object, Scene, volume_box};
 use crate::error::{Error, Result};
 use crate::geometry::aabb::Aabb;
 use crate::query::{PairKind, Pairs, QueryMode, QueryOptions, collide};
@@ -30,7 +30,9 @@ pub struct Contact {
 pub struct SceneStats {
     /// Objects in the scene.
     pub objects: u64,
-    /// Object pairs that passed the broad phase and the filters, and were queried.
+    /// Object pairs that passed the broad phase and the filters, and were queried. A pair that
+    /// an earlier query found without contact is not queried again while neither object has
+    /// changed (nor the options): it is not counted.
     pub object_pairs_tested: u64,
     /// Object pairs with at least one contact.
     pub object_pairs_colliding: u64,
@@ -87,6 +89,8 @@ struct Span {
     worker: u32,
     start: usize,
     len: usize,
+    /// Did `max_pairs` cut this pair's query short?
+    truncated: bool,
 }
 
 impl Contacts {
@@ -130,6 +134,7 @@ impl Worker {
         opts: &QueryOptions,
     ) -> Span {
         let start = self.found.len();
+        let mut truncated = false;
         if self.error.is_some() {
             return Span::default();
         }
@@ -149,6 +154,7 @@ impl Worker {
                 self.bv_tests += stats.bv_tests;
                 self.triangle_tests += stats.triangle_tests;
                 self.truncated |= stats.truncated;
+                truncated = stats.truncated;
                 if self.found.try_reserve(self.pairs.len()).is_err() {
                     self.error = Some(Error::OutOfMemory {
                         bytes: self.pairs.len() * std::mem::size_of::<Contact>(),
@@ -168,6 +174,7 @@ impl Worker {
             worker: 0,
             start,
             len: self.found.len() - start,
+            truncated,
         }
     }
 }
@@ -208,10 +215,29 @@ impl Scene {
                 .collect();
             self.broad.overlapping(&boxes, &mut candidates);
         } else {
-            self.broad.overlapping(&self.boxes, &mut candidates);
+            candidates.clear();
+            candidates.extend(self.broad.update(&self.boxes).iter().copied());
         }
         candidates.retain(|&(i, j)| self.allowed(i, j));
         candidates.sort_unstable();
+        // Pairs found apart before, unchanged since, are not queried again.
+        let key = QueryOptions {
+            threads: 0,
+            ..*options
+        };
+        let mut apart_next = std::mem::take(&mut self.apart_next);
+        apart_next.clear();
+        candidates.retain(|&(i, j)| {
+            let now = Apart {
+                stamps: (stamp(&self.objects, i), stamp(&self.objects, j)),
+                options: key,
+            };
+            let unchanged = self.apart.get(&(i, j)) == Some(&now);
+            if unchanged {
+                apart_next.insert((i, j), now);
+            }
+            !unchanged
+        });
         if !options.mode.reports_nodes() {
             let mut needed = vec![false; self.objects.len()];
             for &(i, j) in &candidates {
@@ -221,6 +247,19 @@ impl Scene {
             stats.nodes_refit = self.refit_stale(|id| needed[id], options.threads);
         }
         let result = self.query_pairs(&candidates, options, out, &mut stats);
+        if result.is_ok() {
+            for (&(i, j), span) in candidates.iter().zip(&out.spans) {
+                if span.len == 0 && !span.truncated {
+                    let now = Apart {
+                        stamps: (stamp(&self.objects, i), stamp(&self.objects, j)),
+                        options: key,
+                    };
+                    apart_next.insert((i, j), now);
+                }
+            }
+            std::mem::swap(&mut self.apart, &mut apart_next);
+        }
+        self.apart_next = apart_next;
         self.candidates = candidates;
         result.map(|()| stats)
     }
@@ -357,4 +396,9 @@ impl Scene {
         };
         Ok(())
     }
+}
+
+/// Object `id`'s stamp (0 for none).
+fn stamp(objects: &[Option<Object>], id: u32) -> u64 {
+    objects[id as usize].as_ref().map_or(0, |o| o.stamp)
 }

@@ -17,9 +17,10 @@ use crate::geometry::MAX_POSED_MAGNITUDE;
 use crate::geometry::aabb::Aabb;
 use crate::geometry::pose::Pose;
 use crate::mesh::Mesh;
+use crate::query::QueryOptions;
 use crate::volume::Volumes;
 use broad::SweepAndPrune;
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 
 /// How an object moves.
 #[derive(Clone, Debug)]
@@ -39,6 +40,9 @@ struct Object {
     motion: Motion,
     group: u32,
     mask: u32,
+    /// Changes whenever the object's geometry or pose does (drawn from [`Scene::stamps`], so an
+    /// object that takes a removed one's id never has its stamp).
+    stamp: u64,
 }
 
 impl Object {
@@ -74,6 +78,21 @@ pub struct Scene {
     excluded: HashSet<(u32, u32)>,
     /// Candidate pairs of the last query (kept so that queries reuse its memory).
     candidates: Vec<(u32, u32)>,
+    /// The last stamp given to an object.
+    stamps: u64,
+    /// Object pairs the last query found without contact, with what they were then: such a pair
+    /// is not queried again while neither object changes and the options stay the same.
+    apart: HashMap<(u32, u32), Apart>,
+    /// Scratch for the next `apart`.
+    apart_next: HashMap<(u32, u32), Apart>,
+}
+
+/// What an object pair without contact was queried with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Apart {
+    stamps: (u64, u64),
+    /// The options, their thread count set to 0 (the answer does not depend on it).
+    options: QueryOptions,
 }
 
 impl Scene {
@@ -120,6 +139,7 @@ impl Scene {
                 motion: Motion::Rigid { pose, local },
                 group,
                 mask,
+                stamp: 0,
             },
             world,
         ))
@@ -140,6 +160,7 @@ impl Scene {
                 motion: Motion::Deformable { stale: false },
                 group,
                 mask,
+                stamp: 0,
             },
             world,
         ))
@@ -158,7 +179,13 @@ impl Scene {
         probe.try_reserve_exact(bytes).map_err(|_| oom(bytes))
     }
 
-    fn insert(&mut self, object: Object, world: Aabb) -> u32 {
+    fn next_stamp(&mut self) -> u64 {
+        self.stamps += 1;
+        self.stamps
+    }
+
+    fn insert(&mut self, mut object: Object, world: Aabb) -> u32 {
+        object.stamp = self.next_stamp();
         let id = match self.free.pop() {
             Some(id) => {
                 self.objects[id as usize] = Some(object);
@@ -214,6 +241,7 @@ impl Scene {
     /// [`Error::Object`] wrapping [`Error::ObjectPoseOutOfRange`] as for [`Scene::add_rigid`].
     pub fn set_pose(&mut self, id: u32, pose: Option<&Pose>) -> Result<()> {
         let new = pose.copied().unwrap_or_default();
+        let stamp = self.stamps + 1;
         let object = self.object_mut(id)?;
         let max_abs = object.mesh.max_abs;
         let Motion::Rigid { pose, local } = &mut object.motion else {
@@ -227,7 +255,10 @@ impl Scene {
             error: Box::new(e),
         })?;
         *pose = new;
+        object.stamp = stamp;
+        self.stamps = stamp;
         self.boxes[id as usize] = world;
+        self.broad.touch(id);
         Ok(())
     }
 
@@ -257,8 +288,9 @@ impl Scene {
     fn take_positions(
         &mut self,
         id: u32,
-        take: impl FnOnce(&mut Mesh) -> Result<()>,
+        take: impl FnOnce(&mut Mesh) -> Result<Aabb>,
     ) -> Result<()> {
+        let stamp = self.stamps + 1;
         let object = self.object_mut(id)?;
         let Motion::Deformable { stale } = &mut object.motion else {
             return Err(Error::WrongObjectKind {
@@ -266,12 +298,15 @@ impl Scene {
                 rigid: true,
             });
         };
-        take(&mut object.mesh).map_err(|e| Error::Object {
+        let world = take(&mut object.mesh).map_err(|e| Error::Object {
             object: id,
             error: Box::new(e),
         })?;
         *stale = true;
-        self.boxes[id as usize] = Aabb::of_points(&object.mesh.positions);
+        object.stamp = stamp;
+        self.stamps = stamp;
+        self.boxes[id as usize] = world;
+        self.broad.touch(id);
         Ok(())
     }
 

@@ -461,3 +461,64 @@ fn rigid_world_box_holds_every_posed_vertex() {
         }
     }
 }
+
+/// A pair found without contact is not queried again until one of its objects changes or the
+/// options do; a pair with contacts always is.
+#[test]
+fn pairs_apart_are_not_queried_again() {
+    let d = icosphere(2);
+    let mesh = Mesh::new(&d.positions, &d.triangles, &BuildOptions::default()).unwrap();
+    let mut scene = Scene::new();
+    let at = |x: f64| {
+        Pose::new(
+            [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+            [x, 1.9, 0.0],
+        )
+        .unwrap()
+    };
+    // Boxes overlap (corners), spheres 2.68 apart: no contact. Object 2 touches object 0.
+    scene.add_rigid(&mesh, Some(&at(0.0)), 1, u32::MAX).unwrap();
+    scene
+        .add_rigid(
+            &mesh,
+            Some(
+                &Pose::new(
+                    [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+                    [1.9, 0.0, 0.0],
+                )
+                .unwrap(),
+            ),
+            1,
+            u32::MAX,
+        )
+        .unwrap();
+    scene.add_rigid(&mesh, Some(&at(1.5)), 1, u32::MAX).unwrap();
+    let mut contacts = Contacts::new();
+    let tested = |scene: &mut Scene, contacts: &mut Contacts, opts: &QueryOptions| {
+        scene.collide(opts, contacts).unwrap().object_pairs_tested
+    };
+    let opts = QueryOptions::default();
+    let first = tested(&mut scene, &mut contacts, &opts);
+    let with_contacts = dedup_pairs(&contacts).len() as u64;
+    assert!(first > with_contacts, "some pair is apart");
+    let all = contacts.as_slice().to_vec();
+    assert_eq!(tested(&mut scene, &mut contacts, &opts), with_contacts);
+    assert_eq!(contacts.as_slice(), &all[..]);
+    // Other options, or a moved object, query again.
+    let first_hit = QueryOptions::with_mode(QueryMode::FirstHit);
+    assert_eq!(tested(&mut scene, &mut contacts, &first_hit), first);
+    scene
+        .set_pose(
+            1,
+            Some(
+                &Pose::new(
+                    [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+                    [1.9, 0.0, 0.0],
+                )
+                .unwrap(),
+            ),
+        )
+        .unwrap();
+    assert!(tested(&mut scene, &mut contacts, &opts) > with_contacts);
+    assert_eq!(contacts.as_slice(), &all[..]);
+}
