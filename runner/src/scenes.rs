@@ -27,6 +27,8 @@ struct Row {
     nodes_refit: u64,
     pairs_queried: u64,
     contacts: u64,
+    /// The scene's bytes (`Scene::memory_bytes`), for the scene's rows.
+    memory: Option<usize>,
 }
 
 /// The fastest of `repeat` runs of `f`, in milliseconds, and its last result.
@@ -99,6 +101,7 @@ fn many(
             nodes_refit: 0,
             pairs_queried: 0,
             contacts: 0,
+            memory: None,
         },
         Row {
             scene: format!("many ({} objects)", meshes.len()),
@@ -107,6 +110,7 @@ fn many(
             nodes_refit: 0,
             pairs_queried: 0,
             contacts: 0,
+            memory: None,
         },
     );
     let mut pairs = Pairs::new();
@@ -145,6 +149,7 @@ fn many(
         together.pairs_queried += st.object_pairs_tested;
         together.contacts += st.contacts;
     }
+    together.memory = Some(scene.memory_bytes());
     rows.push(pairwise);
     rows.push(together);
     Ok(())
@@ -223,6 +228,7 @@ fn static_objects(
             nodes_refit: 0,
             pairs_queried: 0,
             contacts: 0,
+            memory: None,
         };
         let mut contacts = Contacts::new();
         for _ in 0..frames {
@@ -243,6 +249,7 @@ fn static_objects(
             row.pairs_queried += st.object_pairs_tested;
             row.contacts += st.contacts;
         }
+        row.memory = Some(scene.memory_bytes());
         rows.push(row);
     }
     Ok(())
@@ -312,6 +319,7 @@ fn cloth(
             nodes_refit: 0,
             pairs_queried: 0,
             contacts: 0,
+            memory: None,
         },
         Row {
             scene: name,
@@ -320,6 +328,7 @@ fn cloth(
             nodes_refit: 0,
             pairs_queried: 0,
             contacts: 0,
+            memory: None,
         },
     );
     let mut positions = Vec::new();
@@ -365,6 +374,7 @@ fn cloth(
         together.pairs_queried += st.object_pairs_tested;
         together.contacts += st.contacts;
     }
+    together.memory = Some(scene.memory_bytes());
     rows.push(pairwise);
     rows.push(together);
     Ok(())
@@ -394,20 +404,22 @@ pub fn run(
     );
     let _ = writeln!(
         out,
-        "| scene | method | ms per frame | nodes refit | object pairs queried | contacts |"
+        "| scene | method | ms per frame | nodes refit | object pairs queried | contacts | scene memory (MB) |"
     );
-    let _ = writeln!(out, "|---|---|---|---|---|---|");
+    let _ = writeln!(out, "|---|---|---|---|---|---|---|");
     let f = frames.max(1) as f64;
     for r in &rows {
         let _ = writeln!(
             out,
-            "| {} | {} | {:.3} | {:.0} | {:.0} | {:.0} |",
+            "| {} | {} | {:.3} | {:.0} | {:.0} | {:.0} | {} |",
             r.scene,
             r.method,
             median(&r.ms),
             r.nodes_refit as f64 / f,
             r.pairs_queried as f64 / f,
-            r.contacts as f64 / f
+            r.contacts as f64 / f,
+            r.memory
+                .map_or("".to_string(), |b| format!("{:.1}", b as f64 / 1e6))
         );
     }
     Ok(out)

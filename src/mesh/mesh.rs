@@ -87,6 +87,10 @@ pub struct Mesh {
     /// Are all current coordinates in the range where the fast exact predicates apply?
     pub(crate) safe: bool,
     pub(crate) last_refit: RefitStats,
+    /// Names the current positions (and the volumes fitted to them): drawn from a counter shared
+    /// by every mesh at build and at every change of positions, copied by a clone. Equal states
+    /// mean equal contents, which lets a scene's rigid objects share one copy.
+    pub(crate) state: u64,
     /// Stacks for the wrapped-radius search, one per refit thread, sized at build so refits
     /// never allocate.
     pub(crate) scratch: Vec<Vec<u32>>,
@@ -234,4 +238,10 @@ impl Mesh {
     pub fn max_abs_coordinate(&self) -> f64 {
         self.max_abs
     }
+}
+
+/// A state never given before (see [`Mesh::state`]).
+pub(crate) fn next_state() -> u64 {
+    static STATES: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+    STATES.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
 }

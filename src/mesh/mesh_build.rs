@@ -89,6 +89,7 @@ impl Mesh {
             max_abs: extent.max_abs,
             safe: extent.safe,
             last_refit: RefitStats::default(),
+            state: super::mesh::next_state(),
             scratch,
         };
         mesh.last_refit = mesh.update_volumes();

@@ -93,6 +93,7 @@ impl Mesh {
         std::mem::swap(&mut self.positions, &mut self.spare);
         self.max_abs = extent.max_abs;
         self.safe = extent.safe;
+        self.state = super::mesh::next_state();
     }
 
     /// Recomputes every volume from the current positions.

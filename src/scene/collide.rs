@@ -7,6 +7,7 @@ use crate::error::{Error, Result};
 use crate::geometry::aabb::Aabb;
 use crate::query::{PairKind, Pairs, QueryMode, QueryOptions, collide};
 use crate::threads;
+use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// A contact between two objects of a scene: `a` of object `object_a` meets `b` of object
@@ -298,8 +299,9 @@ impl Scene {
         }
         threads::on_each(&mut shares, &|share: &mut Share, _| {
             for o in &mut share.objects {
-                let s = o.mesh.update_volumes();
-                o.mesh.last_refit = s;
+                let mesh = Arc::make_mut(&mut o.mesh);
+                let s = mesh.update_volumes();
+                mesh.last_refit = s;
                 o.motion = Motion::Deformable { stale: false };
                 share.nodes += s.nodes_refit;
             }

@@ -21,6 +21,7 @@ use crate::query::QueryOptions;
 use crate::volume::Volumes;
 use broad::SweepAndPrune;
 use std::collections::{HashMap, HashSet};
+use std::sync::{Arc, Weak};
 
 /// How an object moves.
 #[derive(Clone, Debug)]
@@ -36,7 +37,8 @@ enum Motion {
 /// One object of a scene.
 #[derive(Clone, Debug)]
 struct Object {
-    mesh: Mesh,
+    /// Shared by the rigid objects made from one state of one mesh; a deformable object's own.
+    mesh: Arc<Mesh>,
     motion: Motion,
     group: u32,
     mask: u32,
@@ -85,6 +87,8 @@ pub struct Scene {
     apart: HashMap<(u32, u32), Apart>,
     /// Scratch for the next `apart`.
     apart_next: HashMap<(u32, u32), Apart>,
+    /// The copies rigid objects share, by the [`Mesh::state`] they were made from.
+    snapshots: HashMap<u64, Weak<Mesh>>,
 }
 
 /// What an object pair without contact was queried with.
@@ -112,8 +116,9 @@ impl Scene {
     }
 
     /// Adds a rigid object: `mesh`'s current positions as local coordinates, placed by `pose`
-    /// (`None`: the identity). It shares `mesh`'s topology, rings and tree and keeps its own copy
-    /// of the positions and volumes, so `mesh` may be refit or dropped afterwards. Objects `i`
+    /// (`None`: the identity). It shares `mesh`'s topology, rings and tree and keeps a copy of
+    /// the positions and volumes, so `mesh` may be refit or dropped afterwards; rigid objects
+    /// made from the same positions of one mesh share that copy. Objects `i`
     /// and `j` are tested when `group_i & mask_j` and `group_j & mask_i` are both non-zero.
     ///
     /// Errors: [`Error::ObjectPoseOutOfRange`] when the pose could move the mesh's coordinates
@@ -127,12 +132,22 @@ impl Scene {
         mask: u32,
     ) -> Result<u32> {
         let pose = pose.copied().unwrap_or_default();
-        self.make_room(mesh.state_bytes())?;
+        let shared = self.snapshots.get(&mesh.state).and_then(Weak::upgrade);
+        self.make_room(if shared.is_some() {
+            0
+        } else {
+            mesh.state_bytes()
+        })?;
         let local = LocalBounds::of(&mesh.positions);
         let world = local.posed(&pose, mesh.max_abs)?;
-        let mut mesh = mesh.clone();
-        // A rigid object is never refit: no room for new positions.
-        mesh.spare = Vec::new();
+        let mesh = shared.unwrap_or_else(|| {
+            let mut copy = mesh.clone();
+            // A rigid object is never refit: no room for new positions.
+            copy.spare = Vec::new();
+            let copy = Arc::new(copy);
+            self.snapshots.insert(mesh.state, Arc::downgrade(&copy));
+            copy
+        });
         Ok(self.insert(
             Object {
                 mesh,
@@ -156,7 +171,7 @@ impl Scene {
         let world = Aabb::of_points(&mesh.positions);
         Ok(self.insert(
             Object {
-                mesh: mesh.clone(),
+                mesh: Arc::new(mesh.clone()),
                 motion: Motion::Deformable { stale: false },
                 group,
                 mask,
@@ -298,7 +313,7 @@ impl Scene {
                 rigid: true,
             });
         };
-        let world = take(&mut object.mesh).map_err(|e| Error::Object {
+        let world = take(Arc::make_mut(&mut object.mesh)).map_err(|e| Error::Object {
             object: id,
             error: Box::new(e),
         })?;
@@ -320,6 +335,7 @@ impl Scene {
         self.free.push(id);
         self.broad.remove(id);
         self.excluded.retain(|&(i, j)| i != id && j != id);
+        self.snapshots.retain(|_, copy| copy.strong_count() > 0);
         Ok(())
     }
 
@@ -337,12 +353,14 @@ impl Scene {
     }
 
     /// Bytes of memory the scene holds beyond the struct itself: each object's own positions,
-    /// volumes and scratch, and the scene's tables. Not the topology, rings and tree the objects
+    /// volumes and scratch (once for the rigid objects that share them), and the scene's tables. Not the topology, rings and tree the objects
     /// share with the meshes they were made from ([`Mesh::memory_bytes`] counts those).
     pub fn memory_bytes(&self) -> usize {
+        let mut seen = HashSet::new();
         self.objects
             .iter()
             .flatten()
+            .filter(|o| seen.insert(Arc::as_ptr(&o.mesh)))
             .map(|o| o.mesh.state_bytes())
             .sum::<usize>()
             + self.objects.capacity() * std::mem::size_of::<Option<Object>>()

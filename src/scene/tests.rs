@@ -522,3 +522,63 @@ fn pairs_apart_are_not_queried_again() {
     assert!(tested(&mut scene, &mut contacts, &opts) > with_contacts);
     assert_eq!(contacts.as_slice(), &all[..]);
 }
+
+/// Rigid objects made from one state of one mesh share a single copy of it; a refit of the mesh
+/// makes a new state, and deformable objects always have their own.
+#[test]
+fn rigid_objects_share_their_copy() {
+    let d = icosphere(2);
+    let mut mesh = Mesh::new(&d.positions, &d.triangles, &BuildOptions::rigid()).unwrap();
+    let mut scene = Scene::new();
+    let far = |x: f64| {
+        Pose::new(
+            [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+            [x, 0.0, 0.0],
+        )
+        .unwrap()
+    };
+    let ids: Vec<u32> = (0..100)
+        .map(|i| {
+            scene
+                .add_rigid(&mesh, Some(&far(3.0 * i as f64)), 1, u32::MAX)
+                .unwrap()
+        })
+        .collect();
+    let one = scene.memory_bytes();
+    let copy = |scene: &Scene, id: u32| Arc::clone(&scene.object(id).unwrap().mesh);
+    assert!(
+        ids.iter()
+            .all(|&i| Arc::ptr_eq(&copy(&scene, i), &copy(&scene, ids[0])))
+    );
+    assert!(
+        one < 2 * mesh.memory_bytes() + 100 * 1024,
+        "{one} bytes for 100 shared objects"
+    );
+    let moved: Vec<f64> = d.positions.iter().map(|x| x * 2.0).collect();
+    mesh.refit(&moved).unwrap();
+    let bigger = scene
+        .add_rigid(&mesh, Some(&far(-10.0)), 1, u32::MAX)
+        .unwrap();
+    assert!(!Arc::ptr_eq(&copy(&scene, bigger), &copy(&scene, ids[0])));
+    let blob = scene.add_deformable(&mesh, 1, u32::MAX).unwrap();
+    assert!(!Arc::ptr_eq(&copy(&scene, blob), &copy(&scene, bigger)));
+    // The blob (radius 2) moved to x = 1.5 crosses the balls at 0 and 3 (radius 1).
+    let shifted: Vec<f64> = moved
+        .iter()
+        .enumerate()
+        .map(|(k, x)| x + if k % 3 == 0 { 1.5 } else { 0.0 })
+        .collect();
+    scene.set_positions(blob, &shifted).unwrap();
+    let mut contacts = Contacts::new();
+    scene
+        .collide(&QueryOptions::default(), &mut contacts)
+        .unwrap();
+    let pairs = dedup_pairs(&contacts);
+    assert!(pairs.contains(&(ids[0], blob)) && pairs.contains(&(ids[1], blob)));
+    assert!(Arc::ptr_eq(&copy(&scene, ids[1]), &copy(&scene, ids[0])));
+    // Removing every object made from the first state lets its copy go.
+    for &i in &ids {
+        scene.remove(i).unwrap();
+    }
+    assert_eq!(scene.snapshots.len(), 1);
+}
