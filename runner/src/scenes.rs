@@ -31,6 +31,20 @@ struct Row {
     memory: Option<usize>,
 }
 
+impl Row {
+    fn new(scene: String, method: &'static str) -> Row {
+        Row {
+            scene,
+            method,
+            ms: Vec::new(),
+            nodes_refit: 0,
+            pairs_queried: 0,
+            contacts: 0,
+            memory: None,
+        }
+    }
+}
+
 /// The fastest of `repeat` runs of `f`, in milliseconds, and its last result.
 fn fastest<T>(repeat: usize, mut f: impl FnMut() -> T) -> (f64, T) {
     let mut best = f64::INFINITY;
@@ -93,25 +107,10 @@ fn many(
     for m in &meshes {
         scene.add_deformable(m, 1, u32::MAX)?;
     }
+    let name = format!("many ({} objects)", meshes.len());
     let (mut pairwise, mut together) = (
-        Row {
-            scene: format!("many ({} objects)", meshes.len()),
-            method: "pair by pair, eager refit",
-            ms: Vec::new(),
-            nodes_refit: 0,
-            pairs_queried: 0,
-            contacts: 0,
-            memory: None,
-        },
-        Row {
-            scene: format!("many ({} objects)", meshes.len()),
-            method: "scene",
-            ms: Vec::new(),
-            nodes_refit: 0,
-            pairs_queried: 0,
-            contacts: 0,
-            memory: None,
-        },
+        Row::new(name.clone(), "pair by pair, eager refit"),
+        Row::new(name, "scene"),
     );
     let mut pairs = Pairs::new();
     let mut contacts = Contacts::new();
@@ -221,15 +220,7 @@ fn static_objects(
                 if filtered { 0 } else { u32::MAX },
             )?;
         }
-        let mut row = Row {
-            scene: format!("static ({count} rigid objects)"),
-            method,
-            ms: Vec::new(),
-            nodes_refit: 0,
-            pairs_queried: 0,
-            contacts: 0,
-            memory: None,
-        };
+        let mut row = Row::new(format!("static ({count} rigid objects)"), method);
         let mut contacts = Contacts::new();
         for _ in 0..frames {
             let moved: Vec<(u32, Pose)> = (0..count / 100)
@@ -312,24 +303,11 @@ fn cloth(
         sheet.triangle_count()
     );
     let (mut pairwise, mut together) = (
-        Row {
-            scene: name.clone(),
-            method: "pair by pair: refit, sheet against every ball",
-            ms: Vec::new(),
-            nodes_refit: 0,
-            pairs_queried: 0,
-            contacts: 0,
-            memory: None,
-        },
-        Row {
-            scene: name,
-            method: "scene",
-            ms: Vec::new(),
-            nodes_refit: 0,
-            pairs_queried: 0,
-            contacts: 0,
-            memory: None,
-        },
+        Row::new(
+            name.clone(),
+            "pair by pair: refit, sheet against every ball",
+        ),
+        Row::new(name, "scene"),
     );
     let mut positions = Vec::new();
     let mut pairs = Pairs::new();

@@ -73,7 +73,6 @@ struct Worker {
     taken: Vec<(usize, Span)>,
     bv_tests: u64,
     triangle_tests: u64,
-    truncated: bool,
     error: Option<Error>,
 }
 
@@ -154,7 +153,6 @@ impl Worker {
             Ok(stats) => {
                 self.bv_tests += stats.bv_tests;
                 self.triangle_tests += stats.triangle_tests;
-                self.truncated |= stats.truncated;
                 truncated = stats.truncated;
                 if self.found.try_reserve(self.pairs.len()).is_err() {
                     self.error = Some(Error::OutOfMemory {
@@ -333,7 +331,6 @@ impl Scene {
             w.taken.clear();
             w.bv_tests = 0;
             w.triangle_tests = 0;
-            w.truncated = false;
             w.error = None;
         }
         out.spans.clear();
@@ -378,6 +375,7 @@ impl Scene {
         })?;
         for s in &out.spans {
             stats.object_pairs_colliding += u64::from(s.len > 0);
+            stats.truncated |= s.truncated;
             let room = keep - merged.len();
             let w = &out.workers[s.worker as usize];
             merged.extend_from_slice(&w.found[s.start..s.start + s.len.min(room)]);
@@ -385,7 +383,6 @@ impl Scene {
         for w in &out.workers[..threads] {
             stats.bv_tests += w.bv_tests;
             stats.triangle_tests += w.triangle_tests;
-            stats.truncated |= w.truncated;
         }
         stats.truncated |= found > limit;
         stats.object_pairs_tested = candidates.len() as u64;

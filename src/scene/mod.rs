@@ -271,9 +271,7 @@ impl Scene {
         })?;
         *pose = new;
         object.stamp = stamp;
-        self.stamps = stamp;
-        self.boxes[id as usize] = world;
-        self.broad.touch(id);
+        self.moved(id, stamp, world);
         Ok(())
     }
 
@@ -319,10 +317,15 @@ impl Scene {
         })?;
         *stale = true;
         object.stamp = stamp;
+        self.moved(id, stamp, world);
+        Ok(())
+    }
+
+    /// Records that object `id` now has stamp `stamp` and world box `world`.
+    fn moved(&mut self, id: u32, stamp: u64, world: Aabb) {
         self.stamps = stamp;
         self.boxes[id as usize] = world;
         self.broad.touch(id);
-        Ok(())
     }
 
     /// Removes object `id` (and its pair exclusions); its id may be given to a later object.
