@@ -306,9 +306,12 @@ pub unsafe extern "C" fn dvh_scene_exclude_pair(
 /// `DVH_QUERY_MODE_FIRST_HIT` at most one contact per object pair). The contacts replace those
 /// in `contacts_out`, sorted by `(object_a, object_b, a, b)`; `max_pairs` bounds the whole
 /// result. The counters go to `*stats_out` unless it is NULL. Deformable objects whose
-/// positions changed are refit here, only those a pair needs (every one in the coarse modes).
+/// positions changed are refit here, only those a pair needs (every one in the coarse modes);
+/// with box volumes (the default), in the modes that report triangles, only the blocks of their
+/// trees that a traversal reaches (the boxes, and so the result, are the eager refit's).
 /// Object pairs are shared among `options->threads` threads; the result does not depend on the
-/// count. On failure neither `contacts_out` nor `*stats_out` changes.
+/// count (threads reaching one object refit each of its blocks once, under a lock per object).
+/// On failure neither `contacts_out` nor `*stats_out` changes.
 ///
 /// Errors: NULL_ARGUMENT (`scene`, `contacts_out`); INVALID_ARGUMENT (options out of range, a
 /// budget of 0); OUT_OF_MEMORY (set `max_pairs`).

@@ -266,7 +266,8 @@ pub struct DvhSceneStats {
     pub bv_tests: u64,
     /// Triangle pairs given to the exact test, over every object pair.
     pub triangle_tests: u64,
-    /// Nodes recomputed by the refits the query made.
+    /// Nodes recomputed by the refits the query made (`NU`): with box volumes, only the blocks
+    /// of the deformable objects' trees that a traversal reached.
     pub nodes_refit: u64,
     /// Contacts reported.
     pub contacts: u64,

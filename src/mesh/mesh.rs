@@ -8,7 +8,7 @@ use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::Point;
 use crate::geometry::sphere::Sphere;
 use crate::tree::Tree;
-use crate::volume::Volumes;
+use crate::volume::{Blocks, RefitInput, Volumes};
 use std::sync::Arc;
 
 /// Counters of one refit (the paper's `NU` and the work behind it).
@@ -63,6 +63,8 @@ pub(crate) struct Shape {
     pub triangles: Vec<[u32; 3]>,
     pub rings: RingTable,
     pub tree: Tree,
+    /// How the tree is cut for lazy refit; built on first use (by a scene's deformable object).
+    pub blocks: std::sync::OnceLock<Blocks>,
 }
 
 /// A deformable triangle mesh with its bounding-volume hierarchy.
@@ -180,6 +182,15 @@ impl Mesh {
             .row_range(n.ring_start as usize..n.ring_end as usize)
     }
 
+    /// What a refit of this mesh reads besides the positions.
+    pub(crate) fn refit_input(&self) -> RefitInput<'_> {
+        RefitInput {
+            tree: &self.shape.tree,
+            rings: &self.shape.rings,
+            radius: self.options.radius,
+        }
+    }
+
     /// The centre vertex of each 1-ring, in leaf order.
     pub fn ring_centres(&self) -> &[u32] {
         &self.shape.rings.centre
@@ -192,7 +203,8 @@ impl Mesh {
     pub fn memory_bytes(&self) -> usize {
         let tree = heap_bytes(&self.shape.tree.nodes)
             + heap_bytes(&self.shape.tree.leaf_of_ring)
-            + heap_bytes(&self.shape.tree.subtrees);
+            + heap_bytes(&self.shape.tree.subtrees)
+            + self.shape.blocks.get().map_or(0, Blocks::heap_bytes);
         self.state_bytes()
             + heap_bytes(&self.shape.triangles)
             + self.shape.rings.heap_bytes()

@@ -83,6 +83,7 @@ impl Mesh {
                 triangles: tris,
                 rings,
                 tree,
+                blocks: Default::default(),
             }),
             options: *options,
             volumes,

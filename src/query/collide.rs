@@ -5,7 +5,9 @@ use super::narrow::NodePairs;
 use super::options::{QueryMode, QueryOptions};
 use super::pairs::{Pair, PairKind, Pairs, QueryStats};
 use super::parallel::{self, Finish, Job};
-use super::side::{Boxes, FreeSpheres, Kind, Local, Placement, Posed, VertexSpheres, View};
+use super::side::{
+    Boxes, FreeSpheres, Kind, LazyBoxKind, Local, Placement, Posed, VertexSpheres, View,
+};
 use super::sink::{Sink, Stop};
 use super::sort::sort_pairs;
 use super::traverse::best_first;
@@ -15,7 +17,7 @@ use crate::geometry::MAX_POSED_MAGNITUDE;
 use crate::geometry::pose::Pose;
 use crate::mesh::Mesh;
 use crate::threads;
-use crate::volume::Volumes;
+use crate::volume::{LazyBoxes, Volumes};
 
 /// Finds what intersects between mesh `a` placed by `pose_a` and mesh `b` placed by `pose_b`
 /// (`None`: the mesh's coordinates are world coordinates), as [`QueryOptions::mode`] asks.
@@ -47,6 +49,22 @@ pub fn collide(
     options: &QueryOptions,
     out: &mut Pairs,
 ) -> Result<QueryStats> {
+    collide_lazy((a, pose_a, None), (b, pose_b, None), options, out)
+}
+
+/// A mesh of a query: where it is, and its boxes when they are refit lazily (then the mesh's
+/// own volumes are not read, and there is no pose: only deformable scene objects are lazy).
+pub(crate) type QueryMesh<'m> = (&'m Mesh, Option<&'m Pose>, Option<&'m LazyBoxes<'m>>);
+
+/// [`collide`], with either mesh's boxes refit lazily.
+pub(crate) fn collide_lazy<'m>(
+    (a, pose_a, lazy_a): QueryMesh<'m>,
+    (b, pose_b, lazy_b): QueryMesh<'m>,
+    options: &QueryOptions,
+    out: &mut Pairs,
+) -> Result<QueryStats> {
+    debug_assert!(lazy_a.is_none() || pose_a.is_none());
+    debug_assert!(lazy_b.is_none() || pose_b.is_none());
     if options.mode == QueryMode::Budget(0) {
         return Err(Error::ZeroBudget);
     }
@@ -98,11 +116,15 @@ pub fn collide(
         let b_side = SideB {
             mesh: b,
             pose: pose_b.zip(place_b),
+            lazy: lazy_b,
             run,
         };
-        match pose_a.zip(place_a) {
-            None => with_volumes_a(Local { mesh: a }, b_side),
-            Some((pose, (stretch, pad))) => with_volumes_a(
+        match (pose_a.zip(place_a), lazy_a) {
+            (None, Some(boxes)) => {
+                with_placement_b((Local { mesh: a }, LazyBoxKind { boxes }), b_side)
+            }
+            (None, None) => with_volumes_a(Local { mesh: a }, b_side),
+            (Some((pose, (stretch, pad))), _) => with_volumes_a(
                 Posed {
                     mesh: a,
                     pose,
@@ -244,6 +266,7 @@ impl Run<'_> {
 struct SideB<'m, 'q> {
     mesh: &'m Mesh,
     pose: Option<(&'m Pose, (f64, f64))>,
+    lazy: Option<&'m LazyBoxes<'m>>,
     run: Run<'q>,
 }
 
@@ -283,10 +306,16 @@ fn with_placement_b<'m, PA: Placement<'m>, KA: Kind<'m>>(
     a: (PA, KA),
     b: SideB<'m, '_>,
 ) -> (Option<Stop>, bool) {
-    let SideB { mesh, pose, run } = b;
-    match pose {
-        None => with_volumes_b(a, Local { mesh }, run),
-        Some((pose, (stretch, pad))) => with_volumes_b(
+    let SideB {
+        mesh,
+        pose,
+        lazy,
+        run,
+    } = b;
+    match (pose, lazy) {
+        (None, Some(boxes)) => run.run(a, (Local { mesh }, LazyBoxKind { boxes })),
+        (None, None) => with_volumes_b(a, Local { mesh }, run),
+        (Some((pose, (stretch, pad))), _) => with_volumes_b(
             a,
             Posed {
                 mesh,

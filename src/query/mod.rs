@@ -14,5 +14,6 @@ mod workspace;
 
 pub use brute_force::brute_force;
 pub use collide::collide;
+pub(crate) use collide::collide_lazy;
 pub use options::{QueryMode, QueryOptions};
 pub use pairs::{Pair, PairKind, Pairs, QueryStats};

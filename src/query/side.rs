@@ -12,6 +12,7 @@ use crate::geometry::predicates::Point;
 use crate::geometry::sphere::Sphere;
 use crate::mesh::Mesh;
 use crate::tree::Node;
+use crate::volume::LazyBoxes;
 
 /// A bounding volume in the query frame: what the traversal tests and compares.
 pub(crate) trait Volume: Copy {
@@ -268,6 +269,27 @@ impl<'m> Kind<'m> for Boxes<'m> {
     #[inline(always)]
     fn leaf_box(&self, n: u32) -> Aabb {
         self.boxes[n as usize]
+    }
+}
+
+/// Boxes refit block by block as the traversal first reads them (a deformable scene object's).
+#[derive(Clone, Copy)]
+pub(crate) struct LazyBoxKind<'m> {
+    pub boxes: &'m LazyBoxes<'m>,
+}
+
+impl<'m> Kind<'m> for LazyBoxKind<'m> {
+    type Volume = Aabb;
+    const LEAF_IS_RING_BOX: bool = true;
+
+    #[inline(always)]
+    fn volume<P: Placement<'m>>(&self, place: &P, _world: &mut Stamped<Point>, n: u32) -> Aabb {
+        place.aabb(&self.boxes.get(n))
+    }
+
+    #[inline(always)]
+    fn leaf_box(&self, n: u32) -> Aabb {
+        self.boxes.get(n)
     }
 }
 

@@ -5,8 +5,10 @@
 use super::{Apart, Motion, Object, Scene, volume_box};
 use crate::error::{Error, Result};
 use crate::geometry::aabb::Aabb;
-use crate::query::{PairKind, Pairs, QueryMode, QueryOptions, collide};
+use crate::mesh::Mesh;
+use crate::query::{PairKind, Pairs, QueryMode, QueryOptions, collide_lazy};
 use crate::threads;
+use crate::volume::{Blocks, LazyBoxes, RefitInput, Volumes};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -41,8 +43,9 @@ pub struct SceneStats {
     pub bv_tests: u64,
     /// Triangle pairs given to the exact test, over every object pair.
     pub triangle_tests: u64,
-    /// Nodes recomputed by the refits this query made (deformable objects it needed whose
-    /// positions had changed).
+    /// Nodes recomputed by the refits this query made (the paper's NU): only in deformable
+    /// objects some pair needed whose positions had changed and, for box volumes in the modes
+    /// that report triangles, only the blocks of their trees that a traversal reached.
     pub nodes_refit: u64,
     /// Contacts reported.
     pub contacts: u64,
@@ -130,6 +133,7 @@ impl Worker {
     fn query(
         &mut self,
         objects: &[Option<Object>],
+        lazy: &[Option<LazyBoxes>],
         (i, j): (u32, u32),
         opts: &QueryOptions,
     ) -> Span {
@@ -142,11 +146,17 @@ impl Worker {
             objects[i as usize].as_ref().expect("a candidate is live"),
             objects[j as usize].as_ref().expect("a candidate is live"),
         );
-        match collide(
-            &oa.mesh,
-            oa.pose(),
-            &ob.mesh,
-            ob.pose(),
+        match collide_lazy(
+            (
+                &oa.mesh,
+                oa.pose(),
+                lazy.get(i as usize).and_then(Option::as_ref),
+            ),
+            (
+                &ob.mesh,
+                ob.pose(),
+                lazy.get(j as usize).and_then(Option::as_ref),
+            ),
             opts,
             &mut self.pairs,
         ) {
@@ -181,15 +191,25 @@ impl Worker {
 impl Scene {
     /// Every contact between two objects that the filters allow (groups and masks, exclusions)
     /// and whose world boxes overlap, as [`QueryOptions::mode`] asks: for each such pair, exactly
-    /// what [`collide`] reports for the two objects' current geometry and poses
+    /// what [`collide`](crate::collide) reports for the two objects' current geometry and poses
     /// ([`QueryMode::FirstHit`]: at most one contact per object pair). The result replaces the
     /// contents of `out`, sorted by `(object_a, object_b, a, b)`; [`QueryOptions::max_pairs`]
     /// bounds the whole result (some of the contacts, still sorted, and
     /// [`SceneStats::truncated`]).
     ///
     /// Deformable objects whose positions changed are refit here, and only those that some
-    /// object pair needs. Object pairs are shared among [`QueryOptions::threads`] threads (the
-    /// result does not depend on the count); a single pair gets all of them.
+    /// object pair needs. With box volumes (the default) and a mode that reports triangles the
+    /// refit is lazy: the nodes above a cut through the tree come from one pass over the
+    /// positions, and each block below the cut (about 32 rings) is refit when a traversal first
+    /// opens its root, so the parts of an object no other one comes near are never refit. The
+    /// boxes are exactly the eager refit's, so is the result. The other volume kinds, and the
+    /// coarse modes (which report nodes wherever volumes overlap), refit the objects whole.
+    ///
+    /// Object pairs are shared among [`QueryOptions::threads`] threads (the result does not
+    /// depend on the count); a single pair gets all of them. Two threads may reach one object's
+    /// block at once: each block is refit once, under the object's lock, and read only after
+    /// (see the `volume::lazy` module). A query takes `&mut self`, so no other call, and no
+    /// other query, runs on the scene meanwhile.
     ///
     /// Errors: [`Error::ZeroBudget`]; [`Error::OutOfMemory`] when a result cannot grow. On error
     /// `out` still holds the previous result.
@@ -206,7 +226,7 @@ impl Scene {
             // Node pairs are reported wherever the volumes overlap, the roots' included, and
             // the volumes are known only once refit: every object is refit, and the broad phase
             // compares boxes around the root volumes.
-            stats.nodes_refit = self.refit_stale(|_| true, options.threads);
+            stats.nodes_refit = self.refit_stale(|_| true, options.threads, false);
             let boxes: Vec<_> = self
                 .objects
                 .iter()
@@ -237,15 +257,28 @@ impl Scene {
             }
             !unchanged
         });
-        if !options.mode.reports_nodes() {
-            let mut needed = vec![false; self.objects.len()];
-            for &(i, j) in &candidates {
-                needed[i as usize] = true;
-                needed[j as usize] = true;
-            }
-            stats.nodes_refit = self.refit_stale(|id| needed[id], options.threads);
+        let mut needed = vec![false; self.objects.len()];
+        for &(i, j) in &candidates {
+            needed[i as usize] = true;
+            needed[j as usize] = true;
         }
-        let result = self.query_pairs(&candidates, options, out, &mut stats);
+        let result = if options.mode.reports_nodes() {
+            self.query_pairs(&candidates, &[], options, out, &mut stats)
+        } else {
+            stats.nodes_refit = self.refit_stale(|id| needed[id], options.threads, true);
+            let boxes = self.lazy_boxes(&needed);
+            // SAFETY: nothing but the views reads those boxes until they are dropped below.
+            let lazy = unsafe { self.lazy_views(&boxes) };
+            let result = self.query_pairs(&candidates, &lazy, options, out, &mut stats);
+            drop(lazy);
+            for o in self.objects.iter_mut().flatten() {
+                if let Motion::Deformable { fresh } = &mut o.motion {
+                    stats.nodes_refit += fresh.take_nodes();
+                    fresh.settle();
+                }
+            }
+            result
+        };
         if result.is_ok() {
             for (&(i, j), span) in candidates.iter().zip(&out.spans) {
                 if span.len == 0 && !span.truncated {
@@ -274,15 +307,20 @@ impl Scene {
     }
 
     /// Refits the stale deformable objects for which `needed(id)` holds, on up to `threads`
-    /// threads, each given a share of about equal vertex count (largest meshes first). Returns
-    /// the nodes recomputed.
-    fn refit_stale(&mut self, needed: impl Fn(usize) -> bool, threads: u32) -> u64 {
+    /// threads, each given a share of about equal vertex count (largest meshes first). With
+    /// `lazy`, objects with box volumes get only their top refit (the query refits their blocks
+    /// as it reaches them); the others are refit whole. Returns the nodes recomputed by whole
+    /// refits.
+    fn refit_stale(&mut self, needed: impl Fn(usize) -> bool, threads: u32, lazy: bool) -> u64 {
         let mut stale: Vec<&mut Object> = self
             .objects
             .iter_mut()
             .enumerate()
             .filter_map(|(id, o)| o.as_mut().filter(|_| needed(id)))
-            .filter(|o| matches!(o.motion, Motion::Deformable { stale: true }))
+            .filter(|o| match &o.motion {
+                Motion::Deformable { fresh } => !(fresh.is_current() || lazy && fresh.is_partial()),
+                Motion::Rigid { .. } => false,
+            })
             .collect();
         let workers = threads::resolve(threads).min(stale.len()).max(1);
         stale.sort_by_key(|o| std::cmp::Reverse(o.mesh.vertex_count()));
@@ -297,20 +335,85 @@ impl Scene {
         }
         threads::on_each(&mut shares, &|share: &mut Share, _| {
             for o in &mut share.objects {
+                let Motion::Deformable { fresh } = &mut o.motion else {
+                    unreachable!("only deformable objects are refit");
+                };
                 let mesh = Arc::make_mut(&mut o.mesh);
-                let s = mesh.update_volumes();
-                mesh.last_refit = s;
-                o.motion = Motion::Deformable { stale: false };
-                share.nodes += s.nodes_refit;
+                if let (true, Volumes::Aabb { boxes }) = (lazy, &mut mesh.volumes) {
+                    let shape = Arc::clone(&mesh.shape);
+                    let input = RefitInput {
+                        tree: &shape.tree,
+                        rings: &shape.rings,
+                        radius: mesh.options.radius,
+                    };
+                    let blocks = shape
+                        .blocks
+                        .get_or_init(|| Blocks::new(&input, mesh.positions.len()));
+                    fresh.fit_top(blocks, &input, &mesh.positions, boxes);
+                } else {
+                    let s = mesh.update_volumes();
+                    mesh.last_refit = s;
+                    fresh.refit();
+                    share.nodes += s.nodes_refit;
+                }
             }
         });
         shares.iter().map(|s| s.nodes).sum()
     }
 
-    /// Queries every candidate pair and merges the contacts into `out`.
+    /// Per object: the boxes a query reads lazily, for the objects `needed` whose top is current
+    /// and some block not (each such mesh made this scene's own first).
+    fn lazy_boxes(&mut self, needed: &[bool]) -> Vec<Option<*mut [Aabb]>> {
+        self.objects
+            .iter_mut()
+            .zip(needed)
+            .map(|(o, &needed)| {
+                let o = o.as_mut().filter(|_| needed)?;
+                match &o.motion {
+                    Motion::Deformable { fresh } if fresh.is_partial() => {}
+                    _ => return None,
+                }
+                match &mut Arc::make_mut(&mut o.mesh).volumes {
+                    Volumes::Aabb { boxes } => Some(boxes.as_mut_slice() as *mut [Aabb]),
+                    _ => None,
+                }
+            })
+            .collect()
+    }
+
+    /// The lazy views of the objects `boxes` names.
+    ///
+    /// # Safety
+    /// While the views live, the boxes they name must be reached only through them.
+    unsafe fn lazy_views<'s>(
+        &'s self,
+        boxes: &[Option<*mut [Aabb]>],
+    ) -> Vec<Option<LazyBoxes<'s>>> {
+        self.objects
+            .iter()
+            .zip(boxes)
+            .map(|(o, &b)| {
+                let (o, b) = (o.as_ref()?, b?);
+                let Motion::Deformable { fresh } = &o.motion else {
+                    return None;
+                };
+                let mesh: &Mesh = &o.mesh;
+                let blocks = mesh.shape.blocks.get()?;
+                // SAFETY: `b` is this mesh's boxes (made unique by `lazy_boxes`, so no other
+                // object reads them), and the query reads them only through the view.
+                Some(unsafe {
+                    LazyBoxes::new(b, blocks, fresh, mesh.refit_input(), &mesh.positions)
+                })
+            })
+            .collect()
+    }
+
+    /// Queries every candidate pair and merges the contacts into `out`. `lazy`: per object, its
+    /// boxes when they are refit lazily (may be empty: none is).
     fn query_pairs(
         &self,
         candidates: &[(u32, u32)],
+        lazy: &[Option<LazyBoxes>],
         options: &QueryOptions,
         out: &mut Contacts,
         stats: &mut SceneStats,
@@ -339,7 +442,7 @@ impl Scene {
         if threads == 1 {
             let w = &mut out.workers[0];
             for (span, &pair) in out.spans.iter_mut().zip(candidates) {
-                *span = w.query(objects, pair, &opts);
+                *span = w.query(objects, lazy, pair, &opts);
             }
         } else {
             // Pairs are handed out one at a time: their costs differ by orders of magnitude.
@@ -350,7 +453,7 @@ impl Scene {
                     let Some(&pair) = candidates.get(k) else {
                         break;
                     };
-                    let mut span = w.query(objects, pair, &opts);
+                    let mut span = w.query(objects, lazy, pair, &opts);
                     span.worker = index as u32;
                     w.taken.push((k, span));
                 }

@@ -18,7 +18,7 @@ use crate::geometry::aabb::Aabb;
 use crate::geometry::pose::Pose;
 use crate::mesh::Mesh;
 use crate::query::QueryOptions;
-use crate::volume::Volumes;
+use crate::volume::{Freshness, Volumes};
 use broad::SweepAndPrune;
 use std::collections::{HashMap, HashSet};
 use std::sync::{Arc, Weak};
@@ -29,9 +29,9 @@ enum Motion {
     /// Its mesh's positions at the time it was added, as local coordinates, placed by a pose;
     /// never refit. `local` bounds those positions.
     Rigid { pose: Pose, local: LocalBounds },
-    /// Positions of its own, in world coordinates. `stale`: they changed since its volumes were
-    /// last computed.
-    Deformable { stale: bool },
+    /// Positions of its own, in world coordinates. `fresh`: which of its volumes are current
+    /// (none after new positions; boxes are then refit lazily, block by block).
+    Deformable { fresh: Freshness },
 }
 
 /// One object of a scene.
@@ -172,7 +172,9 @@ impl Scene {
         Ok(self.insert(
             Object {
                 mesh: Arc::new(mesh.clone()),
-                motion: Motion::Deformable { stale: false },
+                motion: Motion::Deformable {
+                    fresh: Freshness::current(),
+                },
                 group,
                 mask,
                 stamp: 0,
@@ -305,7 +307,7 @@ impl Scene {
     ) -> Result<()> {
         let stamp = self.stamps + 1;
         let object = self.object_mut(id)?;
-        let Motion::Deformable { stale } = &mut object.motion else {
+        let Motion::Deformable { fresh } = &mut object.motion else {
             return Err(Error::WrongObjectKind {
                 object: id,
                 rigid: true,
@@ -315,7 +317,7 @@ impl Scene {
             object: id,
             error: Box::new(e),
         })?;
-        *stale = true;
+        fresh.stale();
         object.stamp = stamp;
         self.moved(id, stamp, world);
         Ok(())

@@ -582,3 +582,174 @@ fn rigid_objects_share_their_copy() {
     }
     assert_eq!(scene.snapshots.len(), 1);
 }
+
+/// The object's boxes that its freshness calls current, each equal to the box an eager refit of
+/// `eager` computes; returns how many there are.
+fn check_current_boxes(scene: &Scene, id: u32, eager: &Mesh) -> usize {
+    let o = scene.objects[id as usize].as_ref().unwrap();
+    let Motion::Deformable { fresh } = &o.motion else {
+        panic!("object {id} is rigid");
+    };
+    let (Volumes::Aabb { boxes }, Volumes::Aabb { boxes: want }) =
+        (&o.mesh.volumes, &eager.volumes)
+    else {
+        panic!("box volumes expected");
+    };
+    let mut current = 0;
+    for n in 0..boxes.len() {
+        let is_current = match o.mesh.shape.blocks.get() {
+            Some(blocks) => fresh.node_is_current(blocks, n),
+            None => fresh.is_current(),
+        };
+        if is_current {
+            assert_eq!(boxes[n], want[n], "object {id} node {n}");
+            current += 1;
+        }
+    }
+    current
+}
+
+/// A large deformable sphere touched at one spot by a small one: the query refits the blocks it
+/// reaches and no others, and finds what the eagerly refit meshes give.
+#[test]
+fn lazy_refit_reaches_only_the_touched_blocks() {
+    let big = icosphere(4);
+    let mut small = icosphere(2);
+    small.scale(0.1).translate([0.0, 0.0, 1.05]);
+    let options = BuildOptions::default();
+    let mut a = Mesh::new(&big.positions, &big.triangles, &options).unwrap();
+    let b = Mesh::new(&small.positions, &small.triangles, &options).unwrap();
+    let mut scene = Scene::new();
+    let ia = scene.add_deformable(&a, 1, u32::MAX).unwrap();
+    scene.add_deformable(&b, 1, u32::MAX).unwrap();
+    let mut contacts = Contacts::new();
+    let moved: Vec<f64> = big.positions.iter().map(|x| x * 1.001).collect();
+    scene.set_positions(ia, &moved).unwrap();
+    a.refit(&moved).unwrap();
+    let stats = scene
+        .collide(&QueryOptions::default(), &mut contacts)
+        .unwrap();
+    let mut expected = Pairs::new();
+    collide(&a, None, &b, None, &QueryOptions::default(), &mut expected).unwrap();
+    assert!(!expected.is_empty());
+    let got: Vec<(u32, u32)> = contacts.iter().map(|c| (c.a, c.b)).collect();
+    let want: Vec<(u32, u32)> = expected.iter().map(|p| (p.a, p.b)).collect();
+    assert_eq!(got, want);
+    assert!(
+        stats.nodes_refit > 0 && stats.nodes_refit * 4 < a.node_count() as u64,
+        "{} of {} nodes refit",
+        stats.nodes_refit,
+        a.node_count()
+    );
+    let current = check_current_boxes(&scene, ia, &a);
+    assert_eq!(current as u64, stats.nodes_refit);
+    // The same query again refits nothing more.
+    let again = scene
+        .collide(&QueryOptions::default(), &mut contacts)
+        .unwrap();
+    assert_eq!(again.nodes_refit, 0);
+    // A coarse query needs every volume: the rest of the object is refit, once.
+    let coarse = scene
+        .collide(&QueryOptions::with_mode(QueryMode::Leaves), &mut contacts)
+        .unwrap();
+    assert_eq!(coarse.nodes_refit, a.node_count() as u64);
+    assert_eq!(check_current_boxes(&scene, ia, &a), a.node_count());
+}
+
+mod lazy_property {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// One frame: which objects move (a bit each), the morph's time, a shift of the moved
+    /// objects, the query mode and whether the query runs on every core.
+    type Frame = (u32, f64, [f64; 3], u8, bool);
+
+    fn frame() -> impl Strategy<Value = Frame> {
+        (
+            0u32..64,
+            0.0..1.0f64,
+            [-0.2..0.2f64, -0.2..0.2f64, -0.2..0.2f64],
+            0u8..4,
+            any::<bool>(),
+        )
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
+
+        /// Over random frame sequences of six deforming objects (two shared meshes, boxes
+        /// refit lazily), the scene's contacts equal those of the eagerly refit meshes pair
+        /// by pair, every box the scene calls current equals the eager one, and no query
+        /// recomputes more nodes than the objects it moved hold.
+        #[test]
+        fn lazy_refit_equals_eager(frames in prop::collection::vec(frame(), 1..6)) {
+            let sources = [icosphere(4), torus(0.6, 0.25, 48, 24)];
+            let morphs: Vec<Morph> =
+                sources.iter().enumerate().map(|(k, d)| Morph::random(d, 3, 0.15, k as u64)).collect();
+            let meshes: Vec<Mesh> = sources
+                .iter()
+                .map(|d| Mesh::new(&d.positions, &d.triangles, &BuildOptions::default()).unwrap())
+                .collect();
+            let place = |k: usize, t: f64, shift: [f64; 3]| -> Vec<f64> {
+                let at = [(k % 3) as f64 * 1.5, (k / 3) as f64 * 1.5, 0.0];
+                morphs[k % 2]
+                    .at(&sources[k % 2].positions, t)
+                    .iter()
+                    .enumerate()
+                    .map(|(c, x)| x + at[c % 3] + shift[c % 3])
+                    .collect()
+            };
+            let mut scene = Scene::new();
+            let mut models: Vec<Option<Model>> = Vec::new();
+            for k in 0..6 {
+                let mut m = meshes[k % 2].clone();
+                m.refit(&place(k, 0.0, [0.0; 3])).unwrap();
+                let id = scene.add_deformable(&m, 1, u32::MAX).unwrap();
+                prop_assert_eq!(id as usize, k);
+                models.push(Some(Model { mesh: m, pose: None, group: 1, mask: u32::MAX }));
+            }
+            let mut contacts = Contacts::new();
+            for (f, &(moving, t, shift, mode, every_core)) in frames.iter().enumerate() {
+                for (k, model) in models.iter_mut().enumerate() {
+                    if moving & (1 << k) == 0 {
+                        continue;
+                    }
+                    let positions = place(k, t, shift);
+                    scene.set_positions(k as u32, &positions).unwrap();
+                    model.as_mut().unwrap().mesh.refit(&positions).unwrap();
+                }
+                let mesh = |k: usize| &models[k].as_ref().unwrap().mesh;
+                let before: Vec<usize> =
+                    (0..6).map(|k| check_current_boxes(&scene, k as u32, mesh(k))).collect();
+                let mode = [
+                    QueryMode::Triangles,
+                    QueryMode::FirstHit,
+                    QueryMode::Triangles,
+                    QueryMode::Leaves,
+                ][mode as usize];
+                let opts = QueryOptions {
+                    mode,
+                    threads: if every_core { 0 } else { 1 },
+                    ..QueryOptions::default()
+                };
+                let expected = pairwise(&models, &HashSet::new(), &QueryOptions::with_mode(mode));
+                let stats = scene.collide(&opts, &mut contacts).unwrap();
+                prop_assert_eq!(contacts.as_slice(), &expected[..], "frame {} {:?}", f, mode);
+                // Every node refit is current after, and none is refit unless its object was
+                // not wholly current before.
+                let after: Vec<usize> =
+                    (0..6).map(|k| check_current_boxes(&scene, k as u32, mesh(k))).collect();
+                let newly: usize = (0..6).map(|k| after[k] - before[k]).sum();
+                let stale: usize = (0..6)
+                    .filter(|&k| before[k] < mesh(k).node_count())
+                    .map(|k| mesh(k).node_count())
+                    .sum();
+                prop_assert!(
+                    newly as u64 <= stats.nodes_refit && stats.nodes_refit <= stale as u64,
+                    "frame {}: {} newly current, {} refit, {} in stale objects",
+                    f, newly, stats.nodes_refit, stale
+                );
+            }
+        }
+    }
+}

@@ -64,6 +64,13 @@ impl Tree {
     /// The cut for [`Tree::subtrees`]: the largest subtree (by rings) is replaced by its children
     /// until there are [`CUT_SUBTREES`] or only leaves remain.
     pub(crate) fn cut(nodes: &[Node]) -> Vec<Subtree> {
+        Tree::cut_while(nodes, |count, _| count < CUT_SUBTREES)
+    }
+
+    /// A cut through the tree: the largest subtree (by rings) is replaced by its children while
+    /// `open(subtrees so far, rings of the largest)` holds and it is not a leaf. Inner nodes
+    /// only, in node order; the leaves of the cut are left out.
+    pub(crate) fn cut_while(nodes: &[Node], open: impl Fn(usize, u32) -> bool) -> Vec<Subtree> {
         // One past the last node below each node: children come after their parent and each
         // node's descendants are contiguous, so a reverse sweep finds it.
         let mut end: Vec<u32> = (0..nodes.len() as u32).map(|i| i + 1).collect();
@@ -79,8 +86,10 @@ impl Tree {
         }
         let size = |i: u32| nodes[i as usize].ring_end - nodes[i as usize].ring_start;
         let mut heap = std::collections::BinaryHeap::from([(size(0), 0u32)]);
-        while heap.len() < CUT_SUBTREES {
-            let Some(&(_, i)) = heap.peek() else { break };
+        while let Some(&(largest, i)) = heap.peek() {
+            if !open(heap.len(), largest) {
+                break;
+            }
             let n = &nodes[i as usize];
             if n.is_leaf() {
                 // The largest holds one ring: so do all.

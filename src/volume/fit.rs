@@ -26,6 +26,11 @@ impl<'a, T> Part<'a, T> {
         Part { base: 0, items }
     }
 
+    /// Nodes `base..base + items.len()`.
+    pub fn at(base: usize, items: &'a mut [T]) -> Self {
+        Part { base, items }
+    }
+
     /// Nodes before `at`, and from `at` on (an empty array stays empty on both sides).
     fn split_at(self, at: usize) -> (Part<'a, T>, Part<'a, T>) {
         let from = (at - self.base).min(self.items.len());
@@ -221,7 +226,7 @@ const PREFETCH_RINGS: usize = 8;
 /// Refits the nodes below a subtree's root: its leaves ring by ring in leaf order (the order
 /// the ring table is stored in, so it is read straight through; the vertices it names are
 /// asked for [`PREFETCH_RINGS`] rings ahead), then its inner nodes, children before parents.
-fn fit_below<F: Fit>(
+pub(super) fn fit_below<F: Fit>(
     fit: &F,
     w: &mut Window,
     input: &RefitInput,

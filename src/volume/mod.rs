@@ -5,6 +5,7 @@
 mod boxes;
 mod dvh_centres;
 mod fit;
+mod lazy;
 mod spheres;
 
 use crate::geometry::aabb::Aabb;
@@ -16,6 +17,7 @@ use boxes::FitBoxes;
 pub(crate) use dvh_centres::assign_centres;
 pub(crate) use fit::REFIT_PARALLEL_MIN_RINGS;
 use fit::{Part, Window};
+pub(crate) use lazy::{Blocks, Freshness, LazyBoxes};
 use spheres::{FitDvh, FitSbv};
 
 /// The bounding volume on every node of a mesh's hierarchy.
