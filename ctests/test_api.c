@@ -698,6 +698,80 @@ static void test_scene(void) {
     mesh_free(&mb);
 }
 
+/* Lazy refit against eager: a large deforming sheet crossed at one corner by small deforming
+ * and rigid sheets, over random frames. The scene refits only the blocks of the large sheet a
+ * traversal reaches; its contacts must equal dvh_collide's on meshes refit whole with
+ * dvh_mesh_refit. */
+static void test_scene_lazy(void) {
+    enum { CAP = 50000, N = 48, OBJECTS = 3, FRAMES = 8 };
+    Mesh big = mesh_terrain(N, 0, 0, wave), small = mesh_terrain(4, 0, 0, ridge);
+    DvhMesh *model_big = create(&big, NULL), *model_small = create(&small, NULL), *rigid = create(&small, NULL);
+    DvhScene *scene = NULL;
+    DvhContacts *contacts = dvh_contacts_new();
+    DvhContact *expected = malloc(CAP * sizeof *expected);
+    double *pb = malloc(big.vertex_count * 3 * sizeof(double)), *ps = malloc(small.vertex_count * 3 * sizeof(double));
+    SceneModel model[OBJECTS];
+    DvhSceneStats st;
+    uint32_t id;
+    size_t i, n;
+    int frame;
+
+    CHECK_STATUS(dvh_scene_create(&scene), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_add_deformable(scene, model_big, 1, 0xffffffffu, &id), DVH_STATUS_OK, NULL);
+    CHECK(id == 0);
+    CHECK_STATUS(dvh_scene_add_deformable(scene, model_small, 1, 0xffffffffu, &id), DVH_STATUS_OK, NULL);
+    CHECK(id == 1);
+    model[0].mesh = model_big; model[0].posed = 0; model[0].alive = 1;
+    model[1].mesh = model_small; model[1].posed = 0; model[1].alive = 1;
+    model[2].mesh = rigid; model[2].posed = 1; model[2].alive = 1;
+    {
+        IPose ip = ipose_make(N - 3, N - 3, 0, 0);
+        model[2].pose = ipose_to_dvh(&ip);
+    }
+    CHECK_STATUS(dvh_scene_add_rigid(scene, rigid, &model[2].pose, 1, 0xffffffffu, &id), DVH_STATUS_OK, NULL);
+    CHECK(id == 2);
+    lcg_state = 2024;
+    for (frame = 0; frame < FRAMES; frame++) {
+        DvhQueryOptions o = dvh_query_options_default();
+        /* The large sheet: heights jitter by quarters; the small one crosses a corner. */
+        for (i = 0; i < big.vertex_count; i++) {
+            pb[3 * i] = big.pos[3 * i];
+            pb[3 * i + 1] = big.pos[3 * i + 1];
+            pb[3 * i + 2] = big.pos[3 * i + 2] + 0.25 * (lcg_below(5) - 2);
+        }
+        for (i = 0; i < small.vertex_count; i++) {
+            ps[3 * i] = small.pos[3 * i] + 0.5 * lcg_below(3);
+            ps[3 * i + 1] = small.pos[3 * i + 1] + 0.5 * lcg_below(3);
+            ps[3 * i + 2] = small.pos[3 * i + 2] - 0.5;
+        }
+        if (frame % 3 != 2) {
+            CHECK_STATUS(dvh_scene_set_positions(scene, 0, pb, big.vertex_count), DVH_STATUS_OK, NULL);
+            CHECK_STATUS(dvh_mesh_refit(model_big, pb, big.vertex_count), DVH_STATUS_OK, NULL);
+        }
+        CHECK_STATUS(dvh_scene_set_positions(scene, 1, ps, small.vertex_count), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_mesh_refit(model_small, ps, small.vertex_count), DVH_STATUS_OK, NULL);
+        o.mode = frame % 4 == 3 ? DVH_QUERY_MODE_FIRST_HIT : DVH_QUERY_MODE_TRIANGLES;
+        o.threads = (uint32_t)(frame % 2);
+        n = scene_expected(model, OBJECTS, &o, expected, CAP);
+        CHECK(n <= CAP);
+        CHECK_STATUS(dvh_scene_collide(scene, &o, contacts, &st), DVH_STATUS_OK, NULL);
+        CHECK(same_contacts(contacts, expected, n));
+        /* The sheets touch at two corners: most of the large one is never refit. */
+        CHECK(st.nodes_refit < dvh_mesh_node_count(model_big) / 2 + dvh_mesh_node_count(model_small));
+    }
+    CHECK(n > 0);
+    dvh_contacts_free(contacts);
+    dvh_scene_free(scene);
+    dvh_mesh_free(model_big);
+    dvh_mesh_free(model_small);
+    dvh_mesh_free(rigid);
+    free(expected);
+    free(pb);
+    free(ps);
+    mesh_free(&big);
+    mesh_free(&small);
+}
+
 int main(void) {
     test_versions_and_names();
     test_defaults();
@@ -709,5 +783,6 @@ int main(void) {
     test_triangle_test();
     test_against_oracle();
     test_scene();
+    test_scene_lazy();
     return finish("test_api");
 }

@@ -87,8 +87,9 @@ pub struct Scene {
     apart: HashMap<(u32, u32), Apart>,
     /// Scratch for the next `apart`.
     apart_next: HashMap<(u32, u32), Apart>,
-    /// The copies rigid objects share, by the [`Mesh::state`] they were made from.
-    snapshots: HashMap<u64, Weak<Mesh>>,
+    /// The copies rigid objects share, by the [`Mesh::state`] they were made from, with the
+    /// bounds of their positions.
+    snapshots: HashMap<u64, (Weak<Mesh>, LocalBounds)>,
 }
 
 /// What an object pair without contact was queried with.
@@ -132,22 +133,31 @@ impl Scene {
         mask: u32,
     ) -> Result<u32> {
         let pose = pose.copied().unwrap_or_default();
-        let shared = self.snapshots.get(&mesh.state).and_then(Weak::upgrade);
+        let shared = self
+            .snapshots
+            .get(&mesh.state)
+            .and_then(|(copy, local)| Some((copy.upgrade()?, *local)));
         self.make_room(if shared.is_some() {
             0
         } else {
             mesh.state_bytes()
         })?;
-        let local = LocalBounds::of(&mesh.positions);
+        let local = shared
+            .as_ref()
+            .map_or_else(|| LocalBounds::of(&mesh.positions), |s| s.1);
         let world = local.posed(&pose, mesh.max_abs)?;
-        let mesh = shared.unwrap_or_else(|| {
-            let mut copy = mesh.clone();
-            // A rigid object is never refit: no room for new positions.
-            copy.spare = Vec::new();
-            let copy = Arc::new(copy);
-            self.snapshots.insert(mesh.state, Arc::downgrade(&copy));
-            copy
-        });
+        let mesh = match shared {
+            Some((copy, _)) => copy,
+            None => {
+                let mut copy = mesh.clone();
+                // A rigid object is never refit: no room for new positions.
+                copy.spare = Vec::new();
+                let copy = Arc::new(copy);
+                self.snapshots
+                    .insert(mesh.state, (Arc::downgrade(&copy), local));
+                copy
+            }
+        };
         Ok(self.insert(
             Object {
                 mesh,
@@ -340,7 +350,8 @@ impl Scene {
         self.free.push(id);
         self.broad.remove(id);
         self.excluded.retain(|&(i, j)| i != id && j != id);
-        self.snapshots.retain(|_, copy| copy.strong_count() > 0);
+        self.snapshots
+            .retain(|_, (copy, _)| copy.strong_count() > 0);
         Ok(())
     }
 
