@@ -265,7 +265,8 @@ impl Scene {
         let result = if options.mode.reports_nodes() {
             self.query_pairs(&candidates, &[], options, out, &mut stats)
         } else {
-            stats.nodes_refit = self.refit_stale(|id| needed[id], options.threads, true);
+            let lazy = !self.eager;
+            stats.nodes_refit = self.refit_stale(|id| needed[id], options.threads, lazy);
             let boxes = self.lazy_boxes(&needed);
             // SAFETY: nothing but the views reads those boxes until they are dropped below.
             let lazy = unsafe { self.lazy_views(&boxes) };

@@ -90,6 +90,8 @@ pub struct Scene {
     /// The copies rigid objects share, by the [`Mesh::state`] they were made from, with the
     /// bounds of their positions.
     snapshots: HashMap<u64, (Weak<Mesh>, LocalBounds)>,
+    /// Refit every deformable object a query needs whole, not block by block.
+    eager: bool,
 }
 
 /// What an object pair without contact was queried with.
@@ -104,6 +106,15 @@ impl Scene {
     /// An empty scene.
     pub fn new() -> Scene {
         Scene::default()
+    }
+
+    /// Whether a query refits box volumes lazily, block by block as traversals reach them (the
+    /// default, `true`), or every deformable object it needs whole, as before the query starts
+    /// (`false`). The results are the same; lazy refit skips the parts of objects no other object
+    /// comes near, eager refit costs the same whatever the contact (`BENCHMARKS.md` measures
+    /// both).
+    pub fn set_lazy_refit(&mut self, lazy: bool) {
+        self.eager = !lazy;
     }
 
     /// Number of objects.

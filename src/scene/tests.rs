@@ -654,6 +654,15 @@ fn lazy_refit_reaches_only_the_touched_blocks() {
         .unwrap();
     assert_eq!(coarse.nodes_refit, a.node_count() as u64);
     assert_eq!(check_current_boxes(&scene, ia, &a), a.node_count());
+    // Eager refit: the object whole, the same contacts.
+    scene.set_lazy_refit(false);
+    scene.set_positions(ia, &moved).unwrap();
+    let eager = scene
+        .collide(&QueryOptions::default(), &mut contacts)
+        .unwrap();
+    assert_eq!(eager.nodes_refit, a.node_count() as u64);
+    let got: Vec<(u32, u32)> = contacts.iter().map(|c| (c.a, c.b)).collect();
+    assert_eq!(got, want);
 }
 
 mod lazy_property {
