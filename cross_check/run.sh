@@ -6,9 +6,11 @@
 #   cross_check/run.sh           short version (small meshes, 4 frames, every scene kind)
 #   cross_check/run.sh --full    paper sizes, 200 frames
 #   extra arguments go to the harness: --frames N, --scene NAME, --threads N (dvh's threaded run;
-#   default 0, every core; dvh also runs on one thread, and both must agree)
+#   default 0, every core; dvh also runs on one thread, and both must agree), --scene-run-only
+#   (only the run of whole scenes: one DvhScene against FCL's broad phase, on every scene chosen)
 #
-# Results: cross_check/build/results/{frames.csv,summary.json} and the printed summary.
+# Results: cross_check/build/results/{frames.csv,summary.json} (pairwise run),
+# {scene_frames.csv,scene_summary.json} (scene run) and the printed summaries.
 set -euo pipefail
 cd "$(dirname "$0")"
 root=$(cd .. && pwd)

@@ -1,21 +1,37 @@
 // Cross-check of dvh against FCL 0.7, frame by frame, with CGAL as the judge.
 //
-// For every scene and frame, the same world-coordinate vertex arrays go to FCL (BVHModel<OBBRSSd>
-// and BVHModel<AABBd>, replace + bottom-up refit, identity transforms, every contact requested)
-// and to dvh through dvh.h (refit + exact query), and dvh runs a second time with its own poses
-// (local coordinates refit, the rigid motion passed as DvhPose). The sets of intersecting
-// triangle pairs are compared; CGAL's exact do_intersect judges every pair in a symmetric
-// difference, and a sample of the agreed pairs. dvh must agree with CGAL on every judged pair and
-// its posed answers must equal its world-coordinate answers; FCL's errors are counted.
+// The pairwise run: for every scene and frame, the same world-coordinate vertex arrays go to FCL
+// (BVHModel<OBBRSSd> and BVHModel<AABBd>, replace + bottom-up refit, identity transforms, every
+// contact requested) and to dvh through dvh.h (refit + exact query), and dvh runs a second time
+// with its own poses (local coordinates refit, the rigid motion passed as DvhPose). Every object
+// pair of the scene is queried. The sets of intersecting triangle pairs are compared; CGAL's
+// exact do_intersect judges every pair in a symmetric difference, and a sample of the agreed
+// pairs. dvh must agree with CGAL on every judged pair and its posed answers must equal its
+// world-coordinate answers; FCL's errors are counted.
 //
 // dvh runs on one thread (refit and query: the single-thread figures FCL is compared with) and,
 // on separate meshes, with `--threads N` (DvhQueryOptions.threads and
 // DvhBuildOptions.refit_threads; default 0, every core); both must give the same pairs.
 //
-// Usage: dvh_cross_check [--full] [--frames N] [--scene NAME] [--threads N] [--checksums] --data DIR
-//                        [--out DIR]
-// (--checksums prints a hash of every scene's world coordinates at its first and last frame and
-// exits: the benchmark runner's port of the scenes must print the same.)
+// The scene run, on the scenes of three or more objects (where a broad phase has pairs to
+// discard), in the same frames and world coordinates: every object in one DvhScene as a
+// deformable object (dvh_scene_set_positions, then dvh_scene_collide, on one thread; a second
+// scene with `--threads N` must agree), against FCL's own broad phase (each configuration's
+// models in a DynamicAABBTreeCollisionManagerd: replace + refit, boxes, manager update, and every
+// object pair it reports queried for every contact). The sets of (object a, object b, triangle
+// a, triangle b) are judged as in the pairwise run, and dvh's must equal its pairwise run's.
+//
+// Usage: dvh_cross_check [--full] [--frames N] [--scene NAME] [--threads N] [--scene-run-only]
+//                        [--checksums] --data DIR [--out DIR]
+// (--scene-run-only skips the pairwise run and makes the scene run on every selected scene, two
+// objects or more; --checksums prints a hash of every scene's world coordinates at its first and
+// last frame and exits: the benchmark runner's port of the scenes must print the same.)
+//
+// Output: a line per frame and run, a summary of each run, the verdict (exit status 1 when dvh
+// is wrong or its runs differ, 2 on errors). With --out DIR: frames.csv and summary.json (the
+// pairwise run, per frame and per scene), scene_frames.csv and scene_summary.json (the scene
+// run: per frame, each FCL configuration's columns prefixed obb_ or aabb_; per scene, medians
+// per frame and totals).
 
 #include <dvh.h>
 #include <fcl/fcl.h>
@@ -33,6 +49,7 @@
 #include <string>
 #include <vector>
 
+#include "fcl_scene.hpp"
 #include "fcl_side.hpp"
 #include "geometry.hpp"
 #include "judge.hpp"
@@ -41,7 +58,9 @@
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using xc::ContactSet;
 using xc::PairSet;
+using xc::SceneContact;
 
 double ms_since(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
@@ -106,19 +125,284 @@ void triangle(const xc::MeshData& m, const std::vector<double>& world, uint32_t 
 
 bool contains(const PairSet& s, uint64_t x) { return std::binary_search(s.begin(), s.end(), x); }
 
-PairSet symmetric_difference(const PairSet& a, const PairSet& b) {
-    PairSet d;
+template <typename Set>
+Set symmetric_difference(const Set& a, const Set& b) {
+    Set d;
     std::set_symmetric_difference(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(d));
     return d;
 }
 
-PairSet difference(const PairSet& a, const PairSet& b) {
-    PairSet d;
+template <typename Set>
+Set difference(const Set& a, const Set& b) {
+    Set d;
     std::set_difference(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(d));
     return d;
 }
 
-std::vector<FrameRow> run_scene(xc::Scene& scene, uint32_t threads, std::vector<Offence>& offences) {
+const size_t kSample = 20;  // agreed pairs spot-checked per object pair and frame, in both runs
+
+// One FCL configuration in one frame of a scene run.
+struct FclFrame {
+    size_t tested = 0, colliding = 0;  // object pairs: reported by the broad phase, with contacts
+    size_t contacts = 0, dvh_only = 0, only = 0, wrong = 0;
+    double refit = 0, manager = 0, collide = 0;  // ms: replace + refit + boxes, manager update, collide
+    double ms() const { return refit + manager + collide; }
+};
+
+// One frame of a scene run.
+struct SceneRow {
+    std::string scene;
+    int frame = 0;
+    size_t dvh_tested = 0, dvh_colliding = 0;  // object pairs, as in FclFrame
+    size_t dvh_contacts = 0;
+    FclFrame obb, aabb;
+    size_t judged = 0, sampled = 0, cgal_with_dvh = 0, cgal_with_fcl = 0, dvh_wrong = 0;
+    bool pairwise_checked = false;
+    size_t pairwise_mismatch = 0, threads_mismatch = 0;
+    double dvh_set = 0, dvh_collide = 0;  // ms: set_positions of every object, dvh_scene_collide
+};
+
+// Object pairs with at least one contact in a sorted set.
+size_t object_pairs(const ContactSet& s) {
+    size_t n = 0;
+    for (size_t k = 0; k < s.size(); k++)
+        if (k == 0 || s[k].object_a != s[k - 1].object_a || s[k].object_b != s[k - 1].object_b) n++;
+    return n;
+}
+
+bool contains(const ContactSet& s, const SceneContact& c) { return std::binary_search(s.begin(), s.end(), c); }
+
+// The scene run: every object of a scene in one DvhScene (deformable, world coordinates, refit
+// and query on one thread) against FCL's own broad phase over the same two configurations as
+// the pairwise run, with the world coordinates the pairwise run uses. With `threads` != 1 a
+// second scene, threaded, must agree with the first.
+class SceneRun {
+public:
+    SceneRun(const xc::Scene& scene, const std::vector<std::vector<double>>& world,
+             const std::vector<std::vector<fcl::Vector3d>>& fcl_world, uint32_t threads)
+        : scene_(scene), query_one_(dvh_query_options_default()), query_many_(dvh_query_options_default()) {
+        const size_t n = scene.objects.size();
+        query_one_.threads = 1;
+        query_many_.threads = threads;
+        std::vector<char> tested(n * n, 0);
+        for (auto [i, j] : scene.pairs) tested[std::min(i, j) * n + std::max(i, j)] = 1;
+        DvhBuildOptions one = dvh_build_options_default(), many = dvh_build_options_default();
+        one.refit_threads = 1;
+        many.refit_threads = threads;
+        add_objects(one, world, tested, one_);
+        if (threads != 1) add_objects(many, world, tested, many_);
+        for (size_t i = 0; i < n; i++) {
+            const auto& m = scene.objects[i].rest;
+            obb_.build(m.tris.data(), m.triangles(), fcl_world[i]);
+            aabb_.build(m.tris.data(), m.triangles(), fcl_world[i]);
+        }
+        obb_.finish(tested);
+        aabb_.finish(tested);
+        contacts_ = dvh_contacts_new();
+        if (contacts_ == nullptr) throw std::runtime_error("dvh_contacts_new failed");
+    }
+
+    SceneRun(const SceneRun&) = delete;
+    SceneRun& operator=(const SceneRun&) = delete;
+
+    ~SceneRun() {
+        dvh_contacts_free(contacts_);
+        dvh_scene_free(one_.scene);
+        dvh_scene_free(many_.scene);
+    }
+
+    // `pairwise`: the pairwise run's one-thread sets of this frame, one per Scene::pairs entry,
+    // or null when it did not run.
+    SceneRow frame(int f, const std::vector<std::vector<double>>& world, const std::vector<std::vector<fcl::Vector3d>>& fcl_world,
+                   const std::vector<PairSet>* pairwise, std::vector<Offence>& offences) {
+        SceneRow row;
+        row.scene = scene_.name;
+        row.frame = f;
+
+        auto t0 = Clock::now();
+        set_positions(one_, world);
+        row.dvh_set = ms_since(t0);
+        t0 = Clock::now();
+        DvhSceneStats stats;
+        ContactSet dvh = collide(one_, query_one_, &stats);
+        row.dvh_collide = ms_since(t0);
+        row.dvh_tested = stats.object_pairs_tested;
+        row.dvh_colliding = stats.object_pairs_colliding;
+        row.dvh_contacts = dvh.size();
+
+        ContactSet obb = run_fcl(obb_, fcl_world, dvh, row.obb);
+        ContactSet aabb = run_fcl(aabb_, fcl_world, dvh, row.aabb);
+
+        if (many_.scene != nullptr) {
+            set_positions(many_, world);
+            ContactSet threaded = collide(many_, query_many_, nullptr);
+            row.threads_mismatch = symmetric_difference(dvh, threaded).size();
+        }
+        if (pairwise != nullptr) {
+            ContactSet apart;
+            for (size_t p = 0; p < scene_.pairs.size(); p++) {
+                auto [i, j] = scene_.pairs[p];
+                for (uint64_t key : (*pairwise)[p])
+                    apart.push_back(ordered((uint32_t)i, (uint32_t)j, (uint32_t)(key >> 32), (uint32_t)key));
+            }
+            std::sort(apart.begin(), apart.end());
+            row.pairwise_checked = true;
+            row.pairwise_mismatch = symmetric_difference(dvh, apart).size();
+        }
+
+        // Judged as in the pairwise run: every contact on which dvh and either FCL configuration
+        // disagree, and a sample of those all three report, per object pair.
+        ContactSet disputed = symmetric_difference(dvh, obb), more = symmetric_difference(dvh, aabb), agreed;
+        disputed.insert(disputed.end(), more.begin(), more.end());
+        std::sort(disputed.begin(), disputed.end());
+        disputed.erase(std::unique(disputed.begin(), disputed.end()), disputed.end());
+        std::set_intersection(dvh.begin(), dvh.end(), obb.begin(), obb.end(), std::back_inserter(agreed));
+        agreed = difference(agreed, disputed);
+        auto judge = [&](const SceneContact& c, bool disputed_pair) {
+            const auto& oa = scene_.objects[c.object_a];
+            const auto& ob = scene_.objects[c.object_b];
+            Offence off;
+            off.a = c.a;
+            off.b = c.b;
+            triangle(oa.rest, world[c.object_a], c.a, off.ta);
+            triangle(ob.rest, world[c.object_b], c.b, off.tb);
+            bool truth = xc::cgal_intersect(off.ta, off.tb);
+            bool by_dvh = contains(dvh, c);
+            if (disputed_pair) {
+                row.judged++;
+                (truth == by_dvh ? row.cgal_with_dvh : row.cgal_with_fcl)++;
+            } else {
+                row.sampled++;
+            }
+            if (contains(obb, c) != truth) row.obb.wrong++;
+            if (contains(aabb, c) != truth) row.aabb.wrong++;
+            if (by_dvh != truth) {
+                row.dvh_wrong++;
+                off.scene = scene_.name + " (scene run)";
+                off.frame = f;
+                off.objects = oa.name + " x " + ob.name;
+                off.dvh = by_dvh;
+                off.cgal = truth;
+                if (offences.size() < 20) offences.push_back(off);
+            }
+        };
+        for (const auto& c : disputed) judge(c, true);
+        for (size_t begin = 0, end; begin < agreed.size(); begin = end) {
+            end = begin;
+            while (end < agreed.size() && agreed[end].object_a == agreed[begin].object_a &&
+                   agreed[end].object_b == agreed[begin].object_b)
+                end++;
+            size_t step = std::max<size_t>(1, (end - begin) / kSample);
+            for (size_t k = begin; k < end; k += step) judge(agreed[k], false);
+        }
+
+        std::printf("%-10s %4d  scene run: object pairs colliding/tested dvh %4zu/%4zu obb %4zu/%4zu aabb %4zu/%4zu | contacts dvh "
+                    "%7zu obb %7zu aabb %7zu | dvh-only %5zu/%5zu fcl-only %5zu/%5zu | judged %5zu cgal: dvh %5zu fcl %5zu | "
+                    "dvh wrong %zu pairwise diff %s threads diff %zu | ms dvh %.2f+%.2f obb %.2f+%.2f+%.2f aabb %.2f+%.2f+%.2f\n",
+                    scene_.name.c_str(), f, row.dvh_colliding, row.dvh_tested, row.obb.colliding, row.obb.tested,
+                    row.aabb.colliding, row.aabb.tested, row.dvh_contacts, row.obb.contacts, row.aabb.contacts, row.obb.dvh_only,
+                    row.aabb.dvh_only, row.obb.only, row.aabb.only, row.judged, row.cgal_with_dvh, row.cgal_with_fcl,
+                    row.dvh_wrong, row.pairwise_checked ? std::to_string(row.pairwise_mismatch).c_str() : "-",
+                    row.threads_mismatch, row.dvh_set, row.dvh_collide, row.obb.refit, row.obb.manager, row.obb.collide,
+                    row.aabb.refit, row.aabb.manager, row.aabb.collide);
+        std::fflush(stdout);
+        return row;
+    }
+
+private:
+    struct Dvh {
+        DvhScene* scene = nullptr;
+        std::vector<uint32_t> ids;    // dvh's id of every object
+        std::vector<uint32_t> index;  // the object of every dvh id
+        bool in_order = true;         // ids increase with the object index: dvh's order is ours
+    };
+
+    // Every object as a deformable object made from a mesh of its first-frame world
+    // coordinates (the scene keeps what it needs of the mesh), pairs outside Scene::pairs
+    // excluded.
+    void add_objects(const DvhBuildOptions& build, const std::vector<std::vector<double>>& world, const std::vector<char>& tested,
+                     Dvh& d) {
+        const size_t n = scene_.objects.size();
+        dvh_check(dvh_scene_create(&d.scene), "scene create");
+        for (size_t i = 0; i < n; i++) {
+            const auto& m = scene_.objects[i].rest;
+            DvhMesh* mesh = nullptr;
+            dvh_check(dvh_mesh_create(world[i].data(), m.vertices(), m.tris.data(), m.triangles(), &build, &mesh), "create");
+            uint32_t id = 0;
+            DvhStatus status = dvh_scene_add_deformable(d.scene, mesh, 1, 0xffffffffu, &id);
+            dvh_mesh_free(mesh);
+            dvh_check(status, "scene add deformable");
+            d.ids.push_back(id);
+            if (d.index.size() <= id) d.index.resize(id + 1, UINT32_MAX);
+            d.index[id] = (uint32_t)i;
+            d.in_order = d.in_order && (i == 0 || id > d.ids[i - 1]);
+        }
+        for (size_t i = 0; i < n; i++)
+            for (size_t j = i + 1; j < n; j++)
+                if (!tested[i * n + j]) dvh_check(dvh_scene_exclude_pair(d.scene, d.ids[i], d.ids[j]), "scene exclude pair");
+    }
+
+    void set_positions(Dvh& d, const std::vector<std::vector<double>>& world) {
+        for (size_t i = 0; i < world.size(); i++)
+            dvh_check(dvh_scene_set_positions(d.scene, d.ids[i], world[i].data(), scene_.objects[i].rest.vertices()),
+                      "scene set positions");
+    }
+
+    // One FCL configuration's frame, each step timed: new positions for every model, the
+    // manager's update, the query of every pair it reports.
+    template <typename BV>
+    ContactSet run_fcl(xc::FclBroadPhase<BV>& fcl, const std::vector<std::vector<fcl::Vector3d>>& fcl_world, const ContactSet& dvh,
+                       FclFrame& out) {
+        auto t0 = Clock::now();
+        for (size_t i = 0; i < fcl_world.size(); i++) fcl.update(i, fcl_world[i]);
+        out.refit = ms_since(t0);
+        t0 = Clock::now();
+        fcl.update_manager();
+        out.manager = ms_since(t0);
+        t0 = Clock::now();
+        ContactSet s = fcl.collide(out.tested);
+        out.collide = ms_since(t0);
+        out.colliding = object_pairs(s);
+        out.contacts = s.size();
+        out.dvh_only = difference(dvh, s).size();
+        out.only = difference(s, dvh).size();
+        return s;
+    }
+
+    static SceneContact ordered(uint32_t i, uint32_t j, uint32_t a, uint32_t b) {
+        return i < j ? SceneContact{i, j, a, b} : SceneContact{j, i, b, a};
+    }
+
+    // Every contact of the frame, in object indices.
+    ContactSet collide(Dvh& d, const DvhQueryOptions& query, DvhSceneStats* stats) {
+        DvhSceneStats local;
+        if (stats == nullptr) stats = &local;
+        dvh_check(dvh_scene_collide(d.scene, &query, contacts_, stats), "scene collide");
+        if (stats->truncated) throw std::runtime_error("dvh_scene_collide truncated its result");
+        ContactSet s(dvh_contacts_len(contacts_));
+        const DvhContact* data = dvh_contacts_data(contacts_);
+        for (size_t k = 0; k < s.size(); k++)
+            s[k] = ordered(d.index[data[k].object_a], d.index[data[k].object_b], data[k].a, data[k].b);
+        if (!d.in_order) std::sort(s.begin(), s.end());  // else already sorted by dvh
+        return s;
+    }
+
+    const xc::Scene& scene_;
+    DvhQueryOptions query_one_, query_many_;
+    Dvh one_, many_;
+    DvhContacts* contacts_ = nullptr;
+    xc::FclBroadPhase<fcl::OBBRSSd> obb_;
+    xc::FclBroadPhase<fcl::AABBd> aabb_;
+};
+
+// What runs on a scene, frame by frame: the pairwise run (its rows are returned) and the scene run
+// (its rows go to `scene_rows`).
+struct Runs {
+    bool pairwise = true, scene = true;
+};
+
+std::vector<FrameRow> run_scene(xc::Scene& scene, uint32_t threads, Runs runs, std::vector<Offence>& offences,
+                                std::vector<SceneRow>& scene_rows) {
     const size_t n = scene.objects.size();
     std::vector<std::vector<double>> local(n), world(n);
     std::vector<std::vector<fcl::Vector3d>> fcl_world(n);
@@ -148,7 +432,7 @@ std::vector<FrameRow> run_scene(xc::Scene& scene, uint32_t threads, std::vector<
     DvhQueryOptions query_one = dvh_query_options_default(), query_many = dvh_query_options_default();
     query_one.threads = 1;
     query_many.threads = threads;
-    for (size_t i = 0; i < n; i++) {
+    for (size_t i = 0; runs.pairwise && i < n; i++) {
         const auto& m = scene.objects[i].rest;
         dvh_check(dvh_mesh_create(world[i].data(), m.vertices(), m.tris.data(), m.triangles(), &one_thread, &dvh_one[i]), "create");
         dvh_check(dvh_mesh_create(world[i].data(), m.vertices(), m.tris.data(), m.triangles(), &many, &dvh_world[i]), "create");
@@ -158,9 +442,10 @@ std::vector<FrameRow> run_scene(xc::Scene& scene, uint32_t threads, std::vector<
     }
     DvhPairs* pairs = dvh_pairs_new();
     if (pairs == nullptr) throw std::runtime_error("dvh_pairs_new failed");
+    std::unique_ptr<SceneRun> whole;
+    if (runs.scene) whole = std::make_unique<SceneRun>(scene, world, fcl_world, threads);
 
     std::vector<FrameRow> rows;
-    const size_t kSample = 20;  // agreed pairs spot-checked per object pair and frame
     for (int f = 0; f < scene.frames; f++) {
         FrameRow row;
         row.scene = scene.name;
@@ -171,6 +456,10 @@ std::vector<FrameRow> run_scene(xc::Scene& scene, uint32_t threads, std::vector<
 
         std::vector<PairSet> s1(scene.pairs.size()), sw(scene.pairs.size()), sp(scene.pairs.size()), so(scene.pairs.size()),
             sa(scene.pairs.size());
+        if (!runs.pairwise) {
+            if (whole) scene_rows.push_back(whole->frame(f, world, fcl_world, nullptr, offences));
+            continue;
+        }
         // One dvh configuration: refit every mesh, then query every pair (with poses or not), each
         // timed.
         auto run_dvh = [&](std::vector<DvhMesh*>& meshes, const std::vector<std::vector<double>>& coords, bool posed,
@@ -267,6 +556,7 @@ std::vector<FrameRow> run_scene(xc::Scene& scene, uint32_t threads, std::vector<
                     row.posed_refit, row.posed_query, row.obb_update, row.obb_query, row.aabb_update, row.aabb_query);
         std::fflush(stdout);
         rows.push_back(row);
+        if (whole) scene_rows.push_back(whole->frame(f, world, fcl_world, &s1, offences));
     }
     dvh_pairs_free(pairs);
     for (size_t i = 0; i < n; i++) {
@@ -315,7 +605,56 @@ Summary summarize(const xc::Scene& scene, const std::vector<FrameRow>& rows) {
     return s;
 }
 
-void write_outputs(const std::string& dir, const std::vector<FrameRow>& rows, const std::vector<Summary>& sums) {
+struct SceneSummary {
+    std::string scene;
+    int frames = 0;
+    double colliding = 0, dvh_tested = 0, fcl_tested = 0, contacts = 0;  // medians per frame (dvh's; FCL's broad phase)
+    size_t contacts_total = 0, disagreements = 0, judged = 0, sampled = 0, cgal_with_dvh = 0, cgal_with_fcl = 0;
+    size_t dvh_wrong = 0, obb_wrong = 0, aabb_wrong = 0, threads_mismatch = 0;
+    bool pairwise_checked = true;
+    size_t pairwise_mismatch = 0;
+    double dvh = 0, obb = 0, aabb = 0;  // medians per frame, ms
+};
+
+SceneSummary summarize_scene_run(const std::string& scene, const std::vector<SceneRow>& all) {
+    SceneSummary s;
+    s.scene = scene;
+    std::vector<double> colliding, dvh_tested, fcl_tested, contacts, dvh, obb, aabb;
+    for (const auto& r : all) {
+        if (r.scene != scene) continue;
+        s.frames++;
+        colliding.push_back((double)r.dvh_colliding);
+        dvh_tested.push_back((double)r.dvh_tested);
+        fcl_tested.push_back((double)r.obb.tested);
+        contacts.push_back((double)r.dvh_contacts);
+        s.contacts_total += r.dvh_contacts;
+        s.disagreements += r.obb.dvh_only + r.obb.only + r.aabb.dvh_only + r.aabb.only;
+        s.judged += r.judged;
+        s.sampled += r.sampled;
+        s.cgal_with_dvh += r.cgal_with_dvh;
+        s.cgal_with_fcl += r.cgal_with_fcl;
+        s.dvh_wrong += r.dvh_wrong;
+        s.obb_wrong += r.obb.wrong;
+        s.aabb_wrong += r.aabb.wrong;
+        s.threads_mismatch += r.threads_mismatch;
+        s.pairwise_checked = s.pairwise_checked && r.pairwise_checked;
+        s.pairwise_mismatch += r.pairwise_mismatch;
+        dvh.push_back(r.dvh_set + r.dvh_collide);
+        obb.push_back(r.obb.ms());
+        aabb.push_back(r.aabb.ms());
+    }
+    s.colliding = median(colliding);
+    s.dvh_tested = median(dvh_tested);
+    s.fcl_tested = median(fcl_tested);
+    s.contacts = median(contacts);
+    s.dvh = median(dvh);
+    s.obb = median(obb);
+    s.aabb = median(aabb);
+    return s;
+}
+
+void write_outputs(const std::string& dir, const std::vector<FrameRow>& rows, const std::vector<Summary>& sums,
+                   const std::vector<SceneRow>& scene_rows, const std::vector<SceneSummary>& scene_sums) {
     std::ofstream csv(dir + "/frames.csv");
     csv << "scene,frame,dvh_pairs,obb_pairs,aabb_pairs,dvh_only_vs_obb,obb_only,dvh_only_vs_aabb,aabb_only,judged,sampled,"
            "cgal_with_dvh,cgal_with_fcl,dvh_wrong,obb_wrong,aabb_wrong,posed_mismatch,threads_mismatch,one_thread_refit_ms,"
@@ -342,6 +681,44 @@ void write_outputs(const std::string& dir, const std::vector<FrameRow>& rows, co
              << (k + 1 < sums.size() ? "," : "") << "\n";
     }
     json << "]\n";
+
+    std::ofstream scsv(dir + "/scene_frames.csv");
+    scsv << "scene,frame,dvh_object_pairs_tested,dvh_object_pairs_colliding,dvh_contacts,obb_object_pairs_tested,"
+            "obb_object_pairs_colliding,obb_contacts,dvh_only_vs_obb,obb_only,aabb_object_pairs_tested,aabb_object_pairs_colliding,"
+            "aabb_contacts,dvh_only_vs_aabb,aabb_only,judged,sampled,cgal_with_dvh,cgal_with_fcl,dvh_wrong,obb_wrong,aabb_wrong,"
+            "pairwise_mismatch,threads_mismatch,dvh_set_positions_ms,dvh_collide_ms,obb_refit_ms,obb_manager_update_ms,"
+            "obb_collide_ms,aabb_refit_ms,aabb_manager_update_ms,aabb_collide_ms\n";
+    for (const auto& r : scene_rows) {
+        scsv << r.scene << ',' << r.frame << ',' << r.dvh_tested << ',' << r.dvh_colliding << ',' << r.dvh_contacts;
+        for (const FclFrame* c : {&r.obb, &r.aabb})
+            scsv << ',' << c->tested << ',' << c->colliding << ',' << c->contacts << ',' << c->dvh_only << ',' << c->only;
+        scsv << ',' << r.judged << ',' << r.sampled << ',' << r.cgal_with_dvh << ',' << r.cgal_with_fcl << ',' << r.dvh_wrong << ','
+             << r.obb.wrong << ',' << r.aabb.wrong << ',';
+        if (r.pairwise_checked) scsv << r.pairwise_mismatch;  // empty: the pairwise run did not run
+        scsv << ',' << r.threads_mismatch << ',' << r.dvh_set << ',' << r.dvh_collide;
+        for (const FclFrame* c : {&r.obb, &r.aabb}) scsv << ',' << c->refit << ',' << c->manager << ',' << c->collide;
+        scsv << '\n';
+    }
+    std::ofstream sjson(dir + "/scene_summary.json");
+    sjson << "[\n";
+    for (size_t k = 0; k < scene_sums.size(); k++) {
+        const auto& s = scene_sums[k];
+        sjson << "  {\"scene\": \"" << s.scene << "\", \"frames\": " << s.frames
+              << ", \"median_per_frame\": {\"object_pairs_colliding\": " << s.colliding << ", \"dvh_object_pairs_tested\": "
+              << s.dvh_tested << ", \"fcl_object_pairs_tested\": " << s.fcl_tested << ", \"contacts\": " << s.contacts
+              << "}, \"contacts\": " << s.contacts_total << ", \"disagreements\": " << s.disagreements
+              << ", \"judged\": " << s.judged << ", \"sampled\": " << s.sampled << ", \"cgal_with_dvh\": " << s.cgal_with_dvh
+              << ", \"cgal_with_fcl\": " << s.cgal_with_fcl << ", \"dvh_wrong\": " << s.dvh_wrong
+              << ", \"obb_wrong\": " << s.obb_wrong << ", \"aabb_wrong\": " << s.aabb_wrong << ", \"pairwise_mismatch\": ";
+        if (s.pairwise_checked)
+            sjson << s.pairwise_mismatch;
+        else
+            sjson << "null";
+        sjson << ", \"threads_mismatch\": " << s.threads_mismatch << ", \"median_ms\": {\"dvh\": " << s.dvh
+              << ", \"fcl_obbrss\": " << s.obb << ", \"fcl_aabb\": " << s.aabb << "}}" << (k + 1 < scene_sums.size() ? "," : "")
+              << "\n";
+    }
+    sjson << "]\n";
 }
 
 // FNV-1a over the bytes of every world coordinate of every object at time t: the benchmark
@@ -369,7 +746,7 @@ uint64_t world_checksum(xc::Scene& scene, double t) {
 int main(int argc, char** argv) {
     xc::SceneOptions options;
     std::string out_dir, only;
-    bool checksums = false;
+    bool checksums = false, scene_run_only = false;
     uint32_t threads = 0;
     for (int i = 1; i < argc; i++) {
         std::string a = argv[i];
@@ -384,8 +761,11 @@ int main(int argc, char** argv) {
         else if (a == "--scene") only = value();
         else if (a == "--checksums") checksums = true;
         else if (a == "--threads") threads = (uint32_t)std::stoul(value());
+        else if (a == "--scene-run-only") scene_run_only = true;
         else {
-            std::fprintf(stderr, "usage: %s [--full] [--frames N] [--scene NAME] [--threads N] [--checksums] --data DIR [--out DIR]\n",
+            std::fprintf(stderr,
+                         "usage: %s [--full] [--frames N] [--scene NAME] [--threads N] [--scene-run-only] [--checksums] --data DIR\n"
+                         "       [--out DIR]\n",
                          argv[0]);
             return 2;
         }
@@ -412,14 +792,22 @@ int main(int argc, char** argv) {
                 options.full ? "full" : "short", threads, threads == 0 ? " (every core)" : "");
     std::vector<FrameRow> all_rows;
     std::vector<Summary> sums;
+    std::vector<SceneRow> scene_rows;
+    std::vector<SceneSummary> scene_sums;
     std::vector<Offence> offences;
     try {
         auto scenes = xc::make_scenes(options);
         for (auto& scene : scenes) {
             if (!only.empty() && scene.name != only) continue;
             std::printf("== %s: %s, %d frames\n", scene.name.c_str(), scene.description.c_str(), scene.frames);
-            auto rows = run_scene(scene, threads, offences);
-            sums.push_back(summarize(scene, rows));
+            Runs runs;
+            runs.pairwise = !scene_run_only;
+            // By default only where a broad phase has a choice to make: with two objects the
+            // scene run would repeat the pairwise run's single pair.
+            runs.scene = scene.objects.size() >= (scene_run_only ? 2 : 3);
+            auto rows = run_scene(scene, threads, runs, offences, scene_rows);
+            if (runs.pairwise) sums.push_back(summarize(scene, rows));
+            if (runs.scene) scene_sums.push_back(summarize_scene_run(scene.name, scene_rows));
             all_rows.insert(all_rows.end(), rows.begin(), rows.end());
         }
     } catch (const std::exception& e) {
@@ -427,12 +815,14 @@ int main(int argc, char** argv) {
         return 2;
     }
 
-    std::printf("\nSummary (medians per frame, ms; dvh 1t on one thread, dvh Nt threaded, posed threaded; ratio = faster FCL\n"
-                "configuration / dvh on one thread; speed-up = dvh 1t / dvh Nt)\n");
-    std::printf("%-10s %6s %10s %9s %8s %9s %9s %9s %9s %9s %9s %9s %9s %7s %8s\n", "scene", "frames", "pairs", "disagree",
-                "judged", "dvh wrong", "obb wrong", "aabb wrng", "dvh 1t", "dvh Nt", "dvh posed", "fcl obb", "fcl aabb", "ratio",
-                "speed-up");
     bool ok = true;
+    if (!scene_run_only) {
+        std::printf("\nSummary (medians per frame, ms; dvh 1t on one thread, dvh Nt threaded, posed threaded; ratio = faster FCL\n"
+                    "configuration / dvh on one thread; speed-up = dvh 1t / dvh Nt)\n");
+        std::printf("%-10s %6s %10s %9s %8s %9s %9s %9s %9s %9s %9s %9s %9s %7s %8s\n", "scene", "frames", "pairs", "disagree",
+                    "judged", "dvh wrong", "obb wrong", "aabb wrng", "dvh 1t", "dvh Nt", "dvh posed", "fcl obb", "fcl aabb", "ratio",
+                    "speed-up");
+    }
     for (const auto& s : sums) {
         double best = std::min(s.obb, s.aabb);
         std::printf("%-10s %6d %10zu %9zu %8zu %9zu %9zu %9zu %9.3f %9.3f %9.3f %9.3f %9.3f %6.1fx %7.2fx\n", s.scene.c_str(),
@@ -444,7 +834,29 @@ int main(int argc, char** argv) {
         if (s.posed_mismatch != 0)
             std::printf("  %s: dvh with poses differs from dvh with world coordinates on %zu pairs\n", s.scene.c_str(), s.posed_mismatch);
     }
-    if (!out_dir.empty()) write_outputs(out_dir, all_rows, sums);
+    if (!scene_sums.empty()) {
+        std::printf("\nSummary of the scene runs (every object in one DvhScene: set_positions + dvh_scene_collide on one thread;\n"
+                    "FCL: each configuration's models in a DynamicAABBTreeCollisionManager, replace + refit + boxes + manager update\n"
+                    "+ collide. Medians per frame: object pairs colliding and tested by each broad phase, contacts, ms; the other\n"
+                    "counts over every frame; pairwise = contacts differing from dvh pair by pair; ratio = faster FCL / dvh)\n");
+        std::printf("%-10s %6s %9s %8s %8s %9s %8s %7s %8s %9s %9s %9s %8s %9s %9s %9s %7s\n", "scene", "frames", "colliding",
+                    "test dvh", "test fcl", "contacts", "disagree", "judged", "cgal dvh", "dvh wrong", "obb wrong", "aabb wrng",
+                    "pairwise", "dvh", "fcl obb", "fcl aabb", "ratio");
+    }
+    for (const auto& s : scene_sums) {
+        double best = std::min(s.obb, s.aabb);
+        std::printf("%-10s %6d %9.0f %8.0f %8.0f %9.0f %8zu %7zu %8zu %9zu %9zu %9zu %8s %9.3f %9.3f %9.3f %6.1fx\n", s.scene.c_str(),
+                    s.frames, s.colliding, s.dvh_tested, s.fcl_tested, s.contacts, s.disagreements, s.judged, s.cgal_with_dvh,
+                    s.dvh_wrong, s.obb_wrong, s.aabb_wrong, s.pairwise_checked ? std::to_string(s.pairwise_mismatch).c_str() : "-",
+                    s.dvh, s.obb, s.aabb, s.dvh > 0 ? best / s.dvh : 0.0);
+        ok = ok && s.dvh_wrong == 0 && s.pairwise_mismatch == 0 && s.threads_mismatch == 0;
+        if (s.threads_mismatch != 0)
+            std::printf("  %s: the threaded scene differs from the scene on one thread on %zu contacts\n", s.scene.c_str(),
+                        s.threads_mismatch);
+        if (s.pairwise_mismatch != 0)
+            std::printf("  %s: the scene differs from dvh pair by pair on %zu contacts\n", s.scene.c_str(), s.pairwise_mismatch);
+    }
+    if (!out_dir.empty()) write_outputs(out_dir, all_rows, sums, scene_rows, scene_sums);
     for (const auto& o : offences) {
         std::printf("\nDVH DISAGREES WITH CGAL: scene %s frame %d (%s), triangles %u and %u: dvh says %s, CGAL says %s\n",
                     o.scene.c_str(), o.frame, o.objects.c_str(), o.a, o.b, o.dvh ? "intersect" : "apart",
@@ -452,6 +864,6 @@ int main(int argc, char** argv) {
         for (int c = 0; c < 3; c++) std::printf("  a[%d] = (%.17g, %.17g, %.17g)\n", c, o.ta[3 * c], o.ta[3 * c + 1], o.ta[3 * c + 2]);
         for (int c = 0; c < 3; c++) std::printf("  b[%d] = (%.17g, %.17g, %.17g)\n", c, o.tb[3 * c], o.tb[3 * c + 1], o.tb[3 * c + 2]);
     }
-    std::printf("\n%s\n", ok ? "VERDICT: dvh agrees with CGAL on every judged pair, threaded or not" : "VERDICT: FAILED");
+    std::printf("\n%s\n", ok ? "VERDICT: dvh agrees with CGAL on every judged pair, threaded or not, pair by pair or as a scene" : "VERDICT: FAILED");
     return ok ? 0 : 1;
 }
