@@ -680,6 +680,28 @@ static void test_scene(void) {
     CHECK_STATUS(dvh_scene_collide(scene, NULL, contacts, &st), DVH_STATUS_OK, NULL);
     CHECK(st.objects == 4 && st.object_pairs_tested == 0 && dvh_contacts_len(contacts) == 0 && dvh_contacts_data(contacts) == NULL);
 
+    /* A rigid-only scene: three placed copies of one mesh, the second shifted by one cell (the
+     * ridges cross), the third far away. */
+    {
+        DvhScene *rigid_scene = NULL;
+        SceneModel rm[3];
+        IPose here = ipose_make(0, 0, 0, 0), beside = ipose_make(0, 1, 0, 0), far = ipose_make(3, 40, 0, 0);
+        rm[0].mesh = b; rm[0].posed = 1; rm[0].pose = ipose_to_dvh(&here); rm[0].alive = 1;
+        rm[1].mesh = b; rm[1].posed = 1; rm[1].pose = ipose_to_dvh(&beside); rm[1].alive = 1;
+        rm[2].mesh = b; rm[2].posed = 1; rm[2].pose = ipose_to_dvh(&far); rm[2].alive = 1;
+        CHECK_STATUS(dvh_scene_create(&rigid_scene), DVH_STATUS_OK, NULL);
+        for (i = 0; i < 3; i++) {
+            CHECK_STATUS(dvh_scene_add_rigid(rigid_scene, b, &rm[i].pose, 1, 0xffffffffu, &id), DVH_STATUS_OK, NULL);
+            CHECK(id == i);
+        }
+        o = dvh_query_options_default();
+        n = scene_expected(rm, 3, &o, expected, CAP);
+        CHECK(n > 0 && n <= CAP);
+        CHECK_STATUS(dvh_scene_collide(rigid_scene, &o, contacts, &st), DVH_STATUS_OK, NULL);
+        CHECK(same_contacts(contacts, expected, n) && st.nodes_refit == 0 && st.object_pairs_tested == 1);
+        dvh_scene_free(rigid_scene);
+    }
+
     CHECK(dvh_contacts_len(NULL) == 0 && dvh_contacts_data(NULL) == NULL);
     CHECK(dvh_contacts_kind(NULL) == DVH_PAIR_KIND_TRIANGLES);
     dvh_contacts_free(NULL);
