@@ -781,6 +781,18 @@ static void test_scene_lazy(void) {
         /* The sheets touch at two corners: most of the large one is never refit. */
         CHECK(st.nodes_refit < dvh_mesh_node_count(model_big) / 2 + dvh_mesh_node_count(model_small));
     }
+    /* Eager refit: the moved objects whole, the same contacts. */
+    CHECK_STATUS(dvh_scene_set_lazy_refit(NULL, false), DVH_STATUS_NULL_ARGUMENT, "`scene`");
+    CHECK_STATUS(dvh_scene_set_lazy_refit(scene, false), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_set_positions(scene, 0, pb, big.vertex_count), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_set_positions(scene, 1, ps, small.vertex_count), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_collide(scene, NULL, contacts, &st), DVH_STATUS_OK, NULL);
+    {
+        DvhQueryOptions o = dvh_query_options_default();
+        n = scene_expected(model, OBJECTS, &o, expected, CAP);
+    }
+    CHECK(same_contacts(contacts, expected, n));
+    CHECK(st.nodes_refit == dvh_mesh_node_count(model_big) + dvh_mesh_node_count(model_small));
     CHECK(n > 0);
     dvh_contacts_free(contacts);
     dvh_scene_free(scene);

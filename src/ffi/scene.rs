@@ -300,6 +300,26 @@ pub unsafe extern "C" fn dvh_scene_exclude_pair(
     })
 }
 
+/// Whether `dvh_scene_collide` refits box volumes lazily (`true`, the default: each block of
+/// about 32 rings of a deformable object's tree when a traversal first reaches it, so the parts
+/// no other object comes near are never refit) or every deformable object it needs whole
+/// (`false`). The contacts are the same either way; `BENCHMARKS.md` measures both.
+///
+/// Errors: NULL_ARGUMENT.
+///
+/// Thread safety: exclusive access to `scene`.
+///
+/// # Safety
+/// `scene` is NULL or a live scene.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_set_lazy_refit(scene: *mut DvhScene, lazy: bool) -> DvhStatus {
+    guard(|| {
+        // SAFETY: per the contract.
+        unsafe { scene_mut(scene)? }.set_lazy_refit(lazy);
+        Ok(())
+    })
+}
+
 /// Every contact of the frame: for every two objects that the filters allow (groups and masks,
 /// exclusions) and whose world boxes overlap, exactly what `dvh_collide` reports for the two
 /// objects' current geometry and poses, in the mode `options` asks (NULL: the defaults; in
