@@ -2,6 +2,7 @@
 //! boxes.
 
 pub mod aabb;
+pub mod adjacent;
 pub mod pose;
 pub mod predicates;
 pub mod sphere;

@@ -424,6 +424,18 @@ impl Orient for BigExact {
     }
 }
 
+/// Exact `orient2d` for any finite coordinates (see [`Orient::orient2d`]).
+pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
+    if [a, b, c]
+        .iter()
+        .all(|p| is_safe_coordinate(p[0]) && is_safe_coordinate(p[1]))
+    {
+        Adaptive::orient2d(a, b, c)
+    } else {
+        BigExact::orient2d(a, b, c)
+    }
+}
+
 /// Exact `orient3d` for any finite coordinates (see [`Orient::orient3d`]).
 pub fn orient3d(a: &Point, b: &Point, c: &Point, d: &Point) -> Sign {
     if [a, b, c, d].into_iter().all(is_safe_point) {
