@@ -89,7 +89,7 @@ impl<'m, A: QuerySide<'m>, B: QuerySide<'m>> NarrowPhase<'m, A, B> for TriangleP
 /// Ring `r`'s triangles in the side's frame, prepared unless the cache holds them: where they
 /// are in the cache's arena, and the box around them all.
 #[inline]
-fn prepare<'m, S: QuerySide<'m>>(
+pub(super) fn prepare<'m, S: QuerySide<'m>>(
     side: &mut S,
     r: u32,
     cache: &mut RingCache,
@@ -124,7 +124,7 @@ fn prepare<'m, S: QuerySide<'m>>(
 
 /// Lists in `selected` the triangles of `tris` whose boxes meet `other`.
 #[inline]
-fn select(tris: &[Prepared], other: &Aabb, selected: &mut Vec<u32>) {
+pub(super) fn select(tris: &[Prepared], other: &Aabb, selected: &mut Vec<u32>) {
     selected.clear();
     for (i, t) in tris.iter().enumerate() {
         if t.bounds.meets(other) {

@@ -1,0 +1,414 @@
+//! Self-collision (issue 11, in progress): the pairs of triangles of one mesh that intersect,
+//! where triangles sharing vertices count only where they meet beyond what they share.
+//!
+//! The traversal visits each unordered pair of nodes once: a node against itself opens into its
+//! children against themselves and each pair of distinct children, and a pair of distinct nodes
+//! descends as the two-mesh traversal does. Leaf pairs come to [`SelfPairs`], which tests each
+//! unordered pair of their rings' triangles once (rings partition the triangles), with
+//! [`crate::geometry::adjacent`] for triangles that share vertices.
+//!
+//! Not yet here: normal cones (a smooth region still reaches the triangle stage), the coarse
+//! modes, threads, and the C ABI.
+
+// Reached from tests only until the public entry points (Rust and C) land with the rest of
+// issue 11.
+#![cfg_attr(not(test), allow(dead_code))]
+
+use super::narrow::{prepare, select};
+use super::pairs::{Pair, PairKind, Pairs, QueryStats};
+use super::side::{Boxes, FreeSpheres, Kind, Local, QuerySide, VertexSpheres, View, Volume};
+use super::sink::{Sink, Stop};
+use super::traverse::{NarrowPhase, descend};
+use super::workspace::{RingCache, Worker};
+use crate::error::{Error, Result};
+use crate::geometry::adjacent::{meet_beyond_edge, meet_beyond_vertex};
+use crate::geometry::predicates::Point;
+use crate::geometry::tri_tri::{prepared_triangles_intersect, triangles_intersect};
+use crate::mesh::Mesh;
+use crate::volume::Volumes;
+
+/// Do triangles `ti` and `tj` of one mesh (vertex indices, and their corners) intersect, counting
+/// only points beyond the vertices and edge they share?
+pub(crate) fn self_pair_intersects(
+    ti: [u32; 3],
+    pi: &[Point; 3],
+    tj: [u32; 3],
+    pj: &[Point; 3],
+) -> Option<bool> {
+    let shared_i: Vec<usize> = (0..3)
+        .filter(|&k| tj.contains(&ti[k]) && ti[..k].iter().all(|&v| v != ti[k]))
+        .collect();
+    match shared_i.len() {
+        0 => None,
+        1 => {
+            let k = shared_i[0];
+            let l = tj.iter().position(|&v| v == ti[k]).expect("shared");
+            let p = &pi[k];
+            Some(meet_beyond_vertex(
+                p,
+                [&pi[(k + 1) % 3], &pi[(k + 2) % 3]],
+                [&pj[(l + 1) % 3], &pj[(l + 2) % 3]],
+            ))
+        }
+        2 => {
+            let (k1, k2) = (shared_i[0], shared_i[1]);
+            let third_i = 3 - k1 - k2;
+            let other = |t: [u32; 3], v: u32| t.iter().position(|&x| x == v).expect("shared");
+            let (p, q) = (&pi[k1], &pi[k2]);
+            let third_j = (0..3)
+                .find(|&l| l != other(tj, ti[k1]) && l != other(tj, ti[k2]))
+                .expect("a third corner");
+            Some(meet_beyond_edge(p, q, &pi[third_i], &pj[third_j]))
+        }
+        _ => Some(false),
+    }
+}
+
+/// Tests the triangles of a pair of leaves of one mesh (or of one leaf with itself) and reports
+/// the intersecting pairs, `(lower, higher)` triangle index.
+struct SelfPairs<'s, 'w> {
+    sink: &'s mut Sink<'w>,
+    rings_a: &'s mut RingCache,
+    rings_b: &'s mut RingCache,
+    check_domain: bool,
+}
+
+impl SelfPairs<'_, '_> {
+    /// Tests one pair of prepared triangles; returns whether the traversal must stop.
+    fn test(
+        &mut self,
+        mesh: &Mesh,
+        ta: &super::workspace::Prepared,
+        tb: &super::workspace::Prepared,
+        stats: &mut QueryStats,
+    ) -> bool {
+        if !ta.bounds.meets(&tb.bounds) {
+            return false;
+        }
+        stats.triangle_tests += 1;
+        let (ia, ib) = (ta.index, tb.index);
+        let tris = &mesh.shape.triangles;
+        let (ca, cb) = (&ta.tri.corners, &tb.tri.corners);
+        let hit = match self_pair_intersects(tris[ia as usize], ca, tris[ib as usize], cb) {
+            Some(hit) => hit,
+            None if ta.safe && tb.safe => prepared_triangles_intersect(&ta.tri, &tb.tri),
+            None => triangles_intersect(ca, cb),
+        };
+        hit && self.sink.report(Pair {
+            a: ia.min(ib),
+            b: ia.max(ib),
+        })
+    }
+}
+
+impl<'m, A: QuerySide<'m>, B: QuerySide<'m>> NarrowPhase<'m, A, B> for SelfPairs<'_, '_> {
+    fn visit(&mut self, a: &mut A, b: &mut B, na: u32, nb: u32, stats: &mut QueryStats) -> bool {
+        let mesh = a.mesh();
+        let nodes = &mesh.shape.tree.nodes;
+        let (ra, rb) = (nodes[na as usize].ring_start, nodes[nb as usize].ring_start);
+        if na == nb {
+            let (span, _) = prepare(a, ra, self.rings_a, self.check_domain);
+            let n = span.len() as u64;
+            stats.triangle_candidates += n * n.saturating_sub(1) / 2;
+            let tris = std::mem::take(&mut self.rings_a.tris);
+            let mut stop = false;
+            'all: for i in span.clone() {
+                for j in i + 1..span.end {
+                    if self.test(mesh, &tris[i], &tris[j], stats) {
+                        stop = true;
+                        break 'all;
+                    }
+                }
+            }
+            self.rings_a.tris = tris;
+            return stop;
+        }
+        let rings = &mesh.shape.rings.triangles;
+        stats.triangle_candidates +=
+            (rings.row_len(ra as usize) * rings.row_len(rb as usize)) as u64;
+        if !a.ring_box(na).meets(&b.ring_box(nb)) {
+            return false;
+        }
+        let (span_a, bounds_a) = prepare(a, ra, self.rings_a, self.check_domain);
+        let (span_b, bounds_b) = prepare(b, rb, self.rings_b, self.check_domain);
+        if !bounds_a.meets(&bounds_b) {
+            return false;
+        }
+        select(
+            &self.rings_a.tris[span_a.clone()],
+            &bounds_b,
+            &mut self.rings_a.selected,
+        );
+        select(
+            &self.rings_b.tris[span_b.clone()],
+            &bounds_a,
+            &mut self.rings_b.selected,
+        );
+        let (tris_a, sel_a) = (
+            std::mem::take(&mut self.rings_a.tris),
+            std::mem::take(&mut self.rings_a.selected),
+        );
+        let (tris_b, sel_b) = (
+            std::mem::take(&mut self.rings_b.tris),
+            std::mem::take(&mut self.rings_b.selected),
+        );
+        let mut stop = false;
+        'all: for &i in &sel_a {
+            for &j in &sel_b {
+                let (ta, tb) = (
+                    &tris_a[span_a.start + i as usize],
+                    &tris_b[span_b.start + j as usize],
+                );
+                if self.test(mesh, ta, tb, stats) {
+                    stop = true;
+                    break 'all;
+                }
+            }
+        }
+        (self.rings_a.tris, self.rings_a.selected) = (tris_a, sel_a);
+        (self.rings_b.tris, self.rings_b.selected) = (tris_b, sel_b);
+        stop
+    }
+}
+
+/// The pairs `(a, b)`, `a < b`, of triangles of `mesh` that intersect, where triangles sharing
+/// vertices count only where they meet beyond the vertices and edge they share: an intact surface
+/// reports nothing however it bends. Exact. Stops at the first pair with `first_hit`, and at
+/// `max_pairs` pairs (then `truncated`); one thread. (The coarse modes are not here yet.)
+pub(crate) fn self_collide(
+    mesh: &Mesh,
+    first_hit: bool,
+    max_pairs: Option<usize>,
+    out: &mut Pairs,
+) -> Result<QueryStats> {
+    let limit = if first_hit { 1 } else { usize::MAX };
+    let limit = max_pairs.map_or(limit, |m| m.min(limit));
+    let Pairs {
+        items,
+        spare,
+        kind,
+        workspace,
+    } = out;
+    if workspace.workers.is_empty() {
+        workspace.workers.push(Worker::default());
+    }
+    let w = &mut workspace.workers[0];
+    let mut stats = QueryStats::default();
+    spare.clear();
+    let mut sink = Sink {
+        out: spare,
+        limit,
+        stop: None,
+    };
+    if limit > 0 {
+        match &mesh.volumes {
+            Volumes::Dvh {
+                centre_vertex,
+                spheres,
+            } => {
+                let kind = VertexSpheres {
+                    centre_vertex,
+                    spheres,
+                };
+                traverse(mesh, kind, w, &mut sink, &mut stats);
+            }
+            Volumes::Sbv { spheres, .. } => {
+                traverse(mesh, FreeSpheres { spheres }, w, &mut sink, &mut stats)
+            }
+            Volumes::Aabb { boxes } => traverse(mesh, Boxes { boxes }, w, &mut sink, &mut stats),
+        }
+    } else {
+        sink.stop = Some(Stop::Limit);
+    }
+    match sink.stop {
+        Some(Stop::OutOfMemory { bytes }) => return Err(Error::OutOfMemory { bytes }),
+        Some(Stop::Limit) => stats.truncated = !first_hit || max_pairs == Some(0),
+        None => {}
+    }
+    spare.sort_unstable();
+    std::mem::swap(items, spare);
+    *kind = PairKind::Triangles;
+    stats.pairs = items.len() as u64;
+    Ok(stats)
+}
+
+/// Every pair of nodes once, from the root against itself.
+fn traverse<'m, K: Kind<'m>>(
+    mesh: &'m Mesh,
+    kind: K,
+    w: &mut Worker,
+    sink: &mut Sink,
+    stats: &mut QueryStats,
+) {
+    let longest = Some(mesh.shape.rings.longest);
+    let (n, r) = (mesh.vertex_count(), mesh.ring_count());
+    if let Err(bytes) =
+        w.a.begin(n, r, longest, false)
+            .and_then(|()| w.b.begin(n, r, longest, false))
+    {
+        sink.stop = Some(Stop::OutOfMemory { bytes });
+        return;
+    }
+    let Worker { stack, a, b, .. } = w;
+    let place = Local { mesh };
+    let mut va = View::new((place, kind), &mut a.world, &mut a.ring_boxes);
+    let mut vb = View::new((place, kind), &mut b.world, &mut b.ring_boxes);
+    let mut narrow = SelfPairs {
+        sink,
+        rings_a: &mut a.rings,
+        rings_b: &mut b.rings,
+        check_domain: !mesh.safe,
+    };
+    let nodes = &mesh.shape.tree.nodes;
+    let mut own = vec![0u32];
+    while let Some(n) = own.pop() {
+        let node = nodes[n as usize];
+        if node.is_leaf() {
+            stats.leaf_pairs += 1;
+            if narrow.visit(&mut va, &mut vb, n, n, stats) {
+                return;
+            }
+            continue;
+        }
+        let children = node.children();
+        own.extend(children.clone());
+        for i in children.clone() {
+            let vi = va.volume(i);
+            for j in i + 1..children.end {
+                stats.bv_tests += 1;
+                if vi.overlaps(&vb.volume(j))
+                    && descend(
+                        &mut va,
+                        &mut vb,
+                        (i, j),
+                        u32::MAX,
+                        stack,
+                        stats,
+                        &mut narrow,
+                    )
+                {
+                    return;
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixtures::{Rng, grid, icosphere, torus};
+    use crate::{BuildOptions, VolumeKind};
+
+    /// Every pair `a < b`, tested one by one.
+    fn brute_force(mesh: &Mesh) -> Vec<Pair> {
+        let tris = &mesh.shape.triangles;
+        let corners = |t: [u32; 3]| t.map(|v| mesh.positions[v as usize]);
+        let mut out = Vec::new();
+        for a in 0..tris.len() {
+            for b in a + 1..tris.len() {
+                let (pa, pb) = (corners(tris[a]), corners(tris[b]));
+                let hit = self_pair_intersects(tris[a], &pa, tris[b], &pb)
+                    .unwrap_or_else(|| triangles_intersect(&pa, &pb));
+                if hit {
+                    out.push(Pair {
+                        a: a as u32,
+                        b: b as u32,
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    fn check(positions: &[f64], triangles: &[u32], what: &str) -> usize {
+        let mut pairs = Pairs::new();
+        let mut count = 0;
+        for volume in [VolumeKind::Aabb, VolumeKind::Dvh, VolumeKind::Sbv] {
+            let options = BuildOptions {
+                volume,
+                ..BuildOptions::default()
+            };
+            let mesh = Mesh::new(positions, triangles, &options).unwrap();
+            let expected = brute_force(&mesh);
+            let stats = self_collide(&mesh, false, None, &mut pairs).unwrap();
+            assert_eq!(pairs.as_slice(), &expected[..], "{what}, {volume:?}");
+            assert_eq!(stats.pairs, expected.len() as u64);
+            let first = self_collide(&mesh, true, None, &mut pairs).unwrap();
+            assert_eq!(pairs.len(), expected.len().min(1), "{what}, {volume:?}");
+            assert!(pairs.iter().all(|p| expected.contains(p)));
+            assert!(!first.truncated);
+            if expected.len() > 2 {
+                let cut = self_collide(&mesh, false, Some(2), &mut pairs).unwrap();
+                assert!(cut.truncated && pairs.len() == 2);
+                assert!(pairs.iter().all(|p| expected.contains(p)));
+            }
+            count = expected.len();
+        }
+        count
+    }
+
+    #[test]
+    fn intact_surfaces_report_nothing() {
+        let s = icosphere(2);
+        assert_eq!(check(&s.positions, &s.triangles, "icosphere"), 0);
+        let t = torus(0.6, 0.2, 24, 12);
+        assert_eq!(check(&t.positions, &t.triangles, "torus"), 0);
+        let g = grid(10, 1.0);
+        assert_eq!(check(&g.positions, &g.triangles, "flat grid"), 0);
+    }
+
+    #[test]
+    fn a_sheet_folded_through_itself_reports_its_crossings() {
+        // A grid bent along a figure-eight (x, z) = (sin t, sin t cos t), which passes through
+        // the origin at t = 0 and t = pi: the sheet crosses itself along a line.
+        let g = grid(24, 1.0);
+        let folded: Vec<f64> = g
+            .positions
+            .chunks_exact(3)
+            .flat_map(|v| {
+                let t = -1.0 + (std::f64::consts::PI + 2.0) * v[0];
+                [t.sin(), v[1], t.sin() * t.cos()]
+            })
+            .collect();
+        assert!(check(&folded, &g.triangles, "folded sheet") > 0);
+    }
+
+    #[test]
+    fn a_sheet_folded_flat_onto_itself_overlaps() {
+        // The right half of a flat grid reflected onto the left half, in the same plane: the
+        // triangles along the fold share edges with their mirror images' neighbours, and the
+        // halves overlap everywhere.
+        let g = grid(8, 1.0);
+        let folded: Vec<f64> = g
+            .positions
+            .chunks_exact(3)
+            .flat_map(|v| [0.5 - (v[0] - 0.5).abs(), v[1], 0.0])
+            .collect();
+        assert!(check(&folded, &g.triangles, "flat fold") > 0);
+    }
+
+    #[test]
+    fn random_crumpling_and_degenerate_triangles() {
+        let mut rng = Rng::new(5);
+        let t = torus(0.6, 0.25, 16, 8);
+        for trial in 0..6 {
+            let amplitude = [0.05, 0.2, 0.5][trial % 3];
+            let mut positions: Vec<f64> = t
+                .positions
+                .iter()
+                .map(|x| x + rng.range(-amplitude, amplitude))
+                .collect();
+            if trial >= 3 {
+                // Collapse some vertices onto others: degenerate and needle triangles.
+                for k in 0..10 {
+                    let (from, to) = (rng.below(t.vertex_count() as u64) as usize, k);
+                    for c in 0..3 {
+                        positions[3 * from + c] = positions[3 * to + c];
+                    }
+                }
+            }
+            check(&positions, &t.triangles, &format!("crumpled torus {trial}"));
+        }
+    }
+}
