@@ -3,6 +3,7 @@
 
 pub mod aabb;
 pub mod adjacent;
+pub mod distance;
 pub mod pose;
 pub mod predicates;
 pub mod sphere;

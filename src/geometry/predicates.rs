@@ -382,7 +382,7 @@ fn decompose(x: f64) -> (i64, i32) {
 }
 
 /// The values scaled by one common power of two, as exact integers.
-fn to_integers<const N: usize>(values: [f64; N]) -> [BigInt; N] {
+pub(crate) fn to_integers<const N: usize>(values: [f64; N]) -> [BigInt; N] {
     let parts = values.map(decompose);
     let lowest = parts
         .iter()
