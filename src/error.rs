@@ -91,6 +91,11 @@ pub enum Error {
     },
     /// [`crate::QueryMode::Budget`] with a budget of 0: at least the roots' test is needed.
     ZeroBudget,
+    /// A proximity distance that is negative, NaN or infinite.
+    InvalidDistance {
+        /// The distance given.
+        distance: f64,
+    },
     /// A pose would move a mesh's coordinates beyond the range where the query is sound
     /// (transformed coordinates could overflow).
     PoseOutOfRange {
@@ -189,6 +194,10 @@ impl fmt::Display for Error {
             Error::OutOfMemory { bytes } => {
                 write!(f, "out of memory: could not allocate {bytes} bytes")
             }
+            Error::InvalidDistance { distance } => write!(
+                f,
+                "distance = {distance}: a proximity distance must be finite and not negative"
+            ),
             Error::ZeroBudget => write!(
                 f,
                 "the query's budget is 0 volume tests: it must be at least 1 (the roots' test)"

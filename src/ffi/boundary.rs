@@ -60,7 +60,8 @@ fn status_of(e: &Error) -> DvhStatus {
         | Error::TooManyVertices { .. }
         | Error::TooManyTriangles { .. }
         | Error::VertexCountMismatch { .. }
-        | Error::ZeroBudget => DVH_STATUS_INVALID_ARGUMENT,
+        | Error::ZeroBudget
+        | Error::InvalidDistance { .. } => DVH_STATUS_INVALID_ARGUMENT,
         Error::IndexOutOfRange { .. } => DVH_STATUS_INDEX_OUT_OF_RANGE,
         Error::NonFiniteCoordinate { .. } | Error::NonFinitePose { .. } => {
             DVH_STATUS_NON_FINITE_COORDINATE

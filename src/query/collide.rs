@@ -165,7 +165,7 @@ pub(crate) fn collide_lazy<'m>(
 
 /// How much to widen a posed mesh's volumes: the rotation's stretch (spheres), and twice the
 /// rounding bound of the transformation (vertex and volume are each off by at most that much).
-fn widening(pose: &Pose, mesh: &Mesh, side: Side) -> Result<(f64, f64)> {
+pub(super) fn widening(pose: &Pose, mesh: &Mesh, side: Side) -> Result<(f64, f64)> {
     let (error, magnitude) = pose.rounding_bound(mesh.max_abs);
     let in_range = magnitude <= MAX_POSED_MAGNITUDE;
     if !in_range {

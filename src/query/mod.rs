@@ -6,6 +6,7 @@ mod narrow;
 mod options;
 mod pairs;
 mod parallel;
+mod proximity;
 mod self_collide;
 mod side;
 mod sink;
