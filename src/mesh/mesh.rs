@@ -65,6 +65,8 @@ pub(crate) struct Shape {
     pub tree: Tree,
     /// How the tree is cut for lazy refit; built on first use (by a scene's deformable object).
     pub blocks: std::sync::OnceLock<Blocks>,
+    /// The nodes' patches for self-collision; found on first use.
+    pub patches: std::sync::OnceLock<crate::query::Patches>,
 }
 
 /// A deformable triangle mesh with its bounding-volume hierarchy.

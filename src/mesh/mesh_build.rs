@@ -84,6 +84,7 @@ impl Mesh {
                 rings,
                 tree,
                 blocks: Default::default(),
+                patches: Default::default(),
             }),
             options: *options,
             volumes,
