@@ -118,6 +118,8 @@ lib.dvh_scene_remove.restype = DvhStatus
 lib.dvh_scene_remove.argtypes = [ScenePtr, ctypes.c_uint32]
 lib.dvh_scene_exclude_pair.restype = DvhStatus
 lib.dvh_scene_exclude_pair.argtypes = [ScenePtr, ctypes.c_uint32, ctypes.c_uint32]
+lib.dvh_scene_set_lazy_refit.restype = DvhStatus
+lib.dvh_scene_set_lazy_refit.argtypes = [ScenePtr, ctypes.c_bool]
 lib.dvh_scene_collide.restype = DvhStatus
 lib.dvh_scene_collide.argtypes = [ScenePtr, ctypes.POINTER(DvhQueryOptions), ContactsPtr, ctypes.POINTER(DvhSceneStats)]
 lib.dvh_contacts_new.restype = ContactsPtr
@@ -317,6 +319,12 @@ def main():
     check(lib.dvh_scene_set_pose(scene, 1, ctypes.byref(up)) == DVH_STATUS_OK, "set pose")
     lib.dvh_scene_collide(scene, None, contacts, None)
     check(contacts_of() == [(0, 1, a, b) for a, b in pairs_of(pairs)], "tent moved up with the sheet: the same contacts")
+    # Eager refit: the same contacts.
+    check(lib.dvh_scene_set_lazy_refit(None, False) == DVH_STATUS_NULL_ARGUMENT, "lazy refit: NULL scene refused")
+    check(lib.dvh_scene_set_lazy_refit(scene, False) == DVH_STATUS_OK, "eager refit chosen")
+    lib.dvh_scene_collide(scene, None, contacts, None)
+    check(contacts_of() == [(0, 1, a, b) for a, b in pairs_of(pairs)], "eager refit: the same contacts")
+    check(lib.dvh_scene_set_lazy_refit(scene, True) == DVH_STATUS_OK, "lazy refit chosen")
     check(lib.dvh_scene_exclude_pair(scene, 1, 0) == DVH_STATUS_OK, "pair excluded")
     lib.dvh_scene_collide(scene, None, contacts, None)
     check(contacts_of() == [], "excluded pair: no contact")

@@ -5,9 +5,7 @@ use super::narrow::NodePairs;
 use super::options::{QueryMode, QueryOptions};
 use super::pairs::{Pair, PairKind, Pairs, QueryStats};
 use super::parallel::{self, Finish, Job};
-use super::side::{
-    Boxes, FreeSpheres, Kind, LazyBoxKind, Local, Placement, Posed, VertexSpheres, View,
-};
+use super::side::{Kind, LazyBoxKind, Local, Placement, Posed, View, with_kind};
 use super::sink::{Sink, Stop};
 use super::sort::sort_pairs;
 use super::traverse::best_first;
@@ -17,7 +15,7 @@ use crate::geometry::MAX_POSED_MAGNITUDE;
 use crate::geometry::pose::Pose;
 use crate::mesh::Mesh;
 use crate::threads;
-use crate::volume::{LazyBoxes, Volumes};
+use crate::volume::LazyBoxes;
 
 /// Finds what intersects between mesh `a` placed by `pose_a` and mesh `b` placed by `pose_b`
 /// (`None`: the mesh's coordinates are world coordinates), as [`QueryOptions::mode`] asks.
@@ -268,32 +266,6 @@ struct SideB<'m, 'q> {
     pose: Option<(&'m Pose, (f64, f64))>,
     lazy: Option<&'m LazyBoxes<'m>>,
     run: Run<'q>,
-}
-
-/// The volume kind of `mesh`, typed, passed to `then`.
-macro_rules! with_kind {
-    ($mesh:expr, |$kind:ident| $then:expr) => {
-        match &$mesh.volumes {
-            Volumes::Dvh {
-                centre_vertex,
-                spheres,
-            } => {
-                let $kind = VertexSpheres {
-                    centre_vertex,
-                    spheres,
-                };
-                $then
-            }
-            Volumes::Sbv { spheres, .. } => {
-                let $kind = FreeSpheres { spheres };
-                $then
-            }
-            Volumes::Aabb { boxes } => {
-                let $kind = Boxes { boxes };
-                $then
-            }
-        }
-    };
 }
 
 /// Types side `a` by its volume kind, then side `b`.

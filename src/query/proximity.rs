@@ -13,11 +13,9 @@
 
 use super::collide::widening;
 use super::narrow::{prepare, select};
-use super::pairs::{Pair, PairKind, Pairs, QueryStats};
-use super::side::{
-    Boxes, FreeSpheres, Kind, Local, Placement, Posed, QuerySide, VertexSpheres, View, Volume,
-};
-use super::sink::{Sink, Stop};
+use super::pairs::{Pair, Pairs, QueryStats};
+use super::side::{Kind, Local, Placement, Posed, QuerySide, View, Volume, with_kind};
+use super::sink::{Sink, Stop, one_thread};
 use super::traverse::{NarrowPhase, depth_first};
 use super::workspace::{RingCache, Stamped, Worker};
 use crate::error::{Error, Result, Side};
@@ -27,7 +25,6 @@ use crate::geometry::pose::Pose;
 use crate::geometry::predicates::Point;
 use crate::geometry::sphere::Sphere;
 use crate::mesh::Mesh;
-use crate::volume::Volumes;
 
 /// A volume grown by a distance, rounded outwards: it holds every point within that distance of
 /// the volume.
@@ -148,31 +145,15 @@ pub(crate) fn proximity(
     let pose_b = pose_b.filter(|p| !p.is_identity());
     let place_a = pose_a.map(|p| widening(p, a, Side::A)).transpose()?;
     let place_b = pose_b.map(|p| widening(p, b, Side::B)).transpose()?;
-    let Pairs {
-        items,
-        spare,
-        kind,
-        workspace,
-    } = out;
-    if workspace.workers.is_empty() {
-        workspace.workers.push(Worker::default());
-    }
     let limit = max_pairs.unwrap_or(usize::MAX);
-    let mut stats = QueryStats::default();
-    spare.clear();
-    let mut sink = Sink {
-        out: spare,
-        limit,
-        stop: (limit == 0).then_some(Stop::Limit),
-    };
-    if limit > 0 {
+    one_thread(out, limit, true, |worker, sink, stats| {
         let run = Run {
             b,
             pose_b: pose_b.zip(place_b),
             d,
-            worker: &mut workspace.workers[0],
-            sink: &mut sink,
-            stats: &mut stats,
+            worker,
+            sink,
+            stats,
         };
         match pose_a.zip(place_a) {
             None => run.side_a(Local { mesh: a }),
@@ -183,17 +164,7 @@ pub(crate) fn proximity(
                 pad,
             }),
         }
-    }
-    match sink.stop {
-        Some(Stop::OutOfMemory { bytes }) => return Err(Error::OutOfMemory { bytes }),
-        Some(Stop::Limit) => stats.truncated = true,
-        None => {}
-    }
-    spare.sort_unstable();
-    std::mem::swap(items, spare);
-    *kind = PairKind::Triangles;
-    stats.pairs = items.len() as u64;
-    Ok(stats)
+    })
 }
 
 /// A proximity query being typed side by side.
@@ -209,26 +180,8 @@ struct Run<'m, 'q, 'w> {
 impl<'m> Run<'m, '_, '_> {
     fn side_a<PA: Placement<'m>>(self, place: PA) {
         let d = self.d;
-        match &place.mesh().volumes {
-            Volumes::Dvh {
-                centre_vertex,
-                spheres,
-            } => {
-                let kind = VertexSpheres {
-                    centre_vertex,
-                    spheres,
-                };
-                self.placement_b((place, Widened { kind, d }))
-            }
-            Volumes::Sbv { spheres, .. } => {
-                let kind = FreeSpheres { spheres };
-                self.placement_b((place, Widened { kind, d }))
-            }
-            Volumes::Aabb { boxes } => {
-                let kind = Boxes { boxes };
-                self.placement_b((place, Widened { kind, d }))
-            }
-        }
+        with_kind!(place.mesh(), |kind| self
+            .placement_b((place, Widened { kind, d })))
     }
 
     fn placement_b<PA: Placement<'m>, KA: Kind<'m>>(self, a: (PA, KA)) {
@@ -248,20 +201,7 @@ impl<'m> Run<'m, '_, '_> {
     }
 
     fn side_b<PA: Placement<'m>, KA: Kind<'m>, PB: Placement<'m>>(self, a: (PA, KA), place: PB) {
-        match &place.mesh().volumes {
-            Volumes::Dvh {
-                centre_vertex,
-                spheres,
-            } => {
-                let kind = VertexSpheres {
-                    centre_vertex,
-                    spheres,
-                };
-                self.traverse(a, (place, kind))
-            }
-            Volumes::Sbv { spheres, .. } => self.traverse(a, (place, FreeSpheres { spheres })),
-            Volumes::Aabb { boxes } => self.traverse(a, (place, Boxes { boxes })),
-        }
+        with_kind!(place.mesh(), |kind| self.traverse(a, (place, kind)))
     }
 
     fn traverse<PA, KA, PB, KB>(self, a: (PA, KA), b: (PB, KB))

@@ -15,18 +15,17 @@
 #![cfg_attr(not(test), allow(dead_code))]
 
 use super::narrow::{prepare, select};
-use super::pairs::{Pair, PairKind, Pairs, QueryStats};
+use super::pairs::{Pair, Pairs, QueryStats};
 use super::patches::Patches;
-use super::side::{Boxes, FreeSpheres, Kind, Local, QuerySide, VertexSpheres, View, Volume};
-use super::sink::{Sink, Stop};
+use super::side::{Kind, Local, QuerySide, View, Volume, with_kind};
+use super::sink::{Sink, Stop, one_thread};
 use super::traverse::{NarrowPhase, descend};
 use super::workspace::{RingCache, Worker};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::geometry::adjacent::{meet_beyond_edge, meet_beyond_vertex};
 use crate::geometry::predicates::Point;
 use crate::geometry::tri_tri::{prepared_triangles_intersect, triangles_intersect};
 use crate::mesh::Mesh;
-use crate::volume::Volumes;
 
 /// Do triangles `ti` and `tj` of one mesh (vertex indices, and their corners) intersect, counting
 /// only points beyond the vertices and edge they share?
@@ -195,60 +194,9 @@ fn self_collide_with(
 ) -> Result<QueryStats> {
     let limit = if first_hit { 1 } else { usize::MAX };
     let limit = max_pairs.map_or(limit, |m| m.min(limit));
-    let Pairs {
-        items,
-        spare,
-        kind,
-        workspace,
-    } = out;
-    if workspace.workers.is_empty() {
-        workspace.workers.push(Worker::default());
-    }
-    let w = &mut workspace.workers[0];
-    let mut stats = QueryStats::default();
-    spare.clear();
-    let mut sink = Sink {
-        out: spare,
-        limit,
-        stop: None,
-    };
-    if limit > 0 {
-        match &mesh.volumes {
-            Volumes::Dvh {
-                centre_vertex,
-                spheres,
-            } => {
-                let kind = VertexSpheres {
-                    centre_vertex,
-                    spheres,
-                };
-                traverse(mesh, kind, patches, w, &mut sink, &mut stats);
-            }
-            Volumes::Sbv { spheres, .. } => traverse(
-                mesh,
-                FreeSpheres { spheres },
-                patches,
-                w,
-                &mut sink,
-                &mut stats,
-            ),
-            Volumes::Aabb { boxes } => {
-                traverse(mesh, Boxes { boxes }, patches, w, &mut sink, &mut stats)
-            }
-        }
-    } else {
-        sink.stop = Some(Stop::Limit);
-    }
-    match sink.stop {
-        Some(Stop::OutOfMemory { bytes }) => return Err(Error::OutOfMemory { bytes }),
-        Some(Stop::Limit) => stats.truncated = !first_hit || max_pairs == Some(0),
-        None => {}
-    }
-    spare.sort_unstable();
-    std::mem::swap(items, spare);
-    *kind = PairKind::Triangles;
-    stats.pairs = items.len() as u64;
-    Ok(stats)
+    one_thread(out, limit, !first_hit || limit == 0, |w, sink, stats| {
+        with_kind!(mesh, |kind| traverse(mesh, kind, patches, w, sink, stats))
+    })
 }
 
 /// Every pair of nodes once, from the root against itself.

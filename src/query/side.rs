@@ -293,6 +293,33 @@ impl<'m> Kind<'m> for LazyBoxKind<'m> {
     }
 }
 
+/// The volume kind of `mesh` as the query reads it, typed, passed to `then`.
+macro_rules! with_kind {
+    ($mesh:expr, |$kind:ident| $then:expr) => {
+        match &$mesh.volumes {
+            $crate::volume::Volumes::Dvh {
+                centre_vertex,
+                spheres,
+            } => {
+                let $kind = $crate::query::side::VertexSpheres {
+                    centre_vertex,
+                    spheres,
+                };
+                $then
+            }
+            $crate::volume::Volumes::Sbv { spheres, .. } => {
+                let $kind = $crate::query::side::FreeSpheres { spheres };
+                $then
+            }
+            $crate::volume::Volumes::Aabb { boxes } => {
+                let $kind = $crate::query::side::Boxes { boxes };
+                $then
+            }
+        }
+    };
+}
+pub(crate) use with_kind;
+
 /// One mesh of a query, as the traversal and the narrow phase use it.
 pub(crate) trait QuerySide<'m> {
     type Volume: Volume;
