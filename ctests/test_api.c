@@ -806,6 +806,226 @@ static void test_scene_lazy(void) {
     mesh_free(&small);
 }
 
+/* Pairs a < b of `all` (every ordered intersecting pair of a mesh with itself), in place. */
+static size_t upper_pairs(DvhPair *all, size_t n) {
+    size_t i, k = 0;
+    for (i = 0; i < n; i++)
+        if (all[i].a < all[i].b) all[k++] = all[i];
+    return k;
+}
+
+static int shares_vertex(const Mesh *m, uint32_t s, uint32_t t) {
+    int i, j;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            if (m->tris[3 * s + (size_t)i] == m->tris[3 * t + (size_t)j]) return 1;
+    return 0;
+}
+
+static void test_self_collide(void) {
+    DvhPairs *pairs = dvh_pairs_new();
+    DvhQueryStats stats;
+    DvhQueryOptions q = dvh_query_options_default();
+    uint32_t threads;
+
+    /* A soup shares no vertex: its self-collision is every intersecting pair a < b. */
+    {
+        Mesh m = mesh_soup(300, 0, 12);
+        DvhMesh *d = create(&m, NULL);
+        DvhPair *all, *before;
+        size_t n, modes;
+        n = brute_force(&m, NULL, &m, NULL, &all);
+        n = upper_pairs(all, n);
+        CHECK(n > 10);
+        for (threads = 1; threads <= 2; threads++) {
+            q = dvh_query_options_default();
+            q.threads = threads;
+            CHECK_STATUS(dvh_self_collide(d, &q, pairs, &stats), DVH_STATUS_OK, NULL);
+            CHECK(same_pairs(pairs, all, n) && stats.pairs == n);
+            CHECK(dvh_pairs_kind(pairs) == DVH_PAIR_KIND_TRIANGLES);
+        }
+        CHECK_STATUS(dvh_self_collide(d, NULL, pairs, NULL), DVH_STATUS_OK, NULL);
+        CHECK(same_pairs(pairs, all, n));
+        q = dvh_query_options_default();
+        q.mode = DVH_QUERY_MODE_FIRST_HIT;
+        CHECK_STATUS(dvh_self_collide(d, &q, pairs, &stats), DVH_STATUS_OK, NULL);
+        CHECK(dvh_pairs_len(pairs) == 1 && contains(all, n, dvh_pairs_data(pairs)[0]));
+        q = dvh_query_options_default();
+        q.max_pairs = 3;
+        CHECK_STATUS(dvh_self_collide(d, &q, pairs, &stats), DVH_STATUS_OK, NULL);
+        CHECK(dvh_pairs_len(pairs) == 3 && stats.truncated);
+        /* The coarse modes: node pairs (lower, higher) whose triangles hold every pair, in
+         * either order. */
+        for (modes = 0; modes < 3; modes++) {
+            size_t k;
+            q = dvh_query_options_default();
+            q.mode = modes == 0 ? DVH_QUERY_MODE_LEAVES : modes == 1 ? DVH_QUERY_MODE_DEPTH : DVH_QUERY_MODE_BUDGET;
+            q.max_depth = 2;
+            q.budget = 50;
+            CHECK_STATUS(dvh_self_collide(d, &q, pairs, &stats), DVH_STATUS_OK, NULL);
+            CHECK(dvh_pairs_kind(pairs) == DVH_PAIR_KIND_NODES);
+            for (k = 0; k < dvh_pairs_len(pairs); k++) CHECK(dvh_pairs_data(pairs)[k].a <= dvh_pairs_data(pairs)[k].b);
+            for (k = 0; k < n; k++) {
+                DvhPair one[1], other[1];
+                one[0] = all[k];
+                other[0].a = all[k].b;
+                other[0].b = all[k].a;
+                CHECK(covers(d, d, pairs, one, 1) || covers(d, d, pairs, other, 1));
+            }
+        }
+        /* Errors leave the result as it was. */
+        CHECK_STATUS(dvh_self_collide(d, NULL, pairs, NULL), DVH_STATUS_OK, NULL);
+        before = malloc(n * sizeof *before);
+        memcpy(before, dvh_pairs_data(pairs), n * sizeof *before);
+        CHECK_STATUS(dvh_self_collide(NULL, NULL, pairs, &stats), DVH_STATUS_NULL_ARGUMENT, "`mesh`");
+        CHECK_STATUS(dvh_self_collide(d, NULL, NULL, &stats), DVH_STATUS_NULL_ARGUMENT, "`pairs_out`");
+        q = dvh_query_options_default();
+        q.mode = DVH_QUERY_MODE_BUDGET;
+        q.budget = 0;
+        CHECK_STATUS(dvh_self_collide(d, &q, pairs, &stats), DVH_STATUS_INVALID_ARGUMENT, "options->budget = 0");
+        q.mode = 9;
+        CHECK_STATUS(dvh_self_collide(d, &q, pairs, &stats), DVH_STATUS_INVALID_ARGUMENT, "options->mode = 9");
+        CHECK(same_pairs(pairs, before, n));
+        free(before);
+        free(all);
+        dvh_mesh_free(d);
+        mesh_free(&m);
+    }
+    /* An intact surface reports nothing, however it bends. */
+    {
+        Mesh m = mesh_terrain(12, 0, 0, ridge);
+        DvhMesh *d = create(&m, NULL);
+        CHECK_STATUS(dvh_self_collide(d, NULL, pairs, &stats), DVH_STATUS_OK, NULL);
+        CHECK(dvh_pairs_len(pairs) == 0 && stats.pairs == 0);
+        dvh_mesh_free(d);
+        mesh_free(&m);
+    }
+    /* Triangles sharing vertices count where they meet beyond them: a triangle folded flat onto
+     * its neighbour across their shared edge, and one through the other's corner. */
+    {
+        static const double pos[] = {0, 0, 0, 2, 0, 0, 0, 2, 0, 1, 1, 0, 1, 1, -1, 1, 1, 1, 5, 5, 5, 6, 5, 5, 5, 6, 5};
+        static const uint32_t tris[] = {0, 1, 2, 0, 1, 3, 0, 4, 5, 6, 7, 8};
+        static const DvhPair expected[] = {{0, 1}, {0, 2}, {1, 2}};
+        DvhMesh *d = NULL;
+        CHECK_STATUS(dvh_mesh_create(pos, 9, tris, 4, NULL, &d), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_self_collide(d, NULL, pairs, &stats), DVH_STATUS_OK, NULL);
+        CHECK(same_pairs(pairs, expected, 3));
+        dvh_mesh_free(d);
+    }
+    dvh_pairs_free(pairs);
+}
+
+static void test_proximity(void) {
+    Mesh ma = mesh_terrain(6, 0, 0, flat), mb = mesh_terrain(6, 2, 1, wave);
+    DvhMesh *a = create(&ma, NULL), *b = create(&mb, NULL);
+    DvhPairs *pairs = dvh_pairs_new(), *hits = dvh_pairs_new();
+    DvhQueryStats stats, sentinel;
+    DvhQueryOptions q = dvh_query_options_default();
+    IPose up = ipose_make(0, 0, 0, 1), turned = ipose_make(1, 10, 0, 0); /* x and z reversed */
+    DvhPose pup = ipose_to_dvh(&up), pturned = ipose_to_dvh(&turned);
+    DvhPair *before;
+    size_t n, k, all_apart = 0, i, j;
+    uint32_t threads;
+    static const double bad[] = {-1.0, NAN, INFINITY, -INFINITY};
+
+    /* Distance 0 is dvh_collide, with and without poses. */
+    for (threads = 1; threads <= 2; threads++) {
+        DvhPair *expected;
+        q.threads = threads;
+        n = brute_force(&ma, NULL, &mb, &turned, &expected);
+        CHECK(n > 0);
+        CHECK_STATUS(dvh_proximity(a, NULL, b, &pturned, 0.0, &q, pairs, &stats), DVH_STATUS_OK, NULL);
+        CHECK(same_pairs(pairs, expected, n) && stats.pairs == n);
+        CHECK_STATUS(dvh_collide(a, NULL, b, &pturned, &q, hits, NULL), DVH_STATUS_OK, NULL);
+        CHECK(same_pairs(hits, expected, n));
+        free(expected);
+    }
+    /* A flat sheet and its copy lifted by exactly 1: every facing pair is 1 apart, none closer. */
+    CHECK_STATUS(dvh_proximity(a, NULL, a, &pup, 1.0, NULL, pairs, &stats), DVH_STATUS_OK, NULL);
+    n = dvh_pairs_len(pairs);
+    CHECK(n >= ma.triangle_count);
+    for (k = 0; k < ma.triangle_count; k++) {
+        DvhPair same;
+        same.a = same.b = (uint32_t)k;
+        CHECK(contains(dvh_pairs_data(pairs), n, same));
+    }
+    CHECK_STATUS(dvh_proximity(a, &pup, a, NULL, nextafter(1.0, 0.0), NULL, pairs, &stats), DVH_STATUS_OK, NULL);
+    CHECK(dvh_pairs_len(pairs) == 0);
+    /* Far enough, every pair; the limit and the coarse modes. */
+    CHECK_STATUS(dvh_proximity(a, NULL, a, &pup, 100.0, NULL, pairs, &stats), DVH_STATUS_OK, NULL);
+    CHECK(dvh_pairs_len(pairs) == ma.triangle_count * ma.triangle_count);
+    q = dvh_query_options_default();
+    q.max_pairs = 5;
+    CHECK_STATUS(dvh_proximity(a, NULL, a, &pup, 100.0, &q, pairs, &stats), DVH_STATUS_OK, NULL);
+    CHECK(dvh_pairs_len(pairs) == 5 && stats.truncated);
+    q = dvh_query_options_default();
+    q.mode = DVH_QUERY_MODE_LEAVES;
+    CHECK_STATUS(dvh_proximity(a, NULL, a, &pup, 1.0, &q, pairs, &stats), DVH_STATUS_OK, NULL);
+    CHECK(dvh_pairs_kind(pairs) == DVH_PAIR_KIND_NODES && dvh_pairs_len(pairs) > 0);
+
+    /* Self-proximity: pairs a < b sharing no vertex; none at distance 0 on an intact sheet, all
+     * of them far enough, and growing with the distance. */
+    for (i = 0; i < ma.triangle_count; i++)
+        for (j = i + 1; j < ma.triangle_count; j++)
+            all_apart += !shares_vertex(&ma, (uint32_t)i, (uint32_t)j);
+    CHECK_STATUS(dvh_self_proximity(a, 0.0, NULL, pairs, &stats), DVH_STATUS_OK, NULL);
+    CHECK(dvh_pairs_len(pairs) == 0);
+    CHECK_STATUS(dvh_self_proximity(a, 100.0, NULL, pairs, &stats), DVH_STATUS_OK, NULL);
+    CHECK(dvh_pairs_len(pairs) == all_apart && stats.pairs == all_apart);
+    {
+        size_t last = 0;
+        double d;
+        for (d = 0.5; d <= 4.0; d *= 2) {
+            const DvhPair *p;
+            CHECK_STATUS(dvh_self_proximity(a, d, NULL, pairs, &stats), DVH_STATUS_OK, NULL);
+            p = dvh_pairs_data(pairs);
+            CHECK(dvh_pairs_len(pairs) >= last);
+            last = dvh_pairs_len(pairs);
+            for (k = 0; k < last; k++) CHECK(p[k].a < p[k].b && !shares_vertex(&ma, p[k].a, p[k].b));
+        }
+        /* Unit cells: triangles one cell apart are exactly 1 from each other. */
+        CHECK_STATUS(dvh_self_proximity(a, 1.0, NULL, pairs, &stats), DVH_STATUS_OK, NULL);
+        last = dvh_pairs_len(pairs);
+        CHECK_STATUS(dvh_self_proximity(a, nextafter(1.0, 0.0), NULL, pairs, &stats), DVH_STATUS_OK, NULL);
+        CHECK(dvh_pairs_len(pairs) < last);
+    }
+
+    /* Errors leave everything as it was. */
+    CHECK_STATUS(dvh_self_proximity(a, 1.0, NULL, pairs, &stats), DVH_STATUS_OK, NULL);
+    n = dvh_pairs_len(pairs);
+    before = malloc(n * sizeof *before);
+    memcpy(before, dvh_pairs_data(pairs), n * sizeof *before);
+    memset(&sentinel, 0xab, sizeof sentinel);
+    stats = sentinel;
+    for (k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        CHECK_STATUS(dvh_proximity(a, NULL, b, NULL, bad[k], NULL, pairs, &stats), DVH_STATUS_INVALID_ARGUMENT, "distance");
+        CHECK_STATUS(dvh_self_proximity(a, bad[k], NULL, pairs, &stats), DVH_STATUS_INVALID_ARGUMENT, "distance");
+    }
+    CHECK_STATUS(dvh_proximity(NULL, NULL, b, NULL, 1.0, NULL, pairs, &stats), DVH_STATUS_NULL_ARGUMENT, "`a`");
+    CHECK_STATUS(dvh_proximity(a, NULL, NULL, NULL, 1.0, NULL, pairs, &stats), DVH_STATUS_NULL_ARGUMENT, "`b`");
+    CHECK_STATUS(dvh_proximity(a, NULL, b, NULL, 1.0, NULL, NULL, &stats), DVH_STATUS_NULL_ARGUMENT, "`pairs_out`");
+    CHECK_STATUS(dvh_self_proximity(NULL, 1.0, NULL, pairs, &stats), DVH_STATUS_NULL_ARGUMENT, "`mesh`");
+    CHECK_STATUS(dvh_self_proximity(a, 1.0, NULL, NULL, &stats), DVH_STATUS_NULL_ARGUMENT, "`pairs_out`");
+    {
+        DvhPose nan_pose = pup;
+        nan_pose.translation[1] = NAN;
+        CHECK_STATUS(dvh_proximity(a, &nan_pose, b, NULL, 1.0, NULL, pairs, &stats), DVH_STATUS_NON_FINITE_COORDINATE, "pose_a");
+    }
+    q = dvh_query_options_default();
+    q.mode = DVH_QUERY_MODE_BUDGET;
+    CHECK_STATUS(dvh_self_proximity(a, 1.0, &q, pairs, &stats), DVH_STATUS_INVALID_ARGUMENT, "options->budget = 0");
+    CHECK(memcmp(&stats, &sentinel, sizeof stats) == 0);
+    CHECK(same_pairs(pairs, before, n));
+
+    free(before);
+    dvh_pairs_free(pairs);
+    dvh_pairs_free(hits);
+    dvh_mesh_free(a);
+    dvh_mesh_free(b);
+    mesh_free(&ma);
+    mesh_free(&mb);
+}
+
 int main(void) {
     test_versions_and_names();
     test_defaults();
@@ -818,5 +1038,7 @@ int main(void) {
     test_against_oracle();
     test_scene();
     test_scene_lazy();
+    test_self_collide();
+    test_proximity();
     return finish("test_api");
 }

@@ -103,6 +103,16 @@ lib.dvh_collide.argtypes = [
     ctypes.POINTER(DvhQueryStats),
 ]
 
+lib.dvh_self_collide.restype = DvhStatus
+lib.dvh_self_collide.argtypes = [MeshPtr, ctypes.POINTER(DvhQueryOptions), PairsPtr, ctypes.POINTER(DvhQueryStats)]
+lib.dvh_proximity.restype = DvhStatus
+lib.dvh_proximity.argtypes = [
+    MeshPtr, ctypes.POINTER(DvhPose), MeshPtr, ctypes.POINTER(DvhPose), ctypes.c_double, ctypes.POINTER(DvhQueryOptions),
+    PairsPtr, ctypes.POINTER(DvhQueryStats),
+]
+lib.dvh_self_proximity.restype = DvhStatus
+lib.dvh_self_proximity.argtypes = [MeshPtr, ctypes.c_double, ctypes.POINTER(DvhQueryOptions), PairsPtr, ctypes.POINTER(DvhQueryStats)]
+
 lib.dvh_scene_create.restype = DvhStatus
 lib.dvh_scene_create.argtypes = [ctypes.POINTER(ScenePtr)]
 lib.dvh_scene_free.argtypes = [ScenePtr]
@@ -334,6 +344,41 @@ def main():
     check("object 2 is not in the scene" in last_error(), "removed object message: " + last_error())
     lib.dvh_contacts_free(contacts)
     lib.dvh_scene_free(scene)
+
+    # Self-collision: the sheet and the tent as one mesh (the tent's vertices renumbered after the
+    # sheet's) report exactly their crossings; the intact sheet alone reports nothing.
+    lib.dvh_collide(sheet, None, tent, None, None, pairs, None)
+    crossings = pairs_of(pairs)
+    offset = len(sheet_tris) // 3
+    status, both = create(sheet_pos + tent_pos, sheet_tris + [v + len(sheet_pos) // 3 for v in tent_tris])
+    check(status == DVH_STATUS_OK, "one mesh of both")
+    check(lib.dvh_self_collide(both, None, pairs, ctypes.byref(stats)) == DVH_STATUS_OK, "self-collide")
+    check(pairs_of(pairs) == [(a, b + offset) for a, b in crossings] and stats.pairs == len(crossings), "self-collide: the crossings")
+    check(lib.dvh_self_collide(sheet, None, pairs, None) == DVH_STATUS_OK and pairs_of(pairs) == [], "an intact sheet: nothing")
+    check(lib.dvh_self_collide(None, None, pairs, None) == DVH_STATUS_NULL_ARGUMENT, "self-collide: NULL mesh refused")
+
+    # Proximity: the sheet and its copy lifted by exactly 1, within 1 and just below.
+    lift = DvhPose((ctypes.c_double * 9)(1, 0, 0, 0, 1, 0, 0, 0, 1), (ctypes.c_double * 3)(0, 0, 1))
+    check(lib.dvh_proximity(sheet, None, sheet, ctypes.byref(lift), 1.0, None, pairs, None) == DVH_STATUS_OK, "proximity")
+    near = pairs_of(pairs)
+    check(all((t, t) in near for t in range(offset)), "proximity: every triangle faces its copy")
+    check(lib.dvh_proximity(sheet, None, sheet, ctypes.byref(lift), math.nextafter(1.0, 0.0), None, pairs, None) == DVH_STATUS_OK
+          and pairs_of(pairs) == [], "proximity: nothing closer than 1")
+    check(lib.dvh_proximity(sheet, None, tent, None, 0.0, None, pairs, None) == DVH_STATUS_OK and pairs_of(pairs) == crossings,
+          "proximity at 0 is collide")
+    check(lib.dvh_proximity(sheet, None, tent, None, -1.0, None, pairs, None) == DVH_STATUS_INVALID_ARGUMENT
+          and "distance" in last_error(), "negative distance refused: " + last_error())
+    check(pairs_of(pairs) == crossings, "a refused query keeps the result")
+
+    # Self-proximity: pairs sharing no vertex; every such pair far enough.
+    tris = [tuple(sheet_tris[3 * t:3 * t + 3]) for t in range(offset)]
+    apart = [(a, b) for a in range(offset) for b in range(a + 1, offset) if not set(tris[a]) & set(tris[b])]
+    check(lib.dvh_self_proximity(sheet, 100.0, None, pairs, None) == DVH_STATUS_OK and pairs_of(pairs) == apart,
+          "self-proximity: every pair apart")
+    check(lib.dvh_self_proximity(sheet, 0.0, None, pairs, None) == DVH_STATUS_OK and pairs_of(pairs) == [],
+          "self-proximity at 0 on an intact sheet")
+    check(lib.dvh_self_proximity(sheet, float("nan"), None, pairs, None) == DVH_STATUS_INVALID_ARGUMENT, "NaN distance refused")
+    lib.dvh_mesh_free(both)
 
     lib.dvh_pairs_free(pairs)
     lib.dvh_mesh_free(sheet)

@@ -170,7 +170,8 @@ typedef struct DvhRefitStats {
 typedef uint32_t DvhQueryMode;
 
 /**
- * Options for `dvh_collide`; start from `dvh_query_options_default()` (all fields zero). Grows
+ * Options for `dvh_collide`, `dvh_self_collide`, `dvh_proximity`, `dvh_self_proximity` and
+ * `dvh_scene_collide`; start from `dvh_query_options_default()` (all fields zero). Grows
  * like `DvhBuildOptions`: appended fields, zero the earlier results.
  */
 typedef struct DvhQueryOptions {
@@ -801,6 +802,85 @@ DvhStatus dvh_collide(const struct DvhMesh *a,
                       const struct DvhQueryOptions *options,
                       struct DvhPairs *pairs_out,
                       struct DvhQueryStats *stats_out);
+
+/**
+ * The pairs `(a, b)`, `a < b`, of triangles of one mesh that intersect. Two triangles that
+ * share vertices (by index) count only where they meet somewhere other than their shared
+ * vertices and shared edge (a fold through, a crossing, a coplanar overlap), so an intact
+ * surface reports nothing however it bends, and a surface folded through itself reports every
+ * crossing. Exact, like `dvh_collide`; `options` (NULL: the defaults) as in `dvh_collide`: the
+ * coarse modes report node pairs `(lower, higher)`, a node with itself included, whose
+ * triangle pairs include every intersecting pair.
+ *
+ * On success the pairs replace the contents of `pairs_out`, sorted, and the counters go to
+ * `*stats_out` unless it is NULL; on failure neither changes.
+ *
+ * Errors: NULL_ARGUMENT (`mesh`, `pairs_out`); INVALID_ARGUMENT (options out of range, a budget
+ * of 0); OUT_OF_MEMORY; INTERNAL_PANIC.
+ *
+ * Thread safety: `mesh` is only read: any number of threads may query it at once, each with
+ * its own `pairs_out`. No refit of `mesh` may run meanwhile.
+ *
+ * # Safety
+ * `mesh` is NULL or a live mesh; `options` is NULL or readable; `pairs_out` is NULL or a live
+ * buffer used by no other thread; `stats_out` is NULL or writable.
+ */
+DvhStatus dvh_self_collide(const struct DvhMesh *mesh,
+                           const struct DvhQueryOptions *options,
+                           struct DvhPairs *pairs_out,
+                           struct DvhQueryStats *stats_out);
+
+/**
+ * Every pair `(triangle of a, triangle of b)` of closed triangles at Euclidean distance
+ * `<= distance` between mesh `a` placed by `pose_a` and mesh `b` placed by `pose_b` (NULL:
+ * identity). Exact for the given doubles: the decision "distance <= d" is made without rounding
+ * error (a floating-point filter first, exact arithmetic when it cannot decide), so
+ * `distance = 0` gives exactly `dvh_collide`'s pairs and a pair exactly `distance` apart is
+ * reported. Poses and `options` (NULL: the defaults) as in `dvh_collide`; the coarse modes
+ * report node pairs whose volumes come within `distance`.
+ *
+ * On success the pairs replace the contents of `pairs_out`, sorted, and the counters go to
+ * `*stats_out` unless it is NULL; on failure neither changes.
+ *
+ * Errors: NULL_ARGUMENT (`a`, `b`, `pairs_out`); INVALID_ARGUMENT (a negative, NaN or infinite
+ * `distance`; options out of range); NON_FINITE_COORDINATE and NON_RIGID_POSE (a pose);
+ * POSE_OUT_OF_RANGE; OUT_OF_MEMORY; INTERNAL_PANIC.
+ *
+ * Thread safety: as `dvh_collide`.
+ *
+ * # Safety
+ * As `dvh_collide`.
+ */
+DvhStatus dvh_proximity(const struct DvhMesh *a,
+                        const struct DvhPose *pose_a,
+                        const struct DvhMesh *b,
+                        const struct DvhPose *pose_b,
+                        double distance,
+                        const struct DvhQueryOptions *options,
+                        struct DvhPairs *pairs_out,
+                        struct DvhQueryStats *stats_out);
+
+/**
+ * The pairs `(a, b)`, `a < b`, of one mesh's triangles that share no vertex (by index) and lie
+ * at Euclidean distance `<= distance`: what keeps a cloth or a soft body a thickness apart from
+ * itself. Exact like `dvh_proximity`; `options` (NULL: the defaults) as in `dvh_self_collide`.
+ *
+ * On success the pairs replace the contents of `pairs_out`, sorted, and the counters go to
+ * `*stats_out` unless it is NULL; on failure neither changes.
+ *
+ * Errors: NULL_ARGUMENT (`mesh`, `pairs_out`); INVALID_ARGUMENT (a negative, NaN or infinite
+ * `distance`; options out of range); OUT_OF_MEMORY; INTERNAL_PANIC.
+ *
+ * Thread safety: as `dvh_self_collide`.
+ *
+ * # Safety
+ * As `dvh_self_collide`.
+ */
+DvhStatus dvh_self_proximity(const struct DvhMesh *mesh,
+                             double distance,
+                             const struct DvhQueryOptions *options,
+                             struct DvhPairs *pairs_out,
+                             struct DvhQueryStats *stats_out);
 
 /**
  * The exact triangle test the queries use: do the closed triangles `t1` and `t2` (9 doubles

@@ -5,7 +5,9 @@
 //! hierarchy is refit by recomputing radii only; the centres move with their vertices. A query
 //! between two meshes (each optionally moved by a rigid [`Pose`]) reports the intersecting
 //! triangle pairs, decided by an exact triangle test, or coarser answers when speed matters more
-//! than precision ([`QueryMode`]).
+//! than precision ([`QueryMode`]). A mesh can be queried against itself ([`self_collide`]: folds
+//! and crossings, not the contact of neighbouring triangles), and for nearness: every triangle
+//! pair within a distance ([`proximity`], [`self_proximity`]), exact like the rest.
 //!
 //! ```
 //! use dvh::{BuildOptions, Mesh, Pairs, QueryOptions, collide};
@@ -49,7 +51,10 @@ pub use mesh::{
     BoundingVolume, BuildOptions, InvariantError, LeftoverPolicy, Mesh, NodeView, RadiusKind,
     RefitStats, TreeStats,
 };
-pub use query::{Pair, PairKind, Pairs, QueryMode, QueryOptions, QueryStats, brute_force, collide};
+pub use query::{
+    Pair, PairKind, Pairs, QueryMode, QueryOptions, QueryStats, brute_force, collide, proximity,
+    self_collide, self_proximity,
+};
 pub use scene::{Contact, Contacts, Scene, SceneStats};
 pub use tree::TreeKind;
 pub use volume::VolumeKind;

@@ -1,8 +1,12 @@
-//! Queries through the C ABI: result buffers, collide, the exact triangle test.
+//! Queries through the C ABI: result buffers, collide, self-collision, proximity, the exact
+//! triangle test.
 
 use super::boundary::{Failure, choice, guard, guard_value, set_last_error, slice_from, try_box};
 use super::types::*;
-use crate::{PairKind, Pairs, Pose, QueryMode, QueryOptions, collide, triangles_intersect};
+use crate::{
+    PairKind, Pairs, Pose, QueryMode, QueryOptions, QueryStats, collide, proximity, self_collide,
+    self_proximity, triangles_intersect,
+};
 
 /// The default query options: every intersecting triangle pair, no pair limit, every core (all
 /// fields zero).
@@ -181,26 +185,15 @@ pub unsafe extern "C" fn dvh_collide(
 ) -> DvhStatus {
     guard(|| {
         // SAFETY: NULL or live, read-only during the call (contract).
-        let (ma, mb) = unsafe { (a.as_ref(), b.as_ref()) };
-        let ma = ma.ok_or_else(|| Failure::null("a"))?;
-        let mb = mb.ok_or_else(|| Failure::null("b"))?;
+        let (ma, mb) = unsafe { (live_mesh(a, "a")?, live_mesh(b, "b")?) };
         // SAFETY: NULL or a live buffer used by this thread only (contract).
         let out = unsafe { pairs_out.as_mut() }.ok_or_else(|| Failure::null("pairs_out"))?;
-        for (m, name) in [(ma, "a"), (mb, "b")] {
-            if m.poisoned {
-                return Err(Failure::new(
-                    DVH_STATUS_INTERNAL_PANIC,
-                    format!(
-                        "mesh `{name}` is unusable: an internal panic interrupted an earlier refit"
-                    ),
-                ));
-            }
-        }
         // SAFETY: NULL or readable (contract).
-        let (pa, pb, o) = unsafe { (pose_a.as_ref(), pose_b.as_ref(), options.as_ref()) };
+        let (pa, pb) = unsafe { (pose_a.as_ref(), pose_b.as_ref()) };
         let pa = pa.map(|p| pose(p, "pose_a")).transpose()?;
         let pb = pb.map(|p| pose(p, "pose_b")).transpose()?;
-        let o = o.map(query_options).transpose()?.unwrap_or_default();
+        // SAFETY: NULL or readable (contract).
+        let o = unsafe { options_or_default(options) }?;
         let s = collide(
             &ma.mesh,
             pa.as_ref(),
@@ -209,21 +202,190 @@ pub unsafe extern "C" fn dvh_collide(
             &o,
             &mut out.pairs,
         )?;
-        if !stats_out.is_null() {
-            // SAFETY: non-NULL and writable (contract).
-            unsafe {
-                stats_out.write(DvhQueryStats {
-                    bv_tests: s.bv_tests,
-                    triangle_tests: s.triangle_tests,
-                    triangle_candidates: s.triangle_candidates,
-                    leaf_pairs: s.leaf_pairs,
-                    pairs: s.pairs,
-                    nodes_refit: s.nodes_refit,
-                    truncated: s.truncated,
-                    frontier_pairs: s.frontier_pairs,
-                })
-            };
-        }
+        // SAFETY: NULL or writable (contract).
+        unsafe { write_stats(stats_out, &s) };
+        Ok(())
+    })
+}
+
+/// The mesh behind `m`, unless NULL or unusable.
+///
+/// # Safety
+/// `m` is NULL or a live mesh, read-only for `'m`.
+unsafe fn live_mesh<'m>(m: *const DvhMesh, name: &str) -> Result<&'m DvhMesh, Failure> {
+    // SAFETY: NULL or live (contract).
+    let m = unsafe { m.as_ref() }.ok_or_else(|| Failure::null(name))?;
+    if m.poisoned {
+        return Err(Failure::new(
+            DVH_STATUS_INTERNAL_PANIC,
+            format!("mesh `{name}` is unusable: an internal panic interrupted an earlier refit"),
+        ));
+    }
+    Ok(m)
+}
+
+/// The options behind `o`, or the defaults for NULL.
+///
+/// # Safety
+/// `o` is NULL or readable.
+unsafe fn options_or_default(o: *const DvhQueryOptions) -> Result<QueryOptions, Failure> {
+    // SAFETY: NULL or readable (contract).
+    let o = unsafe { o.as_ref() };
+    Ok(o.map(query_options).transpose()?.unwrap_or_default())
+}
+
+/// Writes a query's counters to `out` unless it is NULL.
+///
+/// # Safety
+/// `out` is NULL or writable.
+unsafe fn write_stats(out: *mut DvhQueryStats, s: &QueryStats) {
+    if !out.is_null() {
+        // SAFETY: non-NULL and writable (contract).
+        unsafe {
+            out.write(DvhQueryStats {
+                bv_tests: s.bv_tests,
+                triangle_tests: s.triangle_tests,
+                triangle_candidates: s.triangle_candidates,
+                leaf_pairs: s.leaf_pairs,
+                pairs: s.pairs,
+                nodes_refit: s.nodes_refit,
+                truncated: s.truncated,
+                frontier_pairs: s.frontier_pairs,
+            })
+        };
+    }
+}
+
+/// The pairs `(a, b)`, `a < b`, of triangles of one mesh that intersect. Two triangles that
+/// share vertices (by index) count only where they meet somewhere other than their shared
+/// vertices and shared edge (a fold through, a crossing, a coplanar overlap), so an intact
+/// surface reports nothing however it bends, and a surface folded through itself reports every
+/// crossing. Exact, like `dvh_collide`; `options` (NULL: the defaults) as in `dvh_collide`: the
+/// coarse modes report node pairs `(lower, higher)`, a node with itself included, whose
+/// triangle pairs include every intersecting pair.
+///
+/// On success the pairs replace the contents of `pairs_out`, sorted, and the counters go to
+/// `*stats_out` unless it is NULL; on failure neither changes.
+///
+/// Errors: NULL_ARGUMENT (`mesh`, `pairs_out`); INVALID_ARGUMENT (options out of range, a budget
+/// of 0); OUT_OF_MEMORY; INTERNAL_PANIC.
+///
+/// Thread safety: `mesh` is only read: any number of threads may query it at once, each with
+/// its own `pairs_out`. No refit of `mesh` may run meanwhile.
+///
+/// # Safety
+/// `mesh` is NULL or a live mesh; `options` is NULL or readable; `pairs_out` is NULL or a live
+/// buffer used by no other thread; `stats_out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_self_collide(
+    mesh: *const DvhMesh,
+    options: *const DvhQueryOptions,
+    pairs_out: *mut DvhPairs,
+    stats_out: *mut DvhQueryStats,
+) -> DvhStatus {
+    guard(|| {
+        // SAFETY: NULL or live, read-only during the call (contract).
+        let m = unsafe { live_mesh(mesh, "mesh") }?;
+        // SAFETY: NULL or a live buffer used by this thread only (contract).
+        let out = unsafe { pairs_out.as_mut() }.ok_or_else(|| Failure::null("pairs_out"))?;
+        // SAFETY: NULL or readable (contract).
+        let o = unsafe { options_or_default(options) }?;
+        let s = self_collide(&m.mesh, &o, &mut out.pairs)?;
+        // SAFETY: NULL or writable (contract).
+        unsafe { write_stats(stats_out, &s) };
+        Ok(())
+    })
+}
+
+/// Every pair `(triangle of a, triangle of b)` of closed triangles at Euclidean distance
+/// `<= distance` between mesh `a` placed by `pose_a` and mesh `b` placed by `pose_b` (NULL:
+/// identity). Exact for the given doubles: the decision "distance <= d" is made without rounding
+/// error (a floating-point filter first, exact arithmetic when it cannot decide), so
+/// `distance = 0` gives exactly `dvh_collide`'s pairs and a pair exactly `distance` apart is
+/// reported. Poses and `options` (NULL: the defaults) as in `dvh_collide`; the coarse modes
+/// report node pairs whose volumes come within `distance`.
+///
+/// On success the pairs replace the contents of `pairs_out`, sorted, and the counters go to
+/// `*stats_out` unless it is NULL; on failure neither changes.
+///
+/// Errors: NULL_ARGUMENT (`a`, `b`, `pairs_out`); INVALID_ARGUMENT (a negative, NaN or infinite
+/// `distance`; options out of range); NON_FINITE_COORDINATE and NON_RIGID_POSE (a pose);
+/// POSE_OUT_OF_RANGE; OUT_OF_MEMORY; INTERNAL_PANIC.
+///
+/// Thread safety: as `dvh_collide`.
+///
+/// # Safety
+/// As `dvh_collide`.
+#[unsafe(no_mangle)]
+#[allow(clippy::too_many_arguments)] // the C signature the issue fixes
+pub unsafe extern "C" fn dvh_proximity(
+    a: *const DvhMesh,
+    pose_a: *const DvhPose,
+    b: *const DvhMesh,
+    pose_b: *const DvhPose,
+    distance: f64,
+    options: *const DvhQueryOptions,
+    pairs_out: *mut DvhPairs,
+    stats_out: *mut DvhQueryStats,
+) -> DvhStatus {
+    guard(|| {
+        // SAFETY: NULL or live, read-only during the call (contract).
+        let (ma, mb) = unsafe { (live_mesh(a, "a")?, live_mesh(b, "b")?) };
+        // SAFETY: NULL or a live buffer used by this thread only (contract).
+        let out = unsafe { pairs_out.as_mut() }.ok_or_else(|| Failure::null("pairs_out"))?;
+        // SAFETY: NULL or readable (contract).
+        let (pa, pb) = unsafe { (pose_a.as_ref(), pose_b.as_ref()) };
+        let pa = pa.map(|p| pose(p, "pose_a")).transpose()?;
+        let pb = pb.map(|p| pose(p, "pose_b")).transpose()?;
+        // SAFETY: NULL or readable (contract).
+        let o = unsafe { options_or_default(options) }?;
+        let s = proximity(
+            &ma.mesh,
+            pa.as_ref(),
+            &mb.mesh,
+            pb.as_ref(),
+            distance,
+            &o,
+            &mut out.pairs,
+        )?;
+        // SAFETY: NULL or writable (contract).
+        unsafe { write_stats(stats_out, &s) };
+        Ok(())
+    })
+}
+
+/// The pairs `(a, b)`, `a < b`, of one mesh's triangles that share no vertex (by index) and lie
+/// at Euclidean distance `<= distance`: what keeps a cloth or a soft body a thickness apart from
+/// itself. Exact like `dvh_proximity`; `options` (NULL: the defaults) as in `dvh_self_collide`.
+///
+/// On success the pairs replace the contents of `pairs_out`, sorted, and the counters go to
+/// `*stats_out` unless it is NULL; on failure neither changes.
+///
+/// Errors: NULL_ARGUMENT (`mesh`, `pairs_out`); INVALID_ARGUMENT (a negative, NaN or infinite
+/// `distance`; options out of range); OUT_OF_MEMORY; INTERNAL_PANIC.
+///
+/// Thread safety: as `dvh_self_collide`.
+///
+/// # Safety
+/// As `dvh_self_collide`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_self_proximity(
+    mesh: *const DvhMesh,
+    distance: f64,
+    options: *const DvhQueryOptions,
+    pairs_out: *mut DvhPairs,
+    stats_out: *mut DvhQueryStats,
+) -> DvhStatus {
+    guard(|| {
+        // SAFETY: NULL or live, read-only during the call (contract).
+        let m = unsafe { live_mesh(mesh, "mesh") }?;
+        // SAFETY: NULL or a live buffer used by this thread only (contract).
+        let out = unsafe { pairs_out.as_mut() }.ok_or_else(|| Failure::null("pairs_out"))?;
+        // SAFETY: NULL or readable (contract).
+        let o = unsafe { options_or_default(options) }?;
+        let s = self_proximity(&m.mesh, distance, &o, &mut out.pairs)?;
+        // SAFETY: NULL or writable (contract).
+        unsafe { write_stats(stats_out, &s) };
         Ok(())
     })
 }

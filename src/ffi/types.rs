@@ -111,7 +111,8 @@ pub struct DvhBuildOptions {
     pub refit_threads: u32,
 }
 
-/// Options for `dvh_collide`; start from `dvh_query_options_default()` (all fields zero). Grows
+/// Options for `dvh_collide`, `dvh_self_collide`, `dvh_proximity`, `dvh_self_proximity` and
+/// `dvh_scene_collide`; start from `dvh_query_options_default()` (all fields zero). Grows
 /// like `DvhBuildOptions`: appended fields, zero the earlier results.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

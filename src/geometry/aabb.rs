@@ -85,6 +85,16 @@ impl Aabb {
             & (other.lo[2] <= self.hi[2])
     }
 
+    /// The box grown by `d >= 0` on every side, rounded outwards: it holds every point within
+    /// distance `d` of this box.
+    #[inline]
+    pub fn widened(&self, d: f64) -> Aabb {
+        Aabb {
+            lo: self.lo.map(|x| (x - d).next_down()),
+            hi: self.hi.map(|x| (x + d).next_up()),
+        }
+    }
+
     /// Does the closed box hold `p`?
     #[inline]
     pub fn contains(&self, p: &Point) -> bool {

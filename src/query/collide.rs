@@ -1,7 +1,7 @@
 //! The pair query's entry point: checks the options and poses, puts each mesh in the query's
 //! frame, runs the traversal with the narrow phase the mode asks for, and sorts the result.
 
-use super::narrow::NodePairs;
+use super::narrow::{Intersect, NodePairs, Question};
 use super::options::{QueryMode, QueryOptions};
 use super::pairs::{Pair, PairKind, Pairs, QueryStats};
 use super::parallel::{self, Finish, Job};
@@ -56,11 +56,47 @@ pub(crate) type QueryMesh<'m> = (&'m Mesh, Option<&'m Pose>, Option<&'m LazyBoxe
 
 /// [`collide`], with either mesh's boxes refit lazily.
 pub(crate) fn collide_lazy<'m>(
-    (a, pose_a, lazy_a): QueryMesh<'m>,
-    (b, pose_b, lazy_b): QueryMesh<'m>,
+    a: QueryMesh<'m>,
+    b: QueryMesh<'m>,
     options: &QueryOptions,
     out: &mut Pairs,
 ) -> Result<QueryStats> {
+    query(a, b, Intersect, options, out)
+}
+
+/// A query of two meshes: `question` asks what of their triangles (intersection, nearness).
+pub(super) fn query<'m, Q: Question<'m>>(
+    a: QueryMesh<'m>,
+    b: QueryMesh<'m>,
+    question: Q,
+    options: &QueryOptions,
+    out: &mut Pairs,
+) -> Result<QueryStats> {
+    run_query(a, Some(b), question, options, out)
+}
+
+/// A query of one mesh against itself (no pose, boxes refit): `question` asks what of its
+/// triangle pairs.
+pub(super) fn query_one<'m, Q: Question<'m>>(
+    mesh: &'m Mesh,
+    question: Q,
+    options: &QueryOptions,
+    out: &mut Pairs,
+) -> Result<QueryStats> {
+    debug_assert!(question.own().is_some());
+    run_query((mesh, None, None), None, question, options, out)
+}
+
+/// A query of `a` and `b`, or of `a` against itself (`b` is `None`).
+fn run_query<'m, Q: Question<'m>>(
+    (a, pose_a, lazy_a): QueryMesh<'m>,
+    b_side: Option<QueryMesh<'m>>,
+    question: Q,
+    options: &QueryOptions,
+    out: &mut Pairs,
+) -> Result<QueryStats> {
+    let one_mesh = b_side.is_none();
+    let (b, pose_b, lazy_b) = b_side.unwrap_or((a, None, None));
     debug_assert!(lazy_a.is_none() || pose_a.is_none());
     debug_assert!(lazy_b.is_none() || pose_b.is_none());
     if options.mode == QueryMode::Budget(0) {
@@ -101,6 +137,7 @@ pub(crate) fn collide_lazy<'m>(
     } else {
         let run = Run {
             mode: options.mode,
+            question,
             check_domain: !(a.safe && b.safe) || pose_a.is_some() || pose_b.is_some(),
             limit,
             threads,
@@ -118,9 +155,15 @@ pub(crate) fn collide_lazy<'m>(
             run,
         };
         match (pose_a.zip(place_a), lazy_a) {
-            (None, Some(boxes)) => {
-                with_placement_b((Local { mesh: a }, LazyBoxKind { boxes }), b_side)
-            }
+            // One mesh: both sides are it, in place, with its own volumes.
+            _ if one_mesh => with_kind!(a, |kind| b_side.run.run(
+                (Local { mesh: a }, question.side_a(kind)),
+                (Local { mesh: a }, kind)
+            )),
+            (None, Some(boxes)) => with_placement_b(
+                (Local { mesh: a }, question.side_a(LazyBoxKind { boxes })),
+                b_side,
+            ),
             (None, None) => with_volumes_a(Local { mesh: a }, b_side),
             (Some((pose, (stretch, pad))), _) => with_volumes_a(
                 Posed {
@@ -157,7 +200,10 @@ pub(crate) fn collide_lazy<'m>(
         PairKind::Triangles
     };
     stats.pairs = items.len() as u64;
-    stats.nodes_refit = a.last_refit.nodes_refit + b.last_refit.nodes_refit;
+    stats.nodes_refit = a.last_refit.nodes_refit;
+    if !one_mesh {
+        stats.nodes_refit += b.last_refit.nodes_refit;
+    }
     Ok(stats)
 }
 
@@ -177,8 +223,9 @@ pub(super) fn widening(pose: &Pose, mesh: &Mesh, side: Side) -> Result<(f64, f64
 
 /// The query once both sides are typed: the traversal and narrow phase the mode asks for, on
 /// the calling thread or shared out.
-struct Run<'q> {
+struct Run<'q, Q> {
     mode: QueryMode,
+    question: Q,
     check_domain: bool,
     /// Pairs to find before stopping.
     limit: usize,
@@ -198,10 +245,10 @@ struct Run<'q> {
 /// handing work out costs more than it saves.
 const PARALLEL_MIN_TRIANGLES: usize = 4096;
 
-impl Run<'_> {
+impl<'m, Q: Question<'m>> Run<'_, Q> {
     /// Runs the query; returns why it stopped early, if it did, and whether the pairs are
     /// sorted already.
-    fn run<'m, PA, KA, PB, KB>(self, a: (PA, KA), b: (PB, KB)) -> (Option<Stop>, bool)
+    fn run<PA, KA, PB, KB>(self, a: (PA, KA), b: (PB, KB)) -> (Option<Stop>, bool)
     where
         PA: Placement<'m>,
         KA: Kind<'m>,
@@ -212,6 +259,7 @@ impl Run<'_> {
             a,
             b,
             mode: self.mode,
+            question: self.question,
             check_domain: self.check_domain,
             limit: self.limit,
         };
@@ -242,11 +290,16 @@ impl Run<'_> {
         if let QueryMode::Budget(budget) = self.mode {
             let mut va = View::new(job.a, &mut w.a.world, &mut w.a.ring_boxes);
             let mut vb = View::new(job.b, &mut w.b.world, &mut w.b.ring_boxes);
-            let mut narrow = NodePairs { sink: &mut sink };
+            let own = job.question.own();
+            let mut narrow = NodePairs {
+                sink: &mut sink,
+                one_mesh: own.is_some(),
+            };
             best_first(
                 &mut va,
                 &mut vb,
                 budget,
+                own,
                 &mut ws.queue,
                 self.stats,
                 &mut narrow,
@@ -261,22 +314,29 @@ impl Run<'_> {
 }
 
 /// Mesh `b` of the query, not yet typed, and the query to run once it is.
-struct SideB<'m, 'q> {
+struct SideB<'m, 'q, Q> {
     mesh: &'m Mesh,
     pose: Option<(&'m Pose, (f64, f64))>,
     lazy: Option<&'m LazyBoxes<'m>>,
-    run: Run<'q>,
+    run: Run<'q, Q>,
 }
 
-/// Types side `a` by its volume kind, then side `b`.
-fn with_volumes_a<'m, P: Placement<'m>>(place: P, b: SideB<'m, '_>) -> (Option<Stop>, bool) {
-    with_kind!(place.mesh(), |kind| with_placement_b((place, kind), b))
+/// Types side `a` by its volume kind (as the question reads it), then side `b`.
+fn with_volumes_a<'m, P: Placement<'m>, Q: Question<'m>>(
+    place: P,
+    b: SideB<'m, '_, Q>,
+) -> (Option<Stop>, bool) {
+    let question = b.run.question;
+    with_kind!(place.mesh(), |kind| with_placement_b(
+        (place, question.side_a(kind)),
+        b
+    ))
 }
 
 /// Types side `b` by its placement.
-fn with_placement_b<'m, PA: Placement<'m>, KA: Kind<'m>>(
+fn with_placement_b<'m, PA: Placement<'m>, KA: Kind<'m>, Q: Question<'m>>(
     a: (PA, KA),
-    b: SideB<'m, '_>,
+    b: SideB<'m, '_, Q>,
 ) -> (Option<Stop>, bool) {
     let SideB {
         mesh,
@@ -301,10 +361,10 @@ fn with_placement_b<'m, PA: Placement<'m>, KA: Kind<'m>>(
 }
 
 /// Types side `b` by its volume kind and runs the query.
-fn with_volumes_b<'m, PA: Placement<'m>, KA: Kind<'m>, P: Placement<'m>>(
+fn with_volumes_b<'m, PA: Placement<'m>, KA: Kind<'m>, P: Placement<'m>, Q: Question<'m>>(
     a: (PA, KA),
     place: P,
-    run: Run<'_>,
+    run: Run<'_, Q>,
 ) -> (Option<Stop>, bool) {
     with_kind!(place.mesh(), |kind| run.run(a, (place, kind)))
 }

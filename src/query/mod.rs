@@ -1,4 +1,5 @@
-//! Queries between two meshes: options, results, the traversal, and the brute-force reference.
+//! Queries between two meshes and of one mesh against itself (intersection, nearness): options,
+//! results, the one traversal, and the brute-force reference.
 
 mod brute_force;
 mod collide;
@@ -12,6 +13,8 @@ mod self_collide;
 mod side;
 mod sink;
 mod sort;
+#[cfg(test)]
+mod testing;
 mod traverse;
 mod workspace;
 
@@ -21,3 +24,5 @@ pub(crate) use collide::collide_lazy;
 pub use options::{QueryMode, QueryOptions};
 pub use pairs::{Pair, PairKind, Pairs, QueryStats};
 pub(crate) use patches::Patches;
+pub use proximity::{proximity, self_proximity};
+pub use self_collide::self_collide;

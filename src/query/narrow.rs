@@ -2,9 +2,9 @@
 //! modes), or their rings' triangles tested exactly (the exact modes).
 
 use super::pairs::{Pair, QueryStats};
-use super::side::QuerySide;
+use super::side::{Kind, QuerySide};
 use super::sink::Sink;
-use super::traverse::NarrowPhase;
+use super::traverse::{NarrowPhase, OneMesh};
 use super::workspace::{Prepared, RingCache};
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::is_safe_point;
@@ -13,15 +13,82 @@ use crate::geometry::tri_tri::{
 };
 use std::ops::Range;
 
-/// Reports every terminal node pair.
-pub(crate) struct NodePairs<'s, 'w> {
-    pub sink: &'s mut Sink<'w>,
+/// What a query asks: intersection or nearness, of two meshes or of one. It says how side `a`'s
+/// volumes are read, whether the traversal is of one mesh, and which narrow phase tests the
+/// triangles of terminal pairs in the exact modes ([`crate::QueryMode::Triangles`],
+/// [`crate::QueryMode::FirstHit`]); the coarse modes report node pairs whatever the question.
+pub(crate) trait Question<'m>: Copy + Send + Sync {
+    /// Side `a`'s volume kind, given the mesh's own.
+    type SideA<K: Kind<'m>>: Kind<'m>;
+    /// The narrow phase of the exact modes.
+    type Exact<'s, 'w: 's>: NarrowPhase<'m>;
+
+    /// Side `a`'s volume kind, given the mesh's own.
+    fn side_a<K: Kind<'m>>(&self, kind: K) -> Self::SideA<K>;
+    /// `Some` when both sides are one mesh.
+    fn own(&self) -> Option<OneMesh<'m>>;
+    /// The narrow phase of the exact modes, writing to `sink` and caching prepared triangles in
+    /// `rings_a` and `rings_b`; `check_domain`: must each triangle check that its coordinates
+    /// suit the fast predicates?
+    fn exact<'s, 'w: 's>(
+        &self,
+        sink: &'s mut Sink<'w>,
+        rings_a: &'s mut RingCache,
+        rings_b: &'s mut RingCache,
+        check_domain: bool,
+    ) -> Self::Exact<'s, 'w>;
 }
 
-impl<'m, A: QuerySide<'m>, B: QuerySide<'m>> NarrowPhase<'m, A, B> for NodePairs<'_, '_> {
+/// Which triangles of two meshes intersect ([`crate::collide`]).
+#[derive(Clone, Copy)]
+pub(crate) struct Intersect;
+
+impl<'m> Question<'m> for Intersect {
+    type SideA<K: Kind<'m>> = K;
+    type Exact<'s, 'w: 's> = TrianglePairs<'s, 'w>;
+
+    fn side_a<K: Kind<'m>>(&self, kind: K) -> K {
+        kind
+    }
+
+    fn own(&self) -> Option<OneMesh<'m>> {
+        None
+    }
+
+    fn exact<'s, 'w: 's>(
+        &self,
+        sink: &'s mut Sink<'w>,
+        rings_a: &'s mut RingCache,
+        rings_b: &'s mut RingCache,
+        check_domain: bool,
+    ) -> TrianglePairs<'s, 'w> {
+        TrianglePairs {
+            sink,
+            rings_a,
+            rings_b,
+            check_domain,
+        }
+    }
+}
+
+/// Reports every terminal node pair; of one mesh, as `(lower, higher)`.
+pub(crate) struct NodePairs<'s, 'w> {
+    pub sink: &'s mut Sink<'w>,
+    pub one_mesh: bool,
+}
+
+impl<'m> NarrowPhase<'m> for NodePairs<'_, '_> {
     #[inline]
-    fn visit(&mut self, _: &mut A, _: &mut B, na: u32, nb: u32, _: &mut QueryStats) -> bool {
-        self.sink.report(Pair { a: na, b: nb })
+    fn visit<A, B>(&mut self, _: &mut A, _: &mut B, na: u32, nb: u32, _: &mut QueryStats) -> bool {
+        let pair = if self.one_mesh {
+            Pair {
+                a: na.min(nb),
+                b: na.max(nb),
+            }
+        } else {
+            Pair { a: na, b: nb }
+        };
+        self.sink.report(pair)
     }
 }
 
@@ -36,8 +103,15 @@ pub(crate) struct TrianglePairs<'s, 'w> {
     pub check_domain: bool,
 }
 
-impl<'m, A: QuerySide<'m>, B: QuerySide<'m>> NarrowPhase<'m, A, B> for TrianglePairs<'_, '_> {
-    fn visit(&mut self, a: &mut A, b: &mut B, na: u32, nb: u32, stats: &mut QueryStats) -> bool {
+impl<'m> NarrowPhase<'m> for TrianglePairs<'_, '_> {
+    fn visit<A: QuerySide<'m>, B: QuerySide<'m>>(
+        &mut self,
+        a: &mut A,
+        b: &mut B,
+        na: u32,
+        nb: u32,
+        stats: &mut QueryStats,
+    ) -> bool {
         let (ma, mb) = (a.mesh(), b.mesh());
         let ra = ma.shape.tree.nodes[na as usize].ring_start;
         let rb = mb.shape.tree.nodes[nb as usize].ring_start;

@@ -5,13 +5,13 @@
 //! single-threaded traversal reports, in its order, so a pair limit cuts them at the same pair
 //! and the sorted answer is identical.
 
-use super::narrow::{NodePairs, TrianglePairs};
+use super::narrow::{NodePairs, Question};
 use super::options::QueryMode;
 use super::pairs::{Pair, QueryStats};
 use super::side::{Kind, Placement, View};
 use super::sink::{Sink, Stop};
 use super::sort;
-use super::traverse::{depth_first_from, split};
+use super::traverse::{Walk, depth_first_from, split};
 use super::workspace::{SideSpace, Worker, Workspace};
 use crate::threads;
 use std::sync::Mutex;
@@ -22,22 +22,33 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 const ITEMS_PER_THREAD: usize = 128;
 
 /// What every thread of a query shares: both sides, typed, and what to compute.
-pub(crate) struct Job<PA, KA, PB, KB> {
+pub(crate) struct Job<PA, KA, PB, KB, Q> {
     pub a: (PA, KA),
     pub b: (PB, KB),
     pub mode: QueryMode,
+    /// Intersection or nearness, of two meshes or of one.
+    pub question: Q,
     pub check_domain: bool,
     /// Pairs to find before stopping.
     pub limit: usize,
 }
 
-impl<'m, PA, KA, PB, KB> Job<PA, KA, PB, KB>
+impl<'m, PA, KA, PB, KB, Q> Job<PA, KA, PB, KB, Q>
 where
     PA: Placement<'m>,
     KA: Kind<'m>,
     PB: Placement<'m>,
     KB: Kind<'m>,
+    Q: Question<'m>,
 {
+    /// How the traversal walks.
+    pub fn walk(&self) -> Walk<'m> {
+        Walk {
+            max_depth: self.mode.max_depth(),
+            own: self.question.own(),
+        }
+    }
+
     /// Starts a thread's caches on this query; out of memory if they cannot grow as needed.
     pub fn begin(&self, a: &mut SideSpace, b: &mut SideSpace) -> Option<Stop> {
         let (ma, mb) = (self.a.0.mesh(), self.b.0.mesh());
@@ -71,36 +82,20 @@ where
             View::new(self.a, &mut a.world, &mut a.ring_boxes),
             View::new(self.b, &mut b.world, &mut b.ring_boxes),
         );
-        let max_depth = self.mode.max_depth();
+        let walk = self.walk();
         match self.mode {
             QueryMode::Triangles | QueryMode::FirstHit => {
-                let mut narrow = TrianglePairs {
-                    sink,
-                    rings_a: &mut a.rings,
-                    rings_b: &mut b.rings,
-                    check_domain: self.check_domain,
-                };
-                depth_first_from(
-                    &mut va,
-                    &mut vb,
-                    start,
-                    max_depth,
-                    stack,
-                    stats,
-                    &mut narrow,
-                );
+                let mut narrow =
+                    self.question
+                        .exact(sink, &mut a.rings, &mut b.rings, self.check_domain);
+                depth_first_from(&mut va, &mut vb, start, &walk, stack, stats, &mut narrow);
             }
             QueryMode::Leaves | QueryMode::Depth(_) => {
-                let mut narrow = NodePairs { sink };
-                depth_first_from(
-                    &mut va,
-                    &mut vb,
-                    start,
-                    max_depth,
-                    stack,
-                    stats,
-                    &mut narrow,
-                );
+                let mut narrow = NodePairs {
+                    sink,
+                    one_mesh: walk.own.is_some(),
+                };
+                depth_first_from(&mut va, &mut vb, start, &walk, stack, stats, &mut narrow);
             }
             QueryMode::Budget(_) => unreachable!("a budgeted query has a traversal of its own"),
         }
@@ -121,8 +116,8 @@ pub(crate) struct Finish<'o> {
 /// to `stats`, its pairs to `finish.out`: sorted when the query ran to the end (the threads
 /// share the sort too), otherwise in the single-threaded traversal's order, cut at the limit.
 /// Returns why it stopped early, if it did, and whether `out` is sorted.
-pub(crate) fn run<'m, PA, KA, PB, KB>(
-    job: &Job<PA, KA, PB, KB>,
+pub(crate) fn run<'m, PA, KA, PB, KB, Q>(
+    job: &Job<PA, KA, PB, KB, Q>,
     ws: &mut Workspace,
     threads: usize,
     finish: Finish,
@@ -133,6 +128,7 @@ where
     KA: Kind<'m>,
     PB: Placement<'m>,
     KB: Kind<'m>,
+    Q: Question<'m>,
 {
     let Workspace {
         workers,
@@ -160,9 +156,14 @@ where
         }
         let (mut va, mut vb) = job.views(&mut w.a, &mut w.b);
         let target = threads * ITEMS_PER_THREAD;
-        let max_depth = job.mode.max_depth();
         split(
-            &mut va, &mut vb, max_depth, target, items, next_items, stats,
+            &mut va,
+            &mut vb,
+            &job.walk(),
+            target,
+            items,
+            next_items,
+            stats,
         );
     }
     let count = items.len();

@@ -1,260 +1,261 @@
-//! Proximity (issue 11, in progress): every pair of triangles of two placed meshes at distance at
-//! most `d`, decided exactly by [`triangles_within`].
+//! Proximity: every pair of triangles of two placed meshes at distance at most `d`, and of one
+//! mesh's triangles that share no vertex, decided exactly by [`triangles_within`].
 //!
 //! The one traversal, with side `a`'s volumes widened by `d` (rounded outwards, so no pair within
-//! `d` is dropped), hands leaf pairs to [`NearPairs`], which filters by widened ring and
-//! triangle boxes before the exact test.
-//!
-//! Not yet here: self-proximity, the coarse modes, threads, and the C ABI.
+//! `d` is dropped: [`Widened`]), hands leaf pairs to [`NearPairs`], which filters by widened ring
+//! and triangle boxes before the exact test.
 
-// Reached from tests only until the public entry points (Rust and C) land with the rest of
-// issue 11.
-#![cfg_attr(not(test), allow(dead_code))]
-
-use super::collide::widening;
-use super::narrow::{prepare, select};
+use super::collide::{query, query_one};
+use super::narrow::{Question, prepare, select};
+use super::options::QueryOptions;
 use super::pairs::{Pair, Pairs, QueryStats};
-use super::side::{Kind, Local, Placement, Posed, QuerySide, View, Volume, with_kind};
-use super::sink::{Sink, Stop, one_thread};
-use super::traverse::{NarrowPhase, depth_first};
-use super::workspace::{RingCache, Stamped, Worker};
-use crate::error::{Error, Result, Side};
-use crate::geometry::aabb::Aabb;
+use super::side::{Kind, QuerySide, Widened};
+use super::sink::Sink;
+use super::traverse::{NarrowPhase, OneMesh};
+use super::workspace::{Prepared, RingCache};
+use crate::error::{Error, Result};
 use crate::geometry::distance::triangles_within;
 use crate::geometry::pose::Pose;
-use crate::geometry::predicates::Point;
-use crate::geometry::sphere::Sphere;
 use crate::mesh::Mesh;
 
-/// A volume grown by a distance, rounded outwards: it holds every point within that distance of
-/// the volume.
-trait Widen: Volume {
-    fn widened(&self, d: f64) -> Self;
-}
-
-impl Widen for Aabb {
-    fn widened(&self, d: f64) -> Aabb {
-        widen_box(self, d)
-    }
-}
-
-impl Widen for Sphere {
-    fn widened(&self, d: f64) -> Sphere {
-        Sphere {
-            centre: self.centre,
-            radius: (self.radius + d).next_up(),
-        }
-    }
-}
-
-/// `b` grown by `d` on every side, rounded outwards.
-fn widen_box(b: &Aabb, d: f64) -> Aabb {
-    Aabb {
-        lo: b.lo.map(|x| (x - d).next_down()),
-        hi: b.hi.map(|x| (x + d).next_up()),
-    }
-}
-
-/// A volume kind whose volumes are grown by `d`.
-#[derive(Clone, Copy)]
-struct Widened<K> {
-    kind: K,
-    d: f64,
-}
-
-impl<'m, K: Kind<'m>> Kind<'m> for Widened<K>
-where
-    K::Volume: Widen,
-{
-    type Volume = K::Volume;
-    const LEAF_IS_RING_BOX: bool = false;
-
-    #[inline(always)]
-    fn volume<P: Placement<'m>>(&self, place: &P, world: &mut Stamped<Point>, n: u32) -> K::Volume {
-        self.kind.volume(place, world, n).widened(self.d)
-    }
-}
-
-/// Tests the triangles of two leaves' rings for distance at most `d`.
-struct NearPairs<'s, 'w> {
-    sink: &'s mut Sink<'w>,
-    rings_a: &'s mut RingCache,
-    rings_b: &'s mut RingCache,
-    d: f64,
-}
-
-impl<'m, A: QuerySide<'m>, B: QuerySide<'m>> NarrowPhase<'m, A, B> for NearPairs<'_, '_> {
-    fn visit(&mut self, a: &mut A, b: &mut B, na: u32, nb: u32, stats: &mut QueryStats) -> bool {
-        let ra = a.mesh().shape.tree.nodes[na as usize].ring_start;
-        let rb = b.mesh().shape.tree.nodes[nb as usize].ring_start;
-        if !widen_box(&a.ring_box(na), self.d).meets(&b.ring_box(nb)) {
-            return false;
-        }
-        // The triangles are prepared without domain checks: the exact test below works for any
-        // finite coordinates.
-        let (span_a, bounds_a) = prepare(a, ra, self.rings_a, false);
-        let (span_b, bounds_b) = prepare(b, rb, self.rings_b, false);
-        let (near_a, near_b) = (widen_box(&bounds_a, self.d), widen_box(&bounds_b, self.d));
-        if !near_a.meets(&bounds_b) {
-            return false;
-        }
-        let (ca, cb) = (&mut *self.rings_a, &mut *self.rings_b);
-        select(&ca.tris[span_a.clone()], &near_b, &mut ca.selected);
-        select(&cb.tris[span_b.clone()], &near_a, &mut cb.selected);
-        let (tris_a, tris_b) = (&ca.tris[span_a], &cb.tris[span_b]);
-        for &i in &ca.selected {
-            let ta = &tris_a[i as usize];
-            let grown = widen_box(&ta.bounds, self.d);
-            for &j in &cb.selected {
-                let tb = &tris_b[j as usize];
-                if !grown.meets(&tb.bounds) {
-                    continue;
-                }
-                stats.triangle_tests += 1;
-                if triangles_within(&ta.tri.corners, &tb.tri.corners, self.d)
-                    && self.sink.report(Pair {
-                        a: ta.index,
-                        b: tb.index,
-                    })
-                {
-                    return true;
-                }
-            }
-        }
-        false
-    }
-}
-
-/// Every pair `(triangle of a, triangle of b)` at distance at most `d` between mesh `a` placed
-/// by `pose_a` and mesh `b` placed by `pose_b` (closed triangles; `d = 0` gives exactly the
-/// intersecting pairs of [`crate::collide`]). Exact; one thread; stops at `max_pairs` pairs (then
-/// `truncated`). Errors: a negative, NaN or infinite `d`; a pose out of range; out of memory.
-pub(crate) fn proximity(
+/// Every pair `(triangle of a, triangle of b)` of closed triangles at Euclidean distance at most
+/// `distance` between mesh `a` placed by `pose_a` and mesh `b` placed by `pose_b` (`None`: the
+/// mesh's coordinates are world coordinates). Exact for the given doubles: the decision is made
+/// without rounding error (an interval filter first, big integers when it cannot decide), so
+/// `distance = 0` gives exactly [`crate::collide`]'s pairs, and a pair whose distance equals
+/// `distance` is reported. Posed coordinates are those [`Pose::transform_point`] computes, as in
+/// [`crate::collide`].
+///
+/// [`QueryOptions`] apply as in [`crate::collide`]: the coarse modes report node pairs whose
+/// volumes come within `distance` (conservative: their triangles include every pair within
+/// `distance`), `max_pairs` bounds the result, `threads` shares the work out.
+///
+/// Errors: [`Error::InvalidDistance`] for a negative, NaN or infinite `distance`; the errors of
+/// [`crate::collide`]. On error `out` still holds the previous result.
+pub fn proximity(
     a: &Mesh,
     pose_a: Option<&Pose>,
     b: &Mesh,
     pose_b: Option<&Pose>,
-    d: f64,
-    max_pairs: Option<usize>,
+    distance: f64,
+    options: &QueryOptions,
     out: &mut Pairs,
 ) -> Result<QueryStats> {
-    if !(d >= 0.0 && d.is_finite()) {
-        return Err(Error::InvalidDistance { distance: d });
-    }
-    let pose_a = pose_a.filter(|p| !p.is_identity());
-    let pose_b = pose_b.filter(|p| !p.is_identity());
-    let place_a = pose_a.map(|p| widening(p, a, Side::A)).transpose()?;
-    let place_b = pose_b.map(|p| widening(p, b, Side::B)).transpose()?;
-    let limit = max_pairs.unwrap_or(usize::MAX);
-    one_thread(out, limit, true, |worker, sink, stats| {
-        let run = Run {
-            b,
-            pose_b: pose_b.zip(place_b),
-            d,
-            worker,
-            sink,
-            stats,
-        };
-        match pose_a.zip(place_a) {
-            None => run.side_a(Local { mesh: a }),
-            Some((pose, (stretch, pad))) => run.side_a(Posed {
-                mesh: a,
-                pose,
-                stretch,
-                pad,
-            }),
-        }
-    })
+    check_distance(distance)?;
+    query(
+        (a, pose_a, None),
+        (b, pose_b, None),
+        Near {
+            d: distance,
+            one_mesh: false,
+        },
+        options,
+        out,
+    )
 }
 
-/// A proximity query being typed side by side.
-struct Run<'m, 'q, 'w> {
-    b: &'m Mesh,
-    pose_b: Option<(&'m Pose, (f64, f64))>,
+/// The pairs `(a, b)`, `a < b`, of triangles of `mesh` that share no vertex (by index) and lie
+/// at Euclidean distance at most `distance` from each other: what keeps a cloth or a soft body
+/// a thickness apart from itself. Exact, like [`proximity`]; [`QueryOptions`] apply as in
+/// [`crate::collide`] (the coarse modes report node pairs `(lower, higher)`, a node paired with
+/// itself included).
+///
+/// Errors: [`Error::InvalidDistance`] for a negative, NaN or infinite `distance`;
+/// [`Error::ZeroBudget`]; [`Error::OutOfMemory`]. On error `out` still holds the previous result.
+pub fn self_proximity(
+    mesh: &Mesh,
+    distance: f64,
+    options: &QueryOptions,
+    out: &mut Pairs,
+) -> Result<QueryStats> {
+    check_distance(distance)?;
+    query_one(
+        mesh,
+        Near {
+            d: distance,
+            one_mesh: true,
+        },
+        options,
+        out,
+    )
+}
+
+/// A distance must be finite and not negative.
+fn check_distance(d: f64) -> Result<()> {
+    if d >= 0.0 && d.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::InvalidDistance { distance: d })
+    }
+}
+
+/// Which triangles lie within `d` of each other: of two meshes, or of one (pairs sharing no
+/// vertex).
+#[derive(Clone, Copy)]
+struct Near {
     d: f64,
-    worker: &'q mut Worker,
-    sink: &'q mut Sink<'w>,
-    stats: &'q mut QueryStats,
+    one_mesh: bool,
 }
 
-impl<'m> Run<'m, '_, '_> {
-    fn side_a<PA: Placement<'m>>(self, place: PA) {
-        let d = self.d;
-        with_kind!(place.mesh(), |kind| self
-            .placement_b((place, Widened { kind, d })))
+impl<'m> Question<'m> for Near {
+    type SideA<K: Kind<'m>> = Widened<K>;
+    type Exact<'s, 'w: 's> = NearPairs<'s, 'w>;
+
+    fn side_a<K: Kind<'m>>(&self, kind: K) -> Widened<K> {
+        Widened { kind, d: self.d }
     }
 
-    fn placement_b<PA: Placement<'m>, KA: Kind<'m>>(self, a: (PA, KA)) {
-        let mesh = self.b;
-        match self.pose_b {
-            None => self.side_b(a, Local { mesh }),
-            Some((pose, (stretch, pad))) => self.side_b(
-                a,
-                Posed {
-                    mesh,
-                    pose,
-                    stretch,
-                    pad,
-                },
-            ),
-        }
+    fn own(&self) -> Option<OneMesh<'m>> {
+        self.one_mesh.then_some(OneMesh { patches: None })
     }
 
-    fn side_b<PA: Placement<'m>, KA: Kind<'m>, PB: Placement<'m>>(self, a: (PA, KA), place: PB) {
-        with_kind!(place.mesh(), |kind| self.traverse(a, (place, kind)))
-    }
-
-    fn traverse<PA, KA, PB, KB>(self, a: (PA, KA), b: (PB, KB))
-    where
-        PA: Placement<'m>,
-        KA: Kind<'m>,
-        PB: Placement<'m>,
-        KB: Kind<'m>,
-    {
-        let (ma, mb) = (a.0.mesh(), b.0.mesh());
-        let w = self.worker;
-        let begun =
-            w.a.begin(
-                ma.vertex_count(),
-                ma.ring_count(),
-                Some(ma.shape.rings.longest),
-                !PA::LOCAL,
-            )
-            .and_then(|()| {
-                w.b.begin(
-                    mb.vertex_count(),
-                    mb.ring_count(),
-                    Some(mb.shape.rings.longest),
-                    !PB::LOCAL,
-                )
-            });
-        if let Err(bytes) = begun {
-            self.sink.stop = Some(Stop::OutOfMemory { bytes });
-            return;
-        }
-        let Worker {
-            stack,
-            a: sa,
-            b: sb,
-            ..
-        } = w;
-        let mut va = View::new(a, &mut sa.world, &mut sa.ring_boxes);
-        let mut vb = View::new(b, &mut sb.world, &mut sb.ring_boxes);
-        let mut narrow = NearPairs {
-            sink: self.sink,
-            rings_a: &mut sa.rings,
-            rings_b: &mut sb.rings,
+    fn exact<'s, 'w: 's>(
+        &self,
+        sink: &'s mut Sink<'w>,
+        rings_a: &'s mut RingCache,
+        rings_b: &'s mut RingCache,
+        _check_domain: bool,
+    ) -> NearPairs<'s, 'w> {
+        NearPairs {
+            sink,
+            rings_a,
+            rings_b,
             d: self.d,
+            one_mesh: self.one_mesh,
+        }
+    }
+}
+
+/// Tests the triangles of two leaves' rings for distance at most `d`; of one mesh, only pairs
+/// sharing no vertex, reported `(lower, higher)`.
+pub(crate) struct NearPairs<'s, 'w> {
+    sink: &'s mut Sink<'w>,
+    rings_a: &'s mut RingCache,
+    rings_b: &'s mut RingCache,
+    d: f64,
+    one_mesh: bool,
+}
+
+impl NearPairs<'_, '_> {
+    /// Tests one pair of prepared triangles (boxes already known to come within `d`); returns
+    /// whether the traversal must stop.
+    #[inline]
+    fn test(&mut self, mesh: &Mesh, ta: &Prepared, tb: &Prepared, stats: &mut QueryStats) -> bool {
+        let (ia, ib) = (ta.index, tb.index);
+        if self.one_mesh {
+            let tris = &mesh.shape.triangles;
+            let (va, vb) = (tris[ia as usize], tris[ib as usize]);
+            if va.iter().any(|v| vb.contains(v)) {
+                return false;
+            }
+        }
+        stats.triangle_tests += 1;
+        if !triangles_within(&ta.tri.corners, &tb.tri.corners, self.d) {
+            return false;
+        }
+        let pair = if self.one_mesh {
+            Pair {
+                a: ia.min(ib),
+                b: ia.max(ib),
+            }
+        } else {
+            Pair { a: ia, b: ib }
         };
-        depth_first(&mut va, &mut vb, u32::MAX, stack, self.stats, &mut narrow);
+        self.sink.report(pair)
+    }
+
+    /// A node of one mesh against itself: each pair of its ring's triangles once.
+    fn own<'m, A: QuerySide<'m>>(&mut self, a: &mut A, n: u32, stats: &mut QueryStats) -> bool {
+        let mesh = a.mesh();
+        let r = mesh.shape.tree.nodes[n as usize].ring_start;
+        let (span, _) = prepare(a, r, self.rings_a, false);
+        let tris = std::mem::take(&mut self.rings_a.tris);
+        let mut stop = false;
+        'all: for i in span.clone() {
+            let grown = tris[i].bounds.widened(self.d);
+            for j in i + 1..span.end {
+                if grown.meets(&tris[j].bounds) && self.test(mesh, &tris[i], &tris[j], stats) {
+                    stop = true;
+                    break 'all;
+                }
+            }
+        }
+        self.rings_a.tris = tris;
+        stop
+    }
+}
+
+impl<'m> NarrowPhase<'m> for NearPairs<'_, '_> {
+    fn visit<A: QuerySide<'m>, B: QuerySide<'m>>(
+        &mut self,
+        a: &mut A,
+        b: &mut B,
+        na: u32,
+        nb: u32,
+        stats: &mut QueryStats,
+    ) -> bool {
+        if self.one_mesh && na == nb {
+            return self.own(a, na, stats);
+        }
+        let (ma, mb) = (a.mesh(), b.mesh());
+        let ra = ma.shape.tree.nodes[na as usize].ring_start;
+        let rb = mb.shape.tree.nodes[nb as usize].ring_start;
+        stats.triangle_candidates += (ma.shape.rings.triangles.row_len(ra as usize)
+            * mb.shape.rings.triangles.row_len(rb as usize))
+            as u64;
+        if !a.ring_box(na).widened(self.d).meets(&b.ring_box(nb)) {
+            return false;
+        }
+        // The triangles are prepared without domain checks: the exact test works for any finite
+        // coordinates.
+        let (span_a, bounds_a) = prepare(a, ra, self.rings_a, false);
+        let (span_b, bounds_b) = prepare(b, rb, self.rings_b, false);
+        let (near_a, near_b) = (bounds_a.widened(self.d), bounds_b.widened(self.d));
+        if !near_a.meets(&bounds_b) {
+            return false;
+        }
+        select(
+            &self.rings_a.tris[span_a.clone()],
+            &near_b,
+            &mut self.rings_a.selected,
+        );
+        select(
+            &self.rings_b.tris[span_b.clone()],
+            &near_a,
+            &mut self.rings_b.selected,
+        );
+        let (tris_a, sel_a) = (
+            std::mem::take(&mut self.rings_a.tris),
+            std::mem::take(&mut self.rings_a.selected),
+        );
+        let (tris_b, sel_b) = (
+            std::mem::take(&mut self.rings_b.tris),
+            std::mem::take(&mut self.rings_b.selected),
+        );
+        let mut stop = false;
+        'all: for &i in &sel_a {
+            let ta = &tris_a[span_a.start + i as usize];
+            let grown = ta.bounds.widened(self.d);
+            for &j in &sel_b {
+                let tb = &tris_b[span_b.start + j as usize];
+                if grown.meets(&tb.bounds) && self.test(ma, ta, tb, stats) {
+                    stop = true;
+                    break 'all;
+                }
+            }
+        }
+        (self.rings_a.tris, self.rings_a.selected) = (tris_a, sel_a);
+        (self.rings_b.tris, self.rings_b.selected) = (tris_b, sel_b);
+        stop
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fixtures::{Rng, icosphere, torus};
-    use crate::{BuildOptions, VolumeKind, collide};
+    use crate::fixtures::{Rng, grid, icosphere, torus};
+    use crate::query::testing::nodes_cover;
+    use crate::{BuildOptions, PairKind, QueryMode, VolumeKind, collide};
 
     /// Every pair tested one by one, in the frame the query sees (poses applied as the query
     /// applies them).
@@ -276,6 +277,60 @@ mod tests {
             }
         }
         out
+    }
+
+    /// Pairs `a < b` of one mesh's triangles sharing no vertex, within `d`, one by one.
+    fn brute_force_one(m: &Mesh, d: f64) -> Vec<Pair> {
+        brute_force(m, None, m, None, d)
+            .into_iter()
+            .filter(|p| {
+                let (ta, tb) = (
+                    m.shape.triangles[p.a as usize],
+                    m.shape.triangles[p.b as usize],
+                );
+                p.a < p.b && !ta.iter().any(|v| tb.contains(v))
+            })
+            .collect()
+    }
+
+    fn modes() -> [QueryMode; 5] {
+        [
+            QueryMode::FirstHit,
+            QueryMode::Leaves,
+            QueryMode::Depth(2),
+            QueryMode::Budget(30),
+            QueryMode::Budget(1 << 40),
+        ]
+    }
+
+    /// The other modes against the exact answer `expected` (`run` queries with the options).
+    fn check_modes(
+        a: &Mesh,
+        b: &Mesh,
+        one_mesh: bool,
+        expected: &[Pair],
+        mut run: impl FnMut(&QueryOptions, &mut Pairs) -> QueryStats,
+    ) {
+        let mut pairs = Pairs::new();
+        for mode in modes() {
+            run(&QueryOptions::with_mode(mode), &mut pairs);
+            if mode == QueryMode::FirstHit {
+                assert_eq!(pairs.len(), expected.len().min(1));
+                assert!(pairs.iter().all(|p| expected.contains(p)));
+            } else {
+                assert_eq!(pairs.kind(), PairKind::Nodes);
+                nodes_cover(a, b, one_mesh, pairs.as_slice(), expected);
+            }
+        }
+        if expected.len() > 3 {
+            let cut = QueryOptions {
+                max_pairs: Some(3),
+                ..QueryOptions::default()
+            };
+            let stats = run(&cut, &mut pairs);
+            assert!(stats.truncated && pairs.len() == 3);
+            assert!(pairs.iter().all(|p| expected.contains(p)));
+        }
     }
 
     #[test]
@@ -301,7 +356,8 @@ mod tests {
                 for d in [0.0, 0.01, 0.1, 0.3] {
                     let expected = brute_force(&a, None, &b, Some(&pose), d);
                     assert!(d < 0.3 || !expected.is_empty(), "the meshes come near");
-                    let stats = proximity(&a, None, &b, Some(&pose), d, None, &mut pairs).unwrap();
+                    let q = QueryOptions::default();
+                    let stats = proximity(&a, None, &b, Some(&pose), d, &q, &mut pairs).unwrap();
                     assert_eq!(
                         pairs.as_slice(),
                         &expected[..],
@@ -310,8 +366,13 @@ mod tests {
                     assert!(!stats.truncated);
                     if d == 0.0 {
                         let mut hits = Pairs::new();
-                        collide(&a, None, &b, Some(&pose), &Default::default(), &mut hits).unwrap();
+                        collide(&a, None, &b, Some(&pose), &q, &mut hits).unwrap();
                         assert_eq!(hits.as_slice(), pairs.as_slice());
+                    }
+                    if trial == 0 {
+                        check_modes(&a, &b, false, &expected, |q, out| {
+                            proximity(&a, None, &b, Some(&pose), d, q, out).unwrap()
+                        });
                     }
                 }
             }
@@ -319,19 +380,99 @@ mod tests {
     }
 
     #[test]
+    fn self_proximity_equals_brute_force() {
+        let mut rng = Rng::new(3);
+        let t = torus(0.5, 0.2, 16, 8);
+        let crumpled: Vec<f64> = t
+            .positions
+            .iter()
+            .map(|x| x + rng.range(-0.08, 0.08))
+            .collect();
+        for volume in [VolumeKind::Aabb, VolumeKind::Dvh, VolumeKind::Sbv] {
+            let options = BuildOptions {
+                volume,
+                ..BuildOptions::default()
+            };
+            let m = Mesh::new(&crumpled, &t.triangles, &options).unwrap();
+            for d in [0.0, 0.02, 0.1, 0.25] {
+                let expected = brute_force_one(&m, d);
+                assert!(d < 0.1 || !expected.is_empty());
+                let mut pairs = Pairs::new();
+                for threads in [1, 2] {
+                    let q = QueryOptions {
+                        threads,
+                        ..QueryOptions::default()
+                    };
+                    self_proximity(&m, d, &q, &mut pairs).unwrap();
+                    assert_eq!(pairs.as_slice(), &expected[..], "{volume:?} d = {d}");
+                }
+                check_modes(&m, &m, true, &expected, |q, out| {
+                    self_proximity(&m, d, q, out).unwrap()
+                });
+            }
+        }
+    }
+
+    #[test]
+    fn distances_met_exactly() {
+        // A flat grid of cells 1/4 wide: triangles two cells apart are exactly 1/4 from each
+        // other, so the answer changes between d = 1/4 and the double below it.
+        let g = grid(8, 2.0);
+        let m = Mesh::new(&g.positions, &g.triangles, &BuildOptions::default()).unwrap();
+        let mut pairs = Pairs::new();
+        let q = QueryOptions::default();
+        self_proximity(&m, 0.25, &q, &mut pairs).unwrap();
+        let at = pairs.as_slice().to_vec();
+        assert_eq!(at, brute_force_one(&m, 0.25));
+        self_proximity(&m, 0.25f64.next_down(), &q, &mut pairs).unwrap();
+        assert_eq!(pairs.as_slice(), brute_force_one(&m, 0.25f64.next_down()));
+        assert!(
+            pairs.len() < at.len(),
+            "{} at 1/4, {} below",
+            at.len(),
+            pairs.len()
+        );
+        // Two parallel sheets exactly 1/4 apart: every facing pair within 1/4, none below.
+        let lifted: Vec<f64> = g
+            .positions
+            .chunks_exact(3)
+            .flat_map(|v| [v[0], v[1], 0.25])
+            .collect();
+        let b = Mesh::new(&lifted, &g.triangles, &BuildOptions::default()).unwrap();
+        proximity(&m, None, &b, None, 0.25, &q, &mut pairs).unwrap();
+        assert_eq!(pairs.as_slice(), brute_force(&m, None, &b, None, 0.25));
+        assert!(pairs.len() >= m.triangle_count());
+        proximity(&m, None, &b, None, 0.25f64.next_down(), &q, &mut pairs).unwrap();
+        assert!(pairs.is_empty());
+    }
+
+    #[test]
     fn bad_distances_and_limits() {
         let s = icosphere(1);
         let a = Mesh::new(&s.positions, &s.triangles, &BuildOptions::default()).unwrap();
         let mut pairs = Pairs::new();
-        for d in [-1.0, f64::NAN, f64::INFINITY] {
+        let q = QueryOptions::default();
+        proximity(&a, None, &a, None, 0.1, &q, &mut pairs).unwrap();
+        let before = pairs.as_slice().to_vec();
+        for d in [-1.0, (-0.0f64).next_down(), f64::NAN, f64::INFINITY] {
             assert!(matches!(
-                proximity(&a, None, &a, None, d, None, &mut pairs),
+                proximity(&a, None, &a, None, d, &q, &mut pairs),
                 Err(Error::InvalidDistance { .. })
             ));
+            assert!(matches!(
+                self_proximity(&a, d, &q, &mut pairs),
+                Err(Error::InvalidDistance { .. })
+            ));
+            assert_eq!(pairs.as_slice(), before, "a failed query keeps the result");
         }
-        let all = proximity(&a, None, &a, None, 0.1, None, &mut pairs).unwrap();
-        assert!(all.pairs > 3);
-        let cut = proximity(&a, None, &a, None, 0.1, Some(3), &mut pairs).unwrap();
-        assert!(cut.truncated && pairs.len() == 3);
+        assert!(matches!(
+            self_proximity(
+                &a,
+                0.1,
+                &QueryOptions::with_mode(QueryMode::Budget(0)),
+                &mut pairs
+            ),
+            Err(Error::ZeroBudget)
+        ));
     }
 }

@@ -1,34 +1,95 @@
-//! Self-collision (issue 11, in progress): the pairs of triangles of one mesh that intersect,
-//! where triangles sharing vertices count only where they meet beyond what they share.
+//! Self-collision: the pairs of triangles of one mesh that intersect, where triangles sharing
+//! vertices count only where they meet beyond what they share.
 //!
-//! The traversal visits each unordered pair of nodes once: a node against itself opens into its
-//! children against themselves and each pair of distinct children, and a pair of distinct nodes
-//! descends as the two-mesh traversal does. Leaf pairs come to [`SelfPairs`], which tests each
+//! The one traversal, of the mesh against itself ([`crate::query::traverse`]): every unordered
+//! pair of nodes once, nodes whose patches cannot intersect themselves skipped
+//! ([`Patches`], an exact normal-cone test). Leaf pairs come to [`SelfPairs`], which tests each
 //! unordered pair of their rings' triangles once (rings partition the triangles), with
 //! [`crate::geometry::adjacent`] for triangles that share vertices.
-//!
-//! Not yet here: normal cones (a smooth region still reaches the triangle stage), the coarse
-//! modes, threads, and the C ABI.
 
-// Reached from tests only until the public entry points (Rust and C) land with the rest of
-// issue 11.
-#![cfg_attr(not(test), allow(dead_code))]
-
-use super::narrow::{prepare, select};
+use super::collide::query_one;
+use super::narrow::{Question, prepare, select};
+use super::options::QueryOptions;
 use super::pairs::{Pair, Pairs, QueryStats};
 use super::patches::Patches;
-use super::side::{Kind, Local, QuerySide, View, Volume, with_kind};
-use super::sink::{Sink, Stop, one_thread};
-use super::traverse::{NarrowPhase, descend};
-use super::workspace::{RingCache, Worker};
+use super::side::{Kind, QuerySide};
+use super::sink::Sink;
+use super::traverse::{NarrowPhase, OneMesh};
+use super::workspace::{Prepared, RingCache};
 use crate::error::Result;
 use crate::geometry::adjacent::{meet_beyond_edge, meet_beyond_vertex};
 use crate::geometry::predicates::Point;
 use crate::geometry::tri_tri::{prepared_triangles_intersect, triangles_intersect};
 use crate::mesh::Mesh;
 
-/// Do triangles `ti` and `tj` of one mesh (vertex indices, and their corners) intersect, counting
-/// only points beyond the vertices and edge they share?
+/// The pairs `(a, b)`, `a < b`, of triangles of `mesh` that intersect. Two triangles that share
+/// vertices (by index) count only where they meet beyond the vertices and the edge they share
+/// (a fold through, a crossing, a coplanar overlap), so an intact surface reports nothing however
+/// it bends, and a surface folded through itself reports every crossing. Exact, like
+/// [`crate::collide`].
+///
+/// [`QueryOptions`] apply as in [`crate::collide`]: the coarse modes report node pairs
+/// `(lower, higher)`, a node paired with itself included, whose triangles include every
+/// intersecting pair; `max_pairs` bounds the result; `threads` shares the work out.
+///
+/// Cost: a node whose patch is a disk that projects one to one along a coordinate axis (decided
+/// exactly per query) is not opened, so a smooth region never reaches the triangle stage.
+///
+/// Errors: [`crate::Error::ZeroBudget`]; [`crate::Error::OutOfMemory`]. On error `out` still
+/// holds the previous result.
+pub fn self_collide(mesh: &Mesh, options: &QueryOptions, out: &mut Pairs) -> Result<QueryStats> {
+    self_collide_with(mesh, options, true, out)
+}
+
+/// [`self_collide`], with the patch test (`patches`) or without (to measure what it saves).
+fn self_collide_with(
+    mesh: &Mesh,
+    options: &QueryOptions,
+    patches: bool,
+    out: &mut Pairs,
+) -> Result<QueryStats> {
+    let patches = patches.then(|| mesh.shape.patches.get_or_init(|| Patches::new(mesh)));
+    query_one(mesh, SelfIntersect { patches }, options, out)
+}
+
+/// Which triangles of one mesh intersect beyond what they share.
+#[derive(Clone, Copy)]
+struct SelfIntersect<'m> {
+    patches: Option<&'m Patches>,
+}
+
+impl<'m> Question<'m> for SelfIntersect<'m> {
+    type SideA<K: Kind<'m>> = K;
+    type Exact<'s, 'w: 's> = SelfPairs<'s, 'w>;
+
+    fn side_a<K: Kind<'m>>(&self, kind: K) -> K {
+        kind
+    }
+
+    fn own(&self) -> Option<OneMesh<'m>> {
+        Some(OneMesh {
+            patches: self.patches,
+        })
+    }
+
+    fn exact<'s, 'w: 's>(
+        &self,
+        sink: &'s mut Sink<'w>,
+        rings_a: &'s mut RingCache,
+        rings_b: &'s mut RingCache,
+        check_domain: bool,
+    ) -> SelfPairs<'s, 'w> {
+        SelfPairs {
+            sink,
+            rings_a,
+            rings_b,
+            check_domain,
+        }
+    }
+}
+
+/// Do triangles `ti` and `tj` of one mesh (vertex indices, and their corners) intersect beyond
+/// the vertices and edge they share? `None` when they share no vertex.
 pub(crate) fn self_pair_intersects(
     ti: [u32; 3],
     pi: &[Point; 3],
@@ -66,7 +127,7 @@ pub(crate) fn self_pair_intersects(
 
 /// Tests the triangles of a pair of leaves of one mesh (or of one leaf with itself) and reports
 /// the intersecting pairs, `(lower, higher)` triangle index.
-struct SelfPairs<'s, 'w> {
+pub(crate) struct SelfPairs<'s, 'w> {
     sink: &'s mut Sink<'w>,
     rings_a: &'s mut RingCache,
     rings_b: &'s mut RingCache,
@@ -75,13 +136,7 @@ struct SelfPairs<'s, 'w> {
 
 impl SelfPairs<'_, '_> {
     /// Tests one pair of prepared triangles; returns whether the traversal must stop.
-    fn test(
-        &mut self,
-        mesh: &Mesh,
-        ta: &super::workspace::Prepared,
-        tb: &super::workspace::Prepared,
-        stats: &mut QueryStats,
-    ) -> bool {
+    fn test(&mut self, mesh: &Mesh, ta: &Prepared, tb: &Prepared, stats: &mut QueryStats) -> bool {
         if !ta.bounds.meets(&tb.bounds) {
             return false;
         }
@@ -101,8 +156,15 @@ impl SelfPairs<'_, '_> {
     }
 }
 
-impl<'m, A: QuerySide<'m>, B: QuerySide<'m>> NarrowPhase<'m, A, B> for SelfPairs<'_, '_> {
-    fn visit(&mut self, a: &mut A, b: &mut B, na: u32, nb: u32, stats: &mut QueryStats) -> bool {
+impl<'m> NarrowPhase<'m> for SelfPairs<'_, '_> {
+    fn visit<A: QuerySide<'m>, B: QuerySide<'m>>(
+        &mut self,
+        a: &mut A,
+        b: &mut B,
+        na: u32,
+        nb: u32,
+        stats: &mut QueryStats,
+    ) -> bool {
         let mesh = a.mesh();
         let nodes = &mesh.shape.tree.nodes;
         let (ra, rb) = (nodes[na as usize].ring_start, nodes[nb as usize].ring_start);
@@ -171,106 +233,12 @@ impl<'m, A: QuerySide<'m>, B: QuerySide<'m>> NarrowPhase<'m, A, B> for SelfPairs
     }
 }
 
-/// The pairs `(a, b)`, `a < b`, of triangles of `mesh` that intersect, where triangles sharing
-/// vertices count only where they meet beyond the vertices and edge they share: an intact surface
-/// reports nothing however it bends. Exact. Stops at the first pair with `first_hit`, and at
-/// `max_pairs` pairs (then `truncated`); one thread. (The coarse modes are not here yet.)
-pub(crate) fn self_collide(
-    mesh: &Mesh,
-    first_hit: bool,
-    max_pairs: Option<usize>,
-    out: &mut Pairs,
-) -> Result<QueryStats> {
-    self_collide_with(mesh, first_hit, max_pairs, true, out)
-}
-
-/// [`self_collide`], with the patch test (`patches`) or without (to measure what it saves).
-fn self_collide_with(
-    mesh: &Mesh,
-    first_hit: bool,
-    max_pairs: Option<usize>,
-    patches: bool,
-    out: &mut Pairs,
-) -> Result<QueryStats> {
-    let limit = if first_hit { 1 } else { usize::MAX };
-    let limit = max_pairs.map_or(limit, |m| m.min(limit));
-    one_thread(out, limit, !first_hit || limit == 0, |w, sink, stats| {
-        with_kind!(mesh, |kind| traverse(mesh, kind, patches, w, sink, stats))
-    })
-}
-
-/// Every pair of nodes once, from the root against itself.
-fn traverse<'m, K: Kind<'m>>(
-    mesh: &'m Mesh,
-    kind: K,
-    use_patches: bool,
-    w: &mut Worker,
-    sink: &mut Sink,
-    stats: &mut QueryStats,
-) {
-    let longest = Some(mesh.shape.rings.longest);
-    let (n, r) = (mesh.vertex_count(), mesh.ring_count());
-    if let Err(bytes) =
-        w.a.begin(n, r, longest, false)
-            .and_then(|()| w.b.begin(n, r, longest, false))
-    {
-        sink.stop = Some(Stop::OutOfMemory { bytes });
-        return;
-    }
-    let Worker { stack, a, b, .. } = w;
-    let place = Local { mesh };
-    let mut va = View::new((place, kind), &mut a.world, &mut a.ring_boxes);
-    let mut vb = View::new((place, kind), &mut b.world, &mut b.ring_boxes);
-    let mut narrow = SelfPairs {
-        sink,
-        rings_a: &mut a.rings,
-        rings_b: &mut b.rings,
-        check_domain: !mesh.safe,
-    };
-    let nodes = &mesh.shape.tree.nodes;
-    let patches = mesh.shape.patches.get_or_init(|| Patches::new(mesh));
-    let mut own = vec![0u32];
-    while let Some(n) = own.pop() {
-        let node = nodes[n as usize];
-        if use_patches && patches.cannot_self_intersect(mesh, n, &mesh.positions) {
-            continue; // a patch that projects one to one along an axis
-        }
-        if node.is_leaf() {
-            stats.leaf_pairs += 1;
-            if narrow.visit(&mut va, &mut vb, n, n, stats) {
-                return;
-            }
-            continue;
-        }
-        let children = node.children();
-        own.extend(children.clone());
-        for i in children.clone() {
-            let vi = va.volume(i);
-            for j in i + 1..children.end {
-                stats.bv_tests += 1;
-                if vi.overlaps(&vb.volume(j))
-                    && descend(
-                        &mut va,
-                        &mut vb,
-                        (i, j),
-                        u32::MAX,
-                        stack,
-                        stats,
-                        &mut narrow,
-                    )
-                {
-                    return;
-                }
-            }
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::fixtures::{Rng, grid, icosphere, torus};
-    use crate::{BuildOptions, VolumeKind};
+    use crate::query::testing::nodes_cover;
+    use crate::{BuildOptions, PairKind, QueryMode, VolumeKind};
 
     /// Every pair `a < b`, tested one by one.
     fn brute_force(mesh: &Mesh) -> Vec<Pair> {
@@ -293,6 +261,8 @@ mod tests {
         out
     }
 
+    /// Self-collision of the mesh equals brute force for every volume kind, on 1 and 2 threads;
+    /// first hit, the pair limit and the coarse modes keep their promises. Returns the count.
     fn check(positions: &[f64], triangles: &[u32], what: &str) -> usize {
         let mut pairs = Pairs::new();
         let mut count = 0;
@@ -303,21 +273,98 @@ mod tests {
             };
             let mesh = Mesh::new(positions, triangles, &options).unwrap();
             let expected = brute_force(&mesh);
-            let stats = self_collide(&mesh, false, None, &mut pairs).unwrap();
-            assert_eq!(pairs.as_slice(), &expected[..], "{what}, {volume:?}");
-            assert_eq!(stats.pairs, expected.len() as u64);
-            let first = self_collide(&mesh, true, None, &mut pairs).unwrap();
-            assert_eq!(pairs.len(), expected.len().min(1), "{what}, {volume:?}");
-            assert!(pairs.iter().all(|p| expected.contains(p)));
-            assert!(!first.truncated);
-            if expected.len() > 2 {
-                let cut = self_collide(&mesh, false, Some(2), &mut pairs).unwrap();
-                assert!(cut.truncated && pairs.len() == 2);
+            for threads in [1, 2] {
+                let q = |mode| QueryOptions {
+                    mode,
+                    threads,
+                    ..QueryOptions::default()
+                };
+                let stats = self_collide(&mesh, &q(QueryMode::Triangles), &mut pairs).unwrap();
+                assert_eq!(pairs.as_slice(), &expected[..], "{what}, {volume:?}");
+                assert_eq!(stats.pairs, expected.len() as u64);
+                assert_eq!(pairs.kind(), PairKind::Triangles);
+                let first = self_collide(&mesh, &q(QueryMode::FirstHit), &mut pairs).unwrap();
+                assert_eq!(pairs.len(), expected.len().min(1), "{what}, {volume:?}");
                 assert!(pairs.iter().all(|p| expected.contains(p)));
+                assert!(!first.truncated);
+                if expected.len() > 2 {
+                    let cut = QueryOptions {
+                        max_pairs: Some(2),
+                        ..q(QueryMode::Triangles)
+                    };
+                    let stats = self_collide(&mesh, &cut, &mut pairs).unwrap();
+                    assert!(stats.truncated && pairs.len() == 2);
+                    assert!(pairs.iter().all(|p| expected.contains(p)));
+                }
+                for mode in [
+                    QueryMode::Leaves,
+                    QueryMode::Depth(2),
+                    QueryMode::Budget(40),
+                    QueryMode::Budget(1 << 40),
+                ] {
+                    self_collide(&mesh, &q(mode), &mut pairs).unwrap();
+                    assert_eq!(pairs.kind(), PairKind::Nodes);
+                    assert!(pairs.iter().all(|p| p.a <= p.b), "{mode:?}");
+                    nodes_cover(&mesh, &mesh, true, pairs.as_slice(), &expected);
+                    if mode == QueryMode::Budget(1 << 40) {
+                        let leaves = pairs.as_slice().to_vec();
+                        self_collide(&mesh, &q(QueryMode::Leaves), &mut pairs).unwrap();
+                        assert_eq!(leaves, pairs.as_slice(), "a budget that finishes");
+                    }
+                }
             }
+            assert!(matches!(
+                self_collide(
+                    &mesh,
+                    &QueryOptions::with_mode(QueryMode::Budget(0)),
+                    &mut pairs
+                ),
+                Err(crate::Error::ZeroBudget)
+            ));
             count = expected.len();
         }
         count
+    }
+
+    #[test]
+    fn threads_share_a_large_fold() {
+        // Large enough to be shared out (4,608 triangles): a sheet rolled one and a half turns,
+        // its radius shrinking along the roll at one edge and growing at the other, so the turns
+        // pass through each other at mid-height.
+        let g = grid(48, 1.0);
+        let rolled: Vec<f64> = g
+            .positions
+            .chunks_exact(3)
+            .flat_map(|v| {
+                let t = 3.0 * std::f64::consts::PI * v[0];
+                let r = 0.3 + 0.12 * (v[0] - 0.5) * (2.0 * v[1] - 1.0);
+                [r * t.cos(), v[1], r * t.sin()]
+            })
+            .collect();
+        let mesh = Mesh::new(&rolled, &g.triangles, &BuildOptions::default()).unwrap();
+        let expected = brute_force(&mesh);
+        assert!(expected.len() > 100, "{} crossings", expected.len());
+        let mut pairs = Pairs::new();
+        for threads in [1, 2, 0] {
+            let options = QueryOptions {
+                threads,
+                ..QueryOptions::default()
+            };
+            self_collide(&mesh, &options, &mut pairs).unwrap();
+            assert_eq!(pairs.as_slice(), &expected[..], "{threads} threads");
+            let cut = QueryOptions {
+                max_pairs: Some(50),
+                ..options
+            };
+            self_collide(&mesh, &cut, &mut pairs).unwrap();
+            let first_50: Vec<Pair> = pairs.as_slice().to_vec();
+            self_collide(&mesh, &QueryOptions { threads: 1, ..cut }, &mut pairs).unwrap();
+            assert_eq!(
+                first_50,
+                pairs.as_slice(),
+                "a cut pair limit is thread-independent"
+            );
+        }
     }
 
     #[test]
@@ -327,9 +374,10 @@ mod tests {
         let s = icosphere(4);
         let mesh = Mesh::new(&s.positions, &s.triangles, &BuildOptions::default()).unwrap();
         let mut pairs = Pairs::new();
-        let with = self_collide(&mesh, false, None, &mut pairs).unwrap();
+        let options = QueryOptions::default();
+        let with = self_collide(&mesh, &options, &mut pairs).unwrap();
         assert!(pairs.is_empty());
-        let without = self_collide_with(&mesh, false, None, false, &mut pairs).unwrap();
+        let without = self_collide_with(&mesh, &options, false, &mut pairs).unwrap();
         assert!(pairs.is_empty());
         assert!(
             with.triangle_tests * 3 < without.triangle_tests,

@@ -24,6 +24,9 @@ pub(crate) trait Volume: Copy {
     fn meets_box(&self, b: &Aabb) -> bool;
     /// Might the two volumes share a point? Never `false` when they do.
     fn overlaps<V: Volume>(&self, other: &V) -> bool;
+    /// The volume grown by `d >= 0`, rounded outwards: it holds every point within distance `d`
+    /// of this volume.
+    fn widened(&self, d: f64) -> Self;
 }
 
 impl Volume for Sphere {
@@ -46,6 +49,14 @@ impl Volume for Sphere {
     fn overlaps<V: Volume>(&self, other: &V) -> bool {
         other.meets_sphere(self)
     }
+
+    #[inline(always)]
+    fn widened(&self, d: f64) -> Sphere {
+        Sphere {
+            centre: self.centre,
+            radius: (self.radius + d).next_up(),
+        }
+    }
 }
 
 impl Volume for Aabb {
@@ -67,6 +78,11 @@ impl Volume for Aabb {
     #[inline(always)]
     fn overlaps<V: Volume>(&self, other: &V) -> bool {
         other.meets_box(self)
+    }
+
+    #[inline(always)]
+    fn widened(&self, d: f64) -> Aabb {
+        Aabb::widened(self, d)
     }
 }
 
@@ -290,6 +306,25 @@ impl<'m> Kind<'m> for LazyBoxKind<'m> {
     #[inline(always)]
     fn leaf_box(&self, n: u32) -> Aabb {
         self.boxes.get(n)
+    }
+}
+
+/// A volume kind whose volumes are grown by a distance `d` (proximity's side `a`: a volume of
+/// `a` overlaps one of `b` whenever the two hold points within `d`).
+#[derive(Clone, Copy)]
+pub(crate) struct Widened<K> {
+    pub kind: K,
+    pub d: f64,
+}
+
+impl<'m, K: Kind<'m>> Kind<'m> for Widened<K> {
+    type Volume = K::Volume;
+    // Leaves are widened too, so they are not the ring boxes.
+    const LEAF_IS_RING_BOX: bool = false;
+
+    #[inline(always)]
+    fn volume<P: Placement<'m>>(&self, place: &P, world: &mut Stamped<Point>, n: u32) -> K::Volume {
+        self.kind.volume(place, world, n).widened(self.d)
     }
 }
 

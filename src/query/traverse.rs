@@ -2,18 +2,68 @@
 //! are terminal, and terminal pairs go to whoever asked ([`NarrowPhase`]): the exact triangle
 //! tests, or the report of node pairs. Depth first for complete answers; largest volumes first
 //! under a budget of volume tests.
+//!
+//! A mesh against itself (self-collision, self-proximity) is the same traversal from the pair
+//! (root, root) of two views of one mesh ([`Walk::own`]): a node paired with itself (an *own*
+//! pair) opens into each child with itself and each pair of distinct children, so every
+//! unordered pair of nodes is reached once; own pairs need no volume test, and a patch that
+//! cannot intersect itself is not opened at all.
 
 use super::pairs::QueryStats;
+use super::patches::Patches;
 use super::side::{QuerySide, Volume};
 use super::workspace::Queued;
+use crate::mesh::Mesh;
 use crate::tree::{MAX_CHILDREN, Node};
 use std::collections::BinaryHeap;
 
 /// What a traversal hands its terminal node pairs to.
-pub(crate) trait NarrowPhase<'m, A: QuerySide<'m>, B: QuerySide<'m>> {
+pub(crate) trait NarrowPhase<'m> {
     /// Node `na` of `a` and node `nb` of `b`, whose volumes overlap and which the traversal opens
-    /// no further. Returns whether the traversal must stop.
-    fn visit(&mut self, a: &mut A, b: &mut B, na: u32, nb: u32, stats: &mut QueryStats) -> bool;
+    /// no further (in a traversal of one mesh, `na == nb` is a node against itself). Returns
+    /// whether the traversal must stop.
+    fn visit<A: QuerySide<'m>, B: QuerySide<'m>>(
+        &mut self,
+        a: &mut A,
+        b: &mut B,
+        na: u32,
+        nb: u32,
+        stats: &mut QueryStats,
+    ) -> bool;
+}
+
+/// A traversal of one mesh against itself.
+#[derive(Clone, Copy)]
+pub(crate) struct OneMesh<'m> {
+    /// Nodes whose patches are proved free of self-intersection are skipped (self-collision);
+    /// `None` where nearness, not intersection, is asked.
+    pub patches: Option<&'m Patches>,
+}
+
+impl OneMesh<'_> {
+    /// Can node `n` paired with itself be skipped?
+    #[inline]
+    fn skips(&self, mesh: &Mesh, n: u32) -> bool {
+        self.patches
+            .is_some_and(|p| p.cannot_self_intersect(mesh, n, &mesh.positions))
+    }
+}
+
+/// How a traversal walks.
+#[derive(Clone, Copy)]
+pub(crate) struct Walk<'m> {
+    /// The depth at which nodes are no longer opened.
+    pub max_depth: u32,
+    /// Both sides are one mesh.
+    pub own: Option<OneMesh<'m>>,
+}
+
+impl<'m> Walk<'m> {
+    /// Is `(na, nb)` a node against itself that can be skipped?
+    #[inline(always)]
+    fn skips<A: QuerySide<'m>>(&self, a: &A, na: u32, nb: u32) -> bool {
+        na == nb && self.own.is_some_and(|o| o.skips(a.mesh(), na))
+    }
 }
 
 /// Which node of an overlapping pair to open.
@@ -24,6 +74,8 @@ enum Open {
     A,
     B,
     Both,
+    /// A node against itself: each child against itself, and each pair of distinct children.
+    Own,
 }
 
 /// A node is opened unless it is a leaf or at the depth limit. Of two that can be, the one with
@@ -51,9 +103,15 @@ fn volumes_and_opening<'m, A: QuerySide<'m>, B: QuerySide<'m>>(
     b: &mut B,
     na: u32,
     nb: u32,
-    max_depth: u32,
+    walk: &Walk<'m>,
 ) -> (A::Volume, B::Volume, Open) {
+    let max_depth = walk.max_depth;
     let (va, vb) = (a.volume(na), b.volume(nb));
+    if na == nb && walk.own.is_some() {
+        let node = &a.nodes()[na as usize];
+        let end = node.is_leaf() || u32::from(node.depth) >= max_depth;
+        return (va, vb, if end { Open::Neither } else { Open::Own });
+    }
     let how = open(
         &a.nodes()[na as usize],
         va.size_squared(),
@@ -64,13 +122,17 @@ fn volumes_and_opening<'m, A: QuerySide<'m>, B: QuerySide<'m>>(
     (va, vb, how)
 }
 
-/// Do the roots' volumes overlap? (One volume test, counted.)
+/// Do the roots' volumes overlap? (One volume test, counted; none for one mesh.)
 #[inline]
 fn roots_overlap<'m, A: QuerySide<'m>, B: QuerySide<'m>>(
     a: &mut A,
     b: &mut B,
+    walk: &Walk<'m>,
     stats: &mut QueryStats,
 ) -> bool {
+    if walk.own.is_some() {
+        return true;
+    }
     stats.bv_tests += 1;
     a.volume(0).overlaps(&b.volume(0))
 }
@@ -123,6 +185,20 @@ fn open_pair<'m, A: QuerySide<'m>, B: QuerySide<'m>>(
                 }
             }
         }
+        Open::Own => {
+            let children = nodes_a[na as usize].children();
+            for x in children.clone() {
+                let vx = a.volume(x);
+                keep(x, x, &vx, &b.volume(x));
+                for y in x + 1..children.end {
+                    let vy = b.volume(y);
+                    stats.bv_tests += 1;
+                    if vx.overlaps(&vy) {
+                        keep(x, y, &vx, &vy);
+                    }
+                }
+            }
+        }
     }
 }
 
@@ -132,7 +208,7 @@ fn open_pair<'m, A: QuerySide<'m>, B: QuerySide<'m>>(
 pub(crate) fn depth_first<'m, A, B, N>(
     a: &mut A,
     b: &mut B,
-    max_depth: u32,
+    walk: &Walk<'m>,
     stack: &mut Vec<(u32, u32)>,
     stats: &mut QueryStats,
     narrow: &mut N,
@@ -140,12 +216,12 @@ pub(crate) fn depth_first<'m, A, B, N>(
 where
     A: QuerySide<'m>,
     B: QuerySide<'m>,
-    N: NarrowPhase<'m, A, B>,
+    N: NarrowPhase<'m>,
 {
-    if !roots_overlap(a, b, stats) {
+    if !roots_overlap(a, b, walk, stats) {
         return false;
     }
-    descend(a, b, (0, 0), max_depth, stack, stats, narrow)
+    descend(a, b, (0, 0), walk, stack, stats, narrow)
 }
 
 /// [`depth_first`] from the roots (`None`), or [`descend`] below the overlapping pair `start`.
@@ -153,7 +229,7 @@ pub(crate) fn depth_first_from<'m, A, B, N>(
     a: &mut A,
     b: &mut B,
     start: Option<(u32, u32)>,
-    max_depth: u32,
+    walk: &Walk<'m>,
     stack: &mut Vec<(u32, u32)>,
     stats: &mut QueryStats,
     narrow: &mut N,
@@ -161,11 +237,11 @@ pub(crate) fn depth_first_from<'m, A, B, N>(
 where
     A: QuerySide<'m>,
     B: QuerySide<'m>,
-    N: NarrowPhase<'m, A, B>,
+    N: NarrowPhase<'m>,
 {
     match start {
-        None => depth_first(a, b, max_depth, stack, stats, narrow),
-        Some(start) => descend(a, b, start, max_depth, stack, stats, narrow),
+        None => depth_first(a, b, walk, stack, stats, narrow),
+        Some(start) => descend(a, b, start, walk, stack, stats, narrow),
     }
 }
 
@@ -175,7 +251,7 @@ pub(crate) fn descend<'m, A, B, N>(
     a: &mut A,
     b: &mut B,
     start: (u32, u32),
-    max_depth: u32,
+    walk: &Walk<'m>,
     stack: &mut Vec<(u32, u32)>,
     stats: &mut QueryStats,
     narrow: &mut N,
@@ -183,12 +259,15 @@ pub(crate) fn descend<'m, A, B, N>(
 where
     A: QuerySide<'m>,
     B: QuerySide<'m>,
-    N: NarrowPhase<'m, A, B>,
+    N: NarrowPhase<'m>,
 {
     stack.clear();
     stack.push(start);
     while let Some((na, nb)) = stack.pop() {
-        let (va, vb, how) = volumes_and_opening(a, b, na, nb, max_depth);
+        if walk.skips(a, na, nb) {
+            continue;
+        }
+        let (va, vb, how) = volumes_and_opening(a, b, na, nb, walk);
         if how == Open::Neither {
             stats.leaf_pairs += 1;
             if narrow.visit(a, b, na, nb, stats) {
@@ -219,14 +298,14 @@ const SPLIT_LEVELS: usize = 10;
 pub(crate) fn split<'m, A: QuerySide<'m>, B: QuerySide<'m>>(
     a: &mut A,
     b: &mut B,
-    max_depth: u32,
+    walk: &Walk<'m>,
     target: usize,
     items: &mut Vec<(u32, u32)>,
     next: &mut Vec<(u32, u32)>,
     stats: &mut QueryStats,
 ) {
     items.clear();
-    if !roots_overlap(a, b, stats) {
+    if !roots_overlap(a, b, walk, stats) {
         return;
     }
     items.push((0, 0));
@@ -239,7 +318,10 @@ pub(crate) fn split<'m, A: QuerySide<'m>, B: QuerySide<'m>>(
         next.clear();
         let mut opened = false;
         for &(na, nb) in items.iter() {
-            let (va, vb, how) = volumes_and_opening(a, b, na, nb, max_depth);
+            if walk.skips(a, na, nb) {
+                continue;
+            }
+            let (va, vb, how) = volumes_and_opening(a, b, na, nb, walk);
             if how == Open::Neither {
                 next.push((na, nb));
                 continue;
@@ -269,6 +351,7 @@ pub(crate) fn best_first<'m, A, B, N>(
     a: &mut A,
     b: &mut B,
     budget: u64,
+    own: Option<OneMesh<'m>>,
     queue: &mut BinaryHeap<Queued>,
     stats: &mut QueryStats,
     narrow: &mut N,
@@ -276,13 +359,19 @@ pub(crate) fn best_first<'m, A, B, N>(
 where
     A: QuerySide<'m>,
     B: QuerySide<'m>,
-    N: NarrowPhase<'m, A, B>,
+    N: NarrowPhase<'m>,
 {
     queue.clear();
+    let walk = Walk {
+        max_depth: u32::MAX,
+        own,
+    };
     let (ra, rb) = (a.volume(0), b.volume(0));
-    stats.bv_tests += 1;
-    if !ra.overlaps(&rb) {
-        return false;
+    if own.is_none() {
+        stats.bv_tests += 1;
+        if !ra.overlaps(&rb) {
+            return false;
+        }
     }
     let (nodes_a, nodes_b) = (a.nodes(), b.nodes());
     let key = |sa: f64, sb: f64| sa.max(sb).to_bits();
@@ -296,6 +385,9 @@ where
     let mut len = 1;
     loop {
         for q in &found[..len] {
+            if walk.skips(a, q.a, q.b) {
+                continue;
+            }
             if nodes_a[q.a as usize].is_leaf() && nodes_b[q.b as usize].is_leaf() {
                 stats.leaf_pairs += 1;
                 if narrow.visit(a, b, q.a, q.b, stats) {
@@ -320,7 +412,7 @@ where
             }
             return false;
         }
-        let (va, vb, how) = volumes_and_opening(a, b, na, nb, u32::MAX);
+        let (va, vb, how) = volumes_and_opening(a, b, na, nb, &walk);
         open_pair(a, b, na, nb, &va, &vb, how, stats, |x, y, vx, vy| {
             found[len] = Queued {
                 key: key(vx.size_squared(), vy.size_squared()),

@@ -1,0 +1,24 @@
+//! What the query tests share.
+
+use super::pairs::Pair;
+use crate::mesh::Mesh;
+use std::collections::HashSet;
+
+/// Does every triangle pair of `expected` lie in some node pair of `nodes` (of `a` and `b`; of
+/// one mesh, in either order)? The coarse modes' promise.
+pub(crate) fn nodes_cover(a: &Mesh, b: &Mesh, one_mesh: bool, nodes: &[Pair], expected: &[Pair]) {
+    let mut covered = HashSet::new();
+    for p in nodes {
+        for &x in a.node_triangles(p.a) {
+            for &y in b.node_triangles(p.b) {
+                covered.insert((x, y));
+                if one_mesh {
+                    covered.insert((y, x));
+                }
+            }
+        }
+    }
+    for p in expected {
+        assert!(covered.contains(&(p.a, p.b)), "{p:?} is in no node pair");
+    }
+}
