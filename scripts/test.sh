@@ -34,6 +34,7 @@ runner/run.sh profile --scene copy --frames 2 --repeat 2 --threads 2 >/dev/null
 # Scenes against the same work pair by pair (fails if their contacts differ), on both thread counts.
 runner/run.sh scenes --frames 3 --repeat 1 >/dev/null
 runner/run.sh scenes --frames 3 --repeat 1 --threads 0 >/dev/null
+runner/run.sh self --frames 3 --repeat 1 >/dev/null
 # The main job must keep working.
 cargo run --release --quiet --example demo -- --frames 4 >/dev/null
 echo "all tests passed"

@@ -2,7 +2,7 @@
 //! the same run, as tables (printed, and written as Markdown and CSV) and SVG plots.
 //!
 //! ```text
-//! dvh-runner [paper|knobs|exactness|rigid|all|checksums|profile|scenes] [--full] [--scene NAME]...
+//! dvh-runner [paper|knobs|exactness|rigid|all|checksums|profile|scenes|self] [--full] [--scene NAME]...
 //!            [--frames N] [--knob-frames N] [--repeat N] [--threads N] [--pause MS] [--out DIR]
 //! ```
 //!
@@ -19,6 +19,8 @@
 //!   query time, for the other kind of scene.
 //! - `all`: all of these; `checksums`: a hash of every scene's world coordinates at its first and
 //!   last frame, to compare with the cross-check harness's (`dvh_cross_check --checksums`).
+//! - `self`: self-collision against the naive route (the mesh against itself, then filtered)
+//!   and self-proximity at three distances, on a folding sheet and a bent scanned mesh.
 //! - `profile`: dvh alone, default options, on `--threads` threads (default 1): each of
 //!   `--frames` frames (default 10) spread over the scene's run, refit and queried `--repeat`
 //!   times (default 5); the mean over frames of each frame's fastest refit and query. For
@@ -44,6 +46,7 @@ mod report;
 mod rigid;
 mod scene;
 mod scenes;
+mod self_scenes;
 
 use method::Method;
 use scene::{Scene, Size};
@@ -61,6 +64,7 @@ enum Command {
     Checksums,
     Profile,
     Scenes,
+    SelfCollision,
 }
 
 struct Args {
@@ -75,7 +79,7 @@ struct Args {
 }
 
 fn usage() -> String {
-    "usage: dvh-runner [paper|knobs|exactness|rigid|all|checksums|profile|scenes] [--full] \
+    "usage: dvh-runner [paper|knobs|exactness|rigid|all|checksums|profile|scenes|self] [--full] \
      [--scene NAME]... [--frames N] [--knob-frames N] [--repeat N] [--threads N] [--pause MS] [--out DIR]"
         .to_string()
 }
@@ -114,6 +118,7 @@ fn parse() -> Result<Args, String> {
             "checksums" => args.command = Command::Checksums,
             "profile" => args.command = Command::Profile,
             "scenes" => args.command = Command::Scenes,
+            "self" => args.command = Command::SelfCollision,
             "--full" => args.size.full = true,
             "--scene" => args.scenes.push(value("--scene")?),
             "--frames" => args.size.frames = number("--frames", value("--frames")?)?,
@@ -127,7 +132,14 @@ fn parse() -> Result<Args, String> {
         }
     }
     for s in &args.scenes {
-        if !scene::EVERY.contains(&s.as_str()) && !scene::EXTRA.contains(&s.as_str()) {
+        if args.command == Command::SelfCollision {
+            if !self_scenes::NAMES.contains(&s.as_str()) {
+                return Err(format!(
+                    "unknown scene {s:?} for self: one of {:?}",
+                    self_scenes::NAMES
+                ));
+            }
+        } else if !scene::EVERY.contains(&s.as_str()) && !scene::EXTRA.contains(&s.as_str()) {
             return Err(format!(
                 "unknown scene {s:?}: one of {:?} or {:?}",
                 scene::EVERY,
@@ -224,6 +236,20 @@ fn run(args: &Args) -> Result<bool, Box<dyn std::error::Error>> {
         print!(
             "{}",
             scenes::run(args.size, frames, args.repeat, args.threads)?
+        );
+        return Ok(true);
+    }
+    if args.command == Command::SelfCollision {
+        let frames = if args.size.frames > 0 {
+            args.size.frames
+        } else if args.size.full {
+            200
+        } else {
+            4
+        };
+        print!(
+            "{}",
+            self_scenes::run(args.size, &args.scenes, frames, args.repeat, args.threads)?
         );
         return Ok(true);
     }

@@ -74,7 +74,7 @@ pub struct Size {
 
 /// A CGAL demo mesh subdivided to at least `triangles` and normalised to `size`, or a built-in
 /// mesh of similar size when Debian's data is not installed.
-fn mesh(name: &str, triangles: usize, size: f64, built_in: &mut bool) -> MeshData {
+pub fn mesh(name: &str, triangles: usize, size: f64, built_in: &mut bool) -> MeshData {
     let mut m = match cgal_mesh(name) {
         Ok(m) => m,
         Err(_) => {

@@ -24,6 +24,11 @@ use std::ops::{Add, Mul, Sub};
 /// coordinates, degenerate triangles included.
 pub fn triangles_within(t1: &Triangle, t2: &Triangle, d: f64) -> bool {
     debug_assert!(d >= 0.0 && d.is_finite());
+    if d > 0.0
+        && let Some(answer) = quick(t1, t2, d)
+    {
+        return answer;
+    }
     if triangles_intersect(t1, t2) {
         return true;
     }
@@ -43,6 +48,86 @@ pub fn triangles_within(t1: &Triangle, t2: &Triangle, d: f64) -> bool {
         return answer;
     }
     within::<Big>(&to_integers(values).map(Big)).expect("exact arithmetic decides every sign")
+}
+
+/// Relative slack of the quick decisions: far more than the few roundings each makes (a few
+/// units of 2^-53 each), so that every rounding, however it falls, is covered.
+const SLACK: f64 = 1e-12;
+
+/// Absolute slack of the quick decisions: covers what underflow can lose (a few 2^-1074).
+const TINY: f64 = 1e-290;
+
+/// The common cases in plain floating point, with bounds on the rounding wide enough to be sure:
+/// two triangles far apart along a triangle's normal or the line between their centroids, or a
+/// vertex of one close to a vertex of the other. `None` when these cannot tell (then the exact
+/// decision runs).
+#[inline]
+fn quick(t1: &Triangle, t2: &Triangle, d: f64) -> Option<bool> {
+    let m = t1
+        .iter()
+        .chain(t2)
+        .flatten()
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    // Beyond this the products below could overflow (the in-plane axes are of degree 3).
+    if m > 1e60 || d > 1e60 {
+        return None;
+    }
+    let diff = |p: &[f64; 3], q: &[f64; 3]| [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
+    let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let cross = |a: &[f64; 3], b: &[f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let sum = |t: &Triangle| [0, 1, 2].map(|k| t[0][k] + t[1][k] + t[2][k]);
+    let edges = |t: &Triangle| [0, 1, 2].map(|k| diff(&t[(k + 1) % 3], &t[k]));
+    let (e1, e2) = (edges(t1), edges(t2));
+    let (n1, n2) = (cross(&e1[0], &e1[1]), cross(&e2[0], &e2[1]));
+    // The axes of the separating-axis test, cheapest and likeliest first: the normals, the line
+    // between the centroids, the normals of the edges within each plane (nearly coplanar
+    // neighbours), the cross products of edges.
+    let axes = [n1, n2, diff(&sum(t2), &sum(t1))]
+        .into_iter()
+        .chain(e1.iter().map(|e| cross(&n1, e)))
+        .chain(e2.iter().map(|e| cross(&n2, e)))
+        .chain((0..9).map(|k| cross(&e1[k / 3], &e2[k % 3])));
+    for n in axes {
+        let n = &n;
+        // Any vector serves as an axis: what matters is that the projections on this one (as
+        // rounded) are bounded. Each is off by at most 3 roundings of terms at most |n|_1 m.
+        let err = 1e-15 * (n[0].abs() + n[1].abs() + n[2].abs()) * m + TINY;
+        let nn = dot(n, n);
+        if nn < 1e-280 {
+            continue;
+        }
+        let (mut lo1, mut hi1, mut lo2, mut hi2) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+        for p in t1 {
+            let x = dot(n, p);
+            (lo1, hi1) = (lo1.min(x), hi1.max(x));
+        }
+        for p in t2 {
+            let x = dot(n, p);
+            (lo2, hi2) = (lo2.min(x), hi2.max(x));
+        }
+        let gap = (lo2 - hi1).max(lo1 - hi2);
+        // The gap's width along the unit axis exceeds d: d |n| < gap, |n| bounded above.
+        let norm = (nn * (1.0 + SLACK)).sqrt();
+        if (gap - 2.0 * err) * (1.0 - SLACK) > d * norm * (1.0 + SLACK) + TINY {
+            return Some(false);
+        }
+    }
+    let dd = d * d * (1.0 - SLACK);
+    for p in t1 {
+        for q in t2 {
+            let w = diff(p, q);
+            if dot(&w, &w) * (1.0 + SLACK) + TINY < dd {
+                return Some(true);
+            }
+        }
+    }
+    None
 }
 
 /// The numbers the decision is computed with: an interval that may leave a sign unknown, or an
@@ -82,22 +167,52 @@ impl Interval {
     }
 }
 
+/// `a + b` rounded down and rounded up: the rounded sum, moved one unit only where the rounding
+/// went the wrong way (the error, exact by Knuth's two-sum, says which). Exact sums stay points,
+/// so exact zeros (equal coordinates subtracted) keep their sign.
+#[inline(always)]
+fn sum_bounds(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    if !s.is_finite() {
+        return (s.next_down(), s.next_up());
+    }
+    let bb = s - a;
+    let err = (a - (s - bb)) + (b - bb);
+    (
+        if err < 0.0 { s.next_down() } else { s },
+        if err > 0.0 { s.next_up() } else { s },
+    )
+}
+
 impl Add for Interval {
     type Output = Interval;
+    #[inline(always)]
     fn add(self, o: Interval) -> Interval {
-        Interval::outward(self.lo + o.lo, self.hi + o.hi)
+        let (lo, hi) = (self.lo + o.lo, self.hi + o.hi);
+        if lo.is_nan() || hi.is_nan() {
+            return Interval::ALL;
+        }
+        Interval {
+            lo: sum_bounds(self.lo, o.lo).0,
+            hi: sum_bounds(self.hi, o.hi).1,
+        }
     }
 }
 
 impl Sub for Interval {
     type Output = Interval;
+    #[inline(always)]
     fn sub(self, o: Interval) -> Interval {
-        Interval::outward(self.lo - o.hi, self.hi - o.lo)
+        self + Interval {
+            lo: -o.hi,
+            hi: -o.lo,
+        }
     }
 }
 
 impl Mul for Interval {
     type Output = Interval;
+    #[inline(always)]
     fn mul(self, o: Interval) -> Interval {
         let p = [
             self.lo * o.lo,
@@ -110,9 +225,11 @@ impl Mul for Interval {
         }
         let lo = p.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = p.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        // An exact product of zero stays zero: widening it would hide exact zeros, which are
-        // common (coordinates shared by both triangles).
-        if lo == 0.0 && hi == 0.0 && p.iter().all(|&x| x == 0.0) {
+        // A product with an exact zero stays zero: widening it would hide exact zeros, which are
+        // common (coordinates shared by both triangles). (A product that underflowed to zero is
+        // not exact, and is widened below.)
+        let zero = |i: &Interval| i.lo == 0.0 && i.hi == 0.0;
+        if zero(&self) || zero(&o) {
             return Interval { lo: 0.0, hi: 0.0 };
         }
         Interval::outward(lo, hi)
@@ -172,6 +289,7 @@ impl Num for Big {
 
 type V<T> = [T; 3];
 
+#[inline]
 fn sub<T: Num>(a: &V<T>, b: &V<T>) -> V<T> {
     [
         a[0].clone() - b[0].clone(),
@@ -180,10 +298,12 @@ fn sub<T: Num>(a: &V<T>, b: &V<T>) -> V<T> {
     ]
 }
 
+#[inline]
 fn dot<T: Num>(a: &V<T>, b: &V<T>) -> T {
     a[0].clone() * b[0].clone() + a[1].clone() * b[1].clone() + a[2].clone() * b[2].clone()
 }
 
+#[inline]
 fn cross<T: Num>(a: &V<T>, b: &V<T>) -> V<T> {
     [
         a[1].clone() * b[2].clone() - a[2].clone() * b[1].clone(),

@@ -19,12 +19,7 @@ use crate::geometry::predicates::{Point, Sign, orient2d};
 use crate::mesh::Mesh;
 use std::collections::HashMap;
 
-/// Boundary loops longer than this are not kept: testing a loop costs its length squared, and
-/// nodes that large are rarely flat enough to pass.
-const MAX_LOOP: usize = 96;
-
-/// The boundary loop of every node whose patch is a disk with a loop of at most [`MAX_LOOP`]
-/// vertices (an empty row for the others).
+/// The boundary loop of every node whose patch is a disk (an empty row for the others).
 #[derive(Debug, Default)]
 pub(crate) struct Patches {
     loops: Csr<u32>,
@@ -40,11 +35,7 @@ impl Patches {
         for node in &tree.nodes {
             let range = node.ring_start as usize..node.ring_end as usize;
             let own = rings.row_range(range);
-            // Patches with more triangles than a loop could bound are skipped (a disk of t
-            // triangles has a boundary of at least about sqrt(t) edges, and we want loops short).
-            if own.len() <= MAX_LOOP * MAX_LOOP / 4
-                && let Some(l) = disk_loop(own.iter().map(|&t| tris[t as usize]))
-            {
+            if let Some(l) = disk_loop(own.iter().map(|&t| tris[t as usize])) {
                 for v in l {
                     loops.push(v);
                 }
@@ -113,7 +104,7 @@ fn disk_loop(tris: impl Iterator<Item = [u32; 3]> + Clone) -> Option<Vec<u32>> {
     let mut vertices: Vec<u32> = tris.flatten().collect();
     vertices.sort_unstable();
     vertices.dedup();
-    if vertices.len() + faces != undirected + 1 || next.len() > MAX_LOOP || next.is_empty() {
+    if vertices.len() + faces != undirected + 1 || next.is_empty() {
         return None;
     }
     // One loop through every boundary edge.
@@ -170,18 +161,62 @@ fn simple_polygon(p: &[[f64; 2]]) -> bool {
         if orient2d(a, b, c) == 0 && (c == b || between(a, b, c) || between(b, c, a)) {
             return false;
         }
-        for j in i + 2..m {
-            if (j + 1) % m == i {
-                continue; // the edge before i shares its corner a
-            }
-            let (c, d) = edge(j);
-            if segments_meet(a, b, c, d) {
-                return false;
+    }
+    // Edges that are not consecutive must not meet at all.
+    let apart = |i: usize, j: usize| {
+        let (lo, hi) = (i.min(j), i.max(j));
+        hi - lo > 1 && !(lo == 0 && hi == m - 1)
+    };
+    let meet = |i: usize, j: usize| {
+        let ((a, b), (c, d)) = (edge(i), edge(j));
+        segments_meet(a, b, c, d)
+    };
+    if m <= SMALL_LOOP {
+        return !(0..m).any(|i| (i + 1..m).any(|j| apart(i, j) && meet(i, j)));
+    }
+    // Long loops: the edges are put in the cells of a grid over the loop's box that their boxes
+    // cover, and only edges sharing a cell are tested; about linear for the loops of patches.
+    // Cells are found by rounded arithmetic that only grows with the coordinate, so two edges
+    // that share a point share that point's cell.
+    let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+    for q in p {
+        for k in 0..2 {
+            (lo[k], hi[k]) = (lo[k].min(q[k]), hi[k].max(q[k]));
+        }
+    }
+    let side = (m as f64).sqrt().ceil() as usize;
+    let scale = [0, 1].map(|k| {
+        let w = hi[k] - lo[k];
+        if w > 0.0 && w.is_finite() {
+            side as f64 / w
+        } else {
+            0.0
+        }
+    });
+    let cell = |k: usize, x: f64| (((x - lo[k]) * scale[k]) as usize).min(side - 1);
+    let mut cells: Vec<Vec<u32>> = vec![Vec::new(); side * side];
+    for i in 0..m {
+        let (a, b) = edge(i);
+        let (x0, x1) = (cell(0, a[0].min(b[0])), cell(0, a[0].max(b[0])));
+        let (y0, y1) = (cell(1, a[1].min(b[1])), cell(1, a[1].max(b[1])));
+        for y in y0..=y1 {
+            for x in x0..=x1 {
+                cells[y * side + x].push(i as u32);
             }
         }
     }
-    true
+    !cells.iter().any(|c| {
+        (0..c.len()).any(|s| {
+            (s + 1..c.len()).any(|t| {
+                let (i, j) = (c[s] as usize, c[t] as usize);
+                apart(i, j) && meet(i, j)
+            })
+        })
+    })
 }
+
+/// Loops up to this long are tested pair by pair.
+const SMALL_LOOP: usize = 32;
 
 /// Is `x` on the segment `[a, b]` (all three collinear)? Coordinates compared exactly.
 fn between(a: [f64; 2], b: [f64; 2], x: [f64; 2]) -> bool {
@@ -226,6 +261,29 @@ mod tests {
         // Straight corners are fine.
         let straight = [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [2.0, 1.0]];
         assert!(simple_polygon(&straight));
+        // Long loops (the grid of cells): a circle, and the same circle with one vertex pulled
+        // out across the far side (its edges cross others), or onto another vertex (they touch).
+        let circle: Vec<[f64; 2]> = (0..500)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::TAU / 500.0;
+                [a.cos(), a.sin()]
+            })
+            .collect();
+        assert!(simple_polygon(&circle));
+        let mut crossed = circle.clone();
+        crossed[100] = [-1.5, 0.0];
+        assert!(!simple_polygon(&crossed));
+        let mut touching = circle.clone();
+        touching[100] = circle[300];
+        assert!(!simple_polygon(&touching));
+        // A figure-eight: simple but for one crossing in the middle.
+        let eight: Vec<[f64; 2]> = (0..400)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::TAU / 400.0;
+                [a.sin(), a.sin() * a.cos()]
+            })
+            .collect();
+        assert!(!simple_polygon(&eight));
     }
 
     #[test]

@@ -1,0 +1,251 @@
+//! `self`: self-collision and self-proximity (issue 11) on two deforming meshes.
+//!
+//! - **sheet**: a cloth-like sheet (100,352 triangles with `--full`, 3,200 without), rippled,
+//!   falling while it folds over a crease line that tilts across it; past 180 degrees the flap
+//!   passes through the rest of the sheet.
+//! - **bent**: a scanned mesh (the CGAL armadillo, 52,000 triangles, with `--full`; the
+//!   elephant, 5,558, without; a built-in mesh without Debian's data) bent around a cylinder
+//!   until its ends cross.
+//!
+//! Every frame is refit, then queried `repeat` times (the fastest kept) by: `self_collide`; the
+//! naive route, `collide` of the mesh with itself and the pairs of triangles sharing a vertex
+//! (and the mirrored pairs) dropped afterwards; and, on a few frames spread over the run,
+//! `self_proximity` at 0.1%, 1% and 5% of the mesh's size (its box's diagonal). The table gives
+//! medians per frame. Every frame checks that `self_collide`'s pairs of triangles sharing no
+//! vertex are exactly the naive route's.
+
+use crate::report::median;
+use crate::scene::{Size, mesh};
+use dvh::fixtures::{MeshData, grid};
+use dvh::{BuildOptions, Mesh, Pair, Pairs, QueryOptions, collide, self_collide, self_proximity};
+use std::f64::consts::PI;
+use std::fmt::Write;
+use std::time::Instant;
+
+/// The meshes, for `--scene`.
+pub const NAMES: [&str; 2] = ["sheet", "bent"];
+
+/// One deforming mesh: its rest shape and where it is at time `t` in `[0, 1)`.
+struct Deforming {
+    name: &'static str,
+    rest: MeshData,
+    at: fn(&MeshData, f64) -> Vec<f64>,
+}
+
+/// The sheet: `n` x `n` cells, 1 wide.
+fn sheet(n: usize) -> Deforming {
+    Deforming {
+        name: "sheet",
+        rest: grid(n, 1.0),
+        at: |m: &MeshData, t: f64| {
+            let radius = 0.02;
+            m.positions
+                .chunks_exact(3)
+                .flat_map(|v| {
+                    let (x, y) = (v[0], v[1]);
+                    // Ripples, as a cloth has; the fold angle grows to 200 degrees, more at one
+                    // side than the other, so the crossing line sweeps across the sheet.
+                    let ripple = 0.004 * (23.0 * x).sin() * (17.0 * y).sin();
+                    let angle = PI * 1.12 * t * (0.9 + 0.2 * y);
+                    let crease = 0.45;
+                    let arc = radius * angle;
+                    let (px, pz) = if x <= crease {
+                        (x, ripple)
+                    } else if x <= crease + arc {
+                        // On the crease's cylinder.
+                        let a = (x - crease) / radius;
+                        (
+                            crease + (radius - ripple) * a.sin(),
+                            radius - (radius - ripple) * a.cos(),
+                        )
+                    } else {
+                        // Straight past it, at the fold angle.
+                        let s = x - crease - arc;
+                        let (sin, cos) = angle.sin_cos();
+                        let (cx, cz) = (crease + radius * sin, radius - radius * cos);
+                        (cx + s * cos - ripple * sin, cz + s * sin + ripple * cos)
+                    };
+                    [px, y, pz - 0.5 * t]
+                })
+                .collect()
+        },
+    }
+}
+
+/// A scanned mesh bent around a cylinder along its longest axis, the bend growing to 2.3 turns'
+/// worth of angle, so its ends meet and cross.
+fn bent(full: bool) -> Deforming {
+    let mut built_in = false;
+    let (name, triangles) = if full {
+        ("armadillo", 50_000)
+    } else {
+        ("elephant", 4_000)
+    };
+    let rest = mesh(name, triangles, 1.0, &mut built_in);
+    Deforming {
+        name: if built_in { "bent (built-in)" } else { "bent" },
+        rest,
+        at: |m: &MeshData, t: f64| {
+            let b = m.bounds();
+            let length = b.hi[0] - b.lo[0];
+            let bend = (1e-6 + 2.3 * PI * t).min(2.3 * PI);
+            let radius = length / bend;
+            m.positions
+                .chunks_exact(3)
+                .flat_map(|v| {
+                    let a = (v[0] - b.lo[0]) / length * bend - bend / 2.0;
+                    let r = radius - (v[2] - 0.5 * (b.lo[2] + b.hi[2]));
+                    [r * a.sin(), v[1], radius - r * a.cos()]
+                })
+                .collect()
+        },
+    }
+}
+
+/// The fastest of `repeat` runs of `f`, in milliseconds.
+fn fastest(repeat: usize, mut f: impl FnMut()) -> f64 {
+    let mut best = f64::INFINITY;
+    for _ in 0..repeat.max(1) {
+        let t = Instant::now();
+        f();
+        best = best.min(t.elapsed().as_secs_f64() * 1e3);
+    }
+    best
+}
+
+/// The naive route's filter: pairs `a < b` of triangles sharing no vertex.
+fn apart(tris: &[u32], pairs: &[Pair], out: &mut Vec<Pair>) {
+    out.clear();
+    let tri = |t: u32| &tris[3 * t as usize..3 * t as usize + 3];
+    out.extend(pairs.iter().copied().filter(|p| {
+        p.a < p.b && {
+            let (x, y) = (tri(p.a), tri(p.b));
+            !x.iter().any(|v| y.contains(v))
+        }
+    }));
+}
+
+/// Runs the `self` command; returns the Markdown table.
+pub fn run(
+    size: Size,
+    names: &[String],
+    frames: usize,
+    repeat: usize,
+    threads: u32,
+) -> Result<String, Box<dyn std::error::Error>> {
+    let frames = frames.max(2);
+    let chosen = |name: &str| names.is_empty() || names.iter().any(|n| n == name);
+    let mut meshes = Vec::new();
+    if chosen("sheet") {
+        meshes.push(sheet(if size.full { 224 } else { 40 }));
+    }
+    if chosen("bent") {
+        meshes.push(bent(size.full));
+    }
+    let options = QueryOptions {
+        threads,
+        ..QueryOptions::default()
+    };
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "Medians over {frames} frames (proximity: over {} frames spread over them) of each \
+         frame's fastest of {repeat} queries; threads = {threads}.\n",
+        frames.min(10)
+    );
+    let _ = writeln!(
+        out,
+        "| mesh | triangles | query | ms per frame | ratio to self_collide | pairs per frame | triangle tests per frame |"
+    );
+    let _ = writeln!(out, "|---|---|---|---|---|---|---|");
+    for m in &meshes {
+        let mut mesh = Mesh::new(
+            &m.rest.positions,
+            &m.rest.triangles,
+            &BuildOptions::default(),
+        )?;
+        let b = m.rest.bounds();
+        let diagonal = (0..3)
+            .map(|k| (b.hi[k] - b.lo[k]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        let fractions = [0.001, 0.01, 0.05];
+        // (ms, pairs, triangle tests) per frame: self, naive, and each distance.
+        let mut rows: Vec<(String, Vec<f64>, u64, u64)> =
+            ["self_collide", "naive: collide with itself, filtered"]
+                .iter()
+                .map(|s| (s.to_string(), Vec::new(), 0, 0))
+                .chain(fractions.iter().map(|f| {
+                    (
+                        format!("self_proximity at {:.1}% ({:.2e})", f * 100.0, f * diagonal),
+                        Vec::new(),
+                        0,
+                        0,
+                    )
+                }))
+                .collect();
+        let (mut own, mut all, mut filtered) = (Pairs::new(), Pairs::new(), Vec::new());
+        let mut near = Pairs::new();
+        let sampled = frames.min(10);
+        let mut self_on_sampled = Vec::new();
+        for f in 0..frames {
+            let t = f as f64 / frames as f64;
+            mesh.refit(&(m.at)(&m.rest, t))?;
+            let mut stats = Default::default();
+            let ms = fastest(repeat, || {
+                stats = self_collide(&mesh, &options, &mut own).expect("self_collide");
+            });
+            rows[0].1.push(ms);
+            rows[0].2 += own.len() as u64;
+            rows[0].3 += stats.triangle_tests;
+            let ms = fastest(repeat, || {
+                stats = collide(&mesh, None, &mesh, None, &options, &mut all).expect("collide");
+                apart(&m.rest.triangles, all.as_slice(), &mut filtered);
+            });
+            rows[1].1.push(ms);
+            rows[1].2 += filtered.len() as u64;
+            rows[1].3 += stats.triangle_tests;
+            let mut own_apart = Vec::new();
+            apart(&m.rest.triangles, own.as_slice(), &mut own_apart);
+            if own_apart != filtered {
+                return Err(format!(
+                    "{} frame {f}: self_collide has {} pairs sharing no vertex, the naive route {}",
+                    m.name,
+                    own_apart.len(),
+                    filtered.len()
+                )
+                .into());
+            }
+            if (f * sampled) % frames < sampled {
+                self_on_sampled.push(rows[0].1[f]);
+                for (k, fraction) in fractions.iter().enumerate() {
+                    let d = fraction * diagonal;
+                    let ms = fastest(repeat, || {
+                        stats = self_proximity(&mesh, d, &options, &mut near).expect("proximity");
+                    });
+                    rows[2 + k].1.push(ms);
+                    rows[2 + k].2 += near.len() as u64;
+                    rows[2 + k].3 += stats.triangle_tests;
+                }
+            }
+        }
+        let base = median(&rows[0].1);
+        let base_sampled = median(&self_on_sampled);
+        for (k, (what, ms, pairs, tests)) in rows.iter().enumerate() {
+            let n = ms.len().max(1) as f64;
+            let reference = if k < 2 { base } else { base_sampled };
+            let _ = writeln!(
+                out,
+                "| {} | {} | {} | {:.3} | {:.2} | {:.0} | {:.0} |",
+                m.name,
+                m.rest.triangle_count(),
+                what,
+                median(ms),
+                median(ms) / reference,
+                *pairs as f64 / n,
+                *tests as f64 / n,
+            );
+        }
+    }
+    Ok(out)
+}
