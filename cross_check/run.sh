@@ -3,14 +3,22 @@
 # they are missing, installs dvh into the build directory, unpacks the CGAL demo meshes into a
 # cache, and runs the harness.
 #
-#   cross_check/run.sh           short version (small meshes, 4 frames, every scene kind)
-#   cross_check/run.sh --full    paper sizes, 200 frames
-#   extra arguments go to the harness: --frames N, --scene NAME, --threads N (dvh's threaded run;
-#   default 0, every core; dvh also runs on one thread, and both must agree), --scene-run-only
-#   (only the run of whole scenes: one DvhScene against FCL's broad phase, on every scene chosen)
+#   cross_check/run.sh           short version (small meshes, 4 frames, every scene kind; then the
+#                                self-collision run, 5 frames, and the proximity run, 2 frames)
+#   cross_check/run.sh --full    paper sizes, 200 frames (self-collision: larger meshes, 40 frames;
+#                                proximity: the short meshes, every scene, 10 frames)
+#   extra arguments go to the harness: --frames N (every run), --scene NAME (of any run), --threads N
+#   (dvh's threaded run; default 0, every core; dvh also runs on one thread, and both must agree),
+#   --scene-run-only (only the run of whole scenes: one DvhScene against FCL's broad phase, on every
+#   scene chosen), --self-run-only (only the self-collision and proximity runs: dvh_self_collide
+#   against FCL's model collided with itself, dvh_proximity and dvh_self_proximity, all against
+#   CGAL's exact sets)
 #
 # Results: cross_check/build/results/{frames.csv,summary.json} (pairwise run),
-# {scene_frames.csv,scene_summary.json} (scene run) and the printed summaries.
+# {scene_frames.csv,scene_summary.json} (scene run), {self_frames.csv,self_summary.json}
+# (self-collision run), {proximity_frames.csv,proximity_summary.json} (proximity run),
+# mismatches.txt (the triangle pairs on which dvh differs from an exact set, if any) and the
+# printed summaries.
 set -euo pipefail
 cd "$(dirname "$0")"
 root=$(cd .. && pwd)

@@ -21,17 +21,33 @@
 // object pair it reports queried for every contact). The sets of (object a, object b, triangle
 // a, triangle b) are judged as in the pairwise run, and dvh's must equal its pairwise run's.
 //
+// Then two runs against complete exact sets (self_run.cpp, proximity_run.cpp; the sets from
+// exact.cpp). The self-collision run: meshes bent frame by frame until they pass through
+// themselves (make_self_scenes: a rolled and a crumpled sheet, a folded elephant, a twisted
+// armadillo); dvh_self_collide against CGAL's set (pairs sharing a vertex: meeting beyond it;
+// the others: intersecting) and against FCL's naive route (the model collided with itself, pairs
+// sharing a vertex dropped), whose disagreements with dvh are judged as above. The proximity run:
+// every triangle pair within 0, 0.1%, 1% and 5% of a scene's size, by dvh_proximity (world
+// coordinates and poses) on scenes of the pairwise run and by dvh_self_proximity on the small
+// bending meshes, against CGAL's set (box filter, exact distances); at distance 0 they must
+// equal dvh_collide and dvh_self_collide.
+//
 // Usage: dvh_cross_check [--full] [--frames N] [--scene NAME] [--threads N] [--scene-run-only]
-//                        [--checksums] --data DIR [--out DIR]
+//                        [--self-run-only] [--checksums] --data DIR [--out DIR]
 // (--scene-run-only skips the pairwise run and makes the scene run on every selected scene, two
-// objects or more; --checksums prints a hash of every scene's world coordinates at its first and
-// last frame and exits: the benchmark runner's port of the scenes must print the same.)
+// objects or more; --self-run-only makes only the self-collision and proximity runs (with
+// --scene-run-only too: those and the scene run); --scene NAME selects a scene of any run;
+// --checksums prints a hash of every scene's world coordinates at its first and last frame and
+// exits: the benchmark runner's port of the scenes must print the same.)
 //
 // Output: a line per frame and run, a summary of each run, the verdict (exit status 1 when dvh
-// is wrong or its runs differ, 2 on errors). With --out DIR: frames.csv and summary.json (the
-// pairwise run, per frame and per scene), scene_frames.csv and scene_summary.json (the scene
-// run: per frame, each FCL configuration's columns prefixed obb_ or aabb_; per scene, medians
-// per frame and totals).
+// is wrong or its runs differ, 2 on errors or when an exact reference contradicts itself). With
+// --out DIR: frames.csv and summary.json (the pairwise run, per frame and per scene),
+// scene_frames.csv and scene_summary.json (the scene run: per frame, each FCL configuration's
+// columns prefixed obb_ or aabb_; per scene, medians per frame and totals), self_frames.csv and
+// self_summary.json (the self-collision run), proximity_frames.csv and proximity_summary.json
+// (the proximity run: per scene, frame and distance; per scene and distance), mismatches.txt
+// (every pair kept on which dvh differs from an exact set, with coordinates).
 
 #include <dvh.h>
 #include <fcl/fcl.h>
@@ -49,46 +65,29 @@
 #include <string>
 #include <vector>
 
+#include "common.hpp"
 #include "fcl_scene.hpp"
 #include "fcl_side.hpp"
 #include "geometry.hpp"
 #include "judge.hpp"
+#include "runs.hpp"
 #include "scenes.hpp"
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using xc::Clock;
 using xc::ContactSet;
+using xc::contains;
+using xc::difference;
+using xc::dvh_check;
+using xc::median;
+using xc::ms_since;
 using xc::PairSet;
 using xc::SceneContact;
-
-double ms_since(Clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-[[noreturn]] void dvh_fail(DvhStatus status, const char* what) {
-    char message[512];
-    dvh_last_error_message(message, sizeof message);
-    throw std::runtime_error(std::string(what) + ": " + dvh_status_name(status) + ": " + message);
-}
-
-void dvh_check(DvhStatus status, const char* what) {
-    if (status != DVH_STATUS_OK) dvh_fail(status, what);
-}
-
-PairSet to_set(const DvhPairs* pairs) {
-    PairSet s(dvh_pairs_len(pairs));
-    const DvhPair* data = dvh_pairs_data(pairs);
-    for (size_t i = 0; i < s.size(); i++) s[i] = ((uint64_t)data[i].a << 32) | data[i].b;
-    return s;  // dvh's output is already sorted by (a, b)
-}
-
-DvhPose to_dvh(const xc::Pose& p) {
-    DvhPose d;
-    std::copy(p.r, p.r + 9, d.rotation);
-    std::copy(p.t, p.t + 3, d.translation);
-    return d;
-}
+using xc::symmetric_difference;
+using xc::to_dvh;
+using xc::to_set;
+using xc::triangle;
 
 struct FrameRow {
     std::string scene;
@@ -110,34 +109,6 @@ struct Offence {
     bool dvh, cgal;
     double ta[9], tb[9];
 };
-
-double median(std::vector<double> v) {
-    if (v.empty()) return 0;
-    std::sort(v.begin(), v.end());
-    size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-void triangle(const xc::MeshData& m, const std::vector<double>& world, uint32_t t, double out[9]) {
-    for (int c = 0; c < 3; c++)
-        for (int k = 0; k < 3; k++) out[3 * c + k] = world[3 * (size_t)m.tris[3 * (size_t)t + c] + k];
-}
-
-bool contains(const PairSet& s, uint64_t x) { return std::binary_search(s.begin(), s.end(), x); }
-
-template <typename Set>
-Set symmetric_difference(const Set& a, const Set& b) {
-    Set d;
-    std::set_symmetric_difference(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(d));
-    return d;
-}
-
-template <typename Set>
-Set difference(const Set& a, const Set& b) {
-    Set d;
-    std::set_difference(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(d));
-    return d;
-}
 
 const size_t kSample = 20;  // agreed pairs spot-checked per object pair and frame, in both runs
 
@@ -746,7 +717,7 @@ uint64_t world_checksum(xc::Scene& scene, double t) {
 int main(int argc, char** argv) {
     xc::SceneOptions options;
     std::string out_dir, only;
-    bool checksums = false, scene_run_only = false;
+    bool checksums = false, scene_run_only = false, self_run_only = false;
     uint32_t threads = 0;
     for (int i = 1; i < argc; i++) {
         std::string a = argv[i];
@@ -762,10 +733,11 @@ int main(int argc, char** argv) {
         else if (a == "--checksums") checksums = true;
         else if (a == "--threads") threads = (uint32_t)std::stoul(value());
         else if (a == "--scene-run-only") scene_run_only = true;
+        else if (a == "--self-run-only") self_run_only = true;
         else {
             std::fprintf(stderr,
-                         "usage: %s [--full] [--frames N] [--scene NAME] [--threads N] [--scene-run-only] [--checksums] --data DIR\n"
-                         "       [--out DIR]\n",
+                         "usage: %s [--full] [--frames N] [--scene NAME] [--threads N] [--scene-run-only] [--self-run-only]\n"
+                         "       [--checksums] --data DIR [--out DIR]\n",
                          argv[0]);
             return 2;
         }
@@ -795,10 +767,14 @@ int main(int argc, char** argv) {
     std::vector<SceneRow> scene_rows;
     std::vector<SceneSummary> scene_sums;
     std::vector<Offence> offences;
+    // The --*-only flags add up: each keeps its runs.
+    const bool old_runs = !self_run_only || scene_run_only, new_runs = !scene_run_only || self_run_only;
+    xc::SelfResults self;
+    xc::ProximityResults proximity;
     try {
         auto scenes = xc::make_scenes(options);
         for (auto& scene : scenes) {
-            if (!only.empty() && scene.name != only) continue;
+            if (!old_runs || (!only.empty() && scene.name != only)) continue;
             std::printf("== %s: %s, %d frames\n", scene.name.c_str(), scene.description.c_str(), scene.frames);
             Runs runs;
             runs.pairwise = !scene_run_only;
@@ -810,13 +786,18 @@ int main(int argc, char** argv) {
             if (runs.scene) scene_sums.push_back(summarize_scene_run(scene.name, scene_rows));
             all_rows.insert(all_rows.end(), rows.begin(), rows.end());
         }
+        if (new_runs) {
+            xc::RunOptions run_options{options, only, threads};
+            self = xc::run_self(run_options);
+            proximity = xc::run_proximity(run_options);
+        }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "error: %s\n", e.what());
         return 2;
     }
 
     bool ok = true;
-    if (!scene_run_only) {
+    if (!sums.empty()) {
         std::printf("\nSummary (medians per frame, ms; dvh 1t on one thread, dvh Nt threaded, posed threaded; ratio = faster FCL\n"
                     "configuration / dvh on one thread; speed-up = dvh 1t / dvh Nt)\n");
         std::printf("%-10s %6s %10s %9s %8s %9s %9s %9s %9s %9s %9s %9s %9s %7s %8s\n", "scene", "frames", "pairs", "disagree",
@@ -856,7 +837,16 @@ int main(int argc, char** argv) {
         if (s.pairwise_mismatch != 0)
             std::printf("  %s: the scene differs from dvh pair by pair on %zu contacts\n", s.scene.c_str(), s.pairwise_mismatch);
     }
-    if (!out_dir.empty()) write_outputs(out_dir, all_rows, sums, scene_rows, scene_sums);
+    bool reference_ok = true;
+    ok = xc::report_self(self, reference_ok) && ok;
+    ok = xc::report_proximity(proximity, reference_ok) && ok;
+    if (!out_dir.empty()) {
+        if (old_runs) write_outputs(out_dir, all_rows, sums, scene_rows, scene_sums);
+        if (new_runs) {
+            xc::write_self_outputs(out_dir, self);
+            xc::write_proximity_outputs(out_dir, proximity);
+        }
+    }
     for (const auto& o : offences) {
         std::printf("\nDVH DISAGREES WITH CGAL: scene %s frame %d (%s), triangles %u and %u: dvh says %s, CGAL says %s\n",
                     o.scene.c_str(), o.frame, o.objects.c_str(), o.a, o.b, o.dvh ? "intersect" : "apart",
@@ -864,6 +854,43 @@ int main(int argc, char** argv) {
         for (int c = 0; c < 3; c++) std::printf("  a[%d] = (%.17g, %.17g, %.17g)\n", c, o.ta[3 * c], o.ta[3 * c + 1], o.ta[3 * c + 2]);
         for (int c = 0; c < 3; c++) std::printf("  b[%d] = (%.17g, %.17g, %.17g)\n", c, o.tb[3 * c], o.tb[3 * c + 1], o.tb[3 * c + 2]);
     }
-    std::printf("\n%s\n", ok ? "VERDICT: dvh agrees with CGAL on every judged pair, threaded or not, pair by pair or as a scene" : "VERDICT: FAILED");
-    return ok ? 0 : 1;
+    std::vector<xc::Mismatch> mismatches = self.mismatches;
+    mismatches.insert(mismatches.end(), proximity.mismatches.begin(), proximity.mismatches.end());
+    xc::report_mismatches(mismatches, out_dir.empty() || !new_runs ? "" : out_dir + "/mismatches.txt");
+    if (!reference_ok) {
+        std::printf("\nVERDICT: UNDECIDED, the exact reference contradicts itself (a bug of the harness)\n");
+        return 2;
+    }
+    if (!ok) {
+        std::printf("\nVERDICT: FAILED\n");
+        return 1;
+    }
+    std::printf("\nVERDICT: dvh agrees with CGAL on every judged pair, threaded or not, pair by pair or as a scene%s\n",
+                new_runs ? "; its self-collisions and pairs within a distance are CGAL's exact sets" : "");
+    return 0;
 }
+
+namespace xc {
+
+void report_mismatches(const std::vector<Mismatch>& mismatches, const std::string& path) {
+    auto write = [](std::FILE* out, const Mismatch& m) {
+        std::fprintf(out, "\nDVH DIFFERS FROM THE EXACT SET: %s run, scene %s frame %d (%s)%s, triangles %u (%u %u %u) and %u (%u %u %u)%s: "
+                     "dvh says %s, CGAL says %s\n",
+                     m.run.c_str(), m.scene.c_str(), m.frame, m.objects.c_str(),
+                     m.distance > 0 ? (", distance " + std::to_string(m.distance)).c_str() : "", m.a, m.ia[0], m.ia[1], m.ia[2],
+                     m.b, m.ib[0], m.ib[1], m.ib[2], m.adjacent ? ", sharing a vertex" : "", m.dvh ? "in" : "out",
+                     m.exact ? "in" : "out");
+        if (m.distance > 0) std::fprintf(out, "  distance = %.17g\n", m.distance);
+        for (int c = 0; c < 3; c++) std::fprintf(out, "  a[%d] = (%.17g, %.17g, %.17g)\n", c, m.ta[3 * c], m.ta[3 * c + 1], m.ta[3 * c + 2]);
+        for (int c = 0; c < 3; c++) std::fprintf(out, "  b[%d] = (%.17g, %.17g, %.17g)\n", c, m.tb[3 * c], m.tb[3 * c + 1], m.tb[3 * c + 2]);
+    };
+    for (size_t k = 0; k < mismatches.size() && k < 20; k++) write(stdout, mismatches[k]);
+    if (path.empty()) return;
+    std::FILE* out = std::fopen(path.c_str(), "w");
+    if (out == nullptr) return;
+    for (const auto& m : mismatches) write(out, m);
+    std::fclose(out);
+    if (!mismatches.empty()) std::printf("\n(%zu mismatches kept in %s)\n", mismatches.size(), path.c_str());
+}
+
+}  // namespace xc

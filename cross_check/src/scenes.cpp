@@ -184,6 +184,113 @@ Scene near_touching(const SceneOptions& o, double offset) {
     return s;
 }
 
+// Turns every vertex about the vertical (y) axis through the origin by `angle(vertex)`.
+template <typename Angle>
+void turn_about_y(const std::vector<double>& rest, Angle angle, std::vector<double>& out) {
+    out = rest;
+    for (size_t i = 0; i < rest.size() / 3; i++) {
+        const double* p = &rest[3 * i];
+        double a = angle(p), c = std::cos(a), s = std::sin(a);
+        out[3 * i] = c * p[0] + s * p[2];
+        out[3 * i + 2] = -s * p[0] + c * p[2];
+    }
+}
+
+// Self-collision: a sheet rolled up tighter and tighter, one and three quarter turns at the end,
+// on a radius that wobbles with the angle so that the second turn crosses the first (rather than
+// lying inside it), and a little helical so that the crossings run slantwise.
+SelfScene roll(const SceneOptions& o) {
+    SelfScene s;
+    s.name = "roll";
+    s.rest = grid(o.full ? 200 : 32, 1.0);
+    s.description = "a sheet of " + std::to_string(s.rest.triangles()) + " triangles rolled until it crosses itself";
+    std::vector<double> rest = s.rest.pos;
+    s.at = [rest](double t, std::vector<double>& out) {
+        out = rest;
+        if (t <= 0) return;
+        double turn = 1.75 * kTau * t, radius = 1.0 / turn;
+        for (size_t i = 0; i < rest.size() / 3; i++) {
+            double x = rest[3 * i], y = rest[3 * i + 1];
+            double phi = turn * x + 0.4 * t * (y - 0.5);
+            double r = radius * (1.0 + 0.3 * std::sin(1.5 * phi));
+            out[3 * i] = r * std::sin(phi);
+            out[3 * i + 2] = radius - r * std::cos(phi);
+        }
+    };
+    return s;
+}
+
+// Self-collision: a sheet pulled about by eight wide bumps in random directions, growing with
+// time until neighbouring regions fold over each other.
+SelfScene crumple(const SceneOptions& o) {
+    SelfScene s;
+    s.name = "crumple";
+    s.rest = grid(o.full ? 128 : 24, 1.0);
+    s.description = "a sheet of " + std::to_string(s.rest.triangles()) + " triangles crumpled through itself";
+    struct Bump {
+        double centre[2], pull[3];
+    };
+    std::vector<Bump> bumps;
+    Rng rng(800);
+    for (int k = 0; k < 8; k++) {
+        Bump b;
+        b.centre[0] = rng.unit();
+        b.centre[1] = rng.unit();
+        double d[3] = {rng.range(-1, 1), rng.range(-1, 1), rng.range(-1, 1)};
+        double n = std::max(1e-9, std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+        for (int a = 0; a < 3; a++) b.pull[a] = 0.5 * d[a] / n;
+        bumps.push_back(b);
+    }
+    std::vector<double> rest = s.rest.pos;
+    s.at = [rest, bumps](double t, std::vector<double>& out) {
+        out = rest;
+        for (size_t i = 0; i < rest.size() / 3; i++)
+            for (const auto& b : bumps) {
+                double dx = rest[3 * i] - b.centre[0], dy = rest[3 * i + 1] - b.centre[1];
+                double w = t * std::exp(-(dx * dx + dy * dy) / (2 * 0.18 * 0.18));
+                for (int a = 0; a < 3; a++) out[3 * i + a] += w * b.pull[a];
+            }
+    };
+    return s;
+}
+
+// Self-collision: the elephant folded about a vertical axis through its middle, front and back
+// halves turning opposite ways (110 degrees each at the end) until they pass through each other;
+// the inside of the bend is squeezed through itself first.
+SelfScene fold(const SceneOptions& o) {
+    SelfScene s;
+    s.name = "fold";
+    s.rest = load_off(o.data_dir + (o.full ? "/refined_elephant.off" : "/elephant.off"));
+    normalize(s.rest, 1.0);
+    s.description = "an elephant of " + std::to_string(s.rest.triangles()) + " triangles folded through itself";
+    std::vector<double> rest = s.rest.pos;
+    s.at = [rest](double t, std::vector<double>& out) {
+        double angle = t * 110.0 / 360.0 * kTau;
+        turn_about_y(rest, [&](const double* p) { return angle * std::max(-1.0, std::min(1.0, p[0] / 0.08)); }, out);
+    };
+    return s;
+}
+
+// Self-collision: the armadillo twisted about its vertical axis by an angle growing with the
+// distance from the axis along x (200 degrees at the hands at the end): both arms swing forward
+// round the body until they cross each other, and the shoulders shear.
+SelfScene twist(const SceneOptions& o) {
+    SelfScene s;
+    s.name = "twist";
+    MeshData base = load_off(o.data_dir + "/armadillo.off");
+    s.rest = o.full ? subdivided_to(base, 200000) : base;
+    normalize(s.rest, 1.0);
+    s.description = "an armadillo of " + std::to_string(s.rest.triangles()) + " triangles twisted until its arms cross";
+    double reach = 0;
+    for (size_t i = 0; i < s.rest.vertices(); i++) reach = std::max(reach, std::fabs(s.rest.pos[3 * i]));
+    std::vector<double> rest = s.rest.pos;
+    s.at = [rest, reach](double t, std::vector<double>& out) {
+        double angle = t * 200.0 / 360.0 * kTau;
+        turn_about_y(rest, [&](const double* p) { return angle * p[0] / reach; }, out);
+    };
+    return s;
+}
+
 }  // namespace
 
 std::vector<Scene> make_scenes(const SceneOptions& o) {
@@ -195,6 +302,17 @@ std::vector<Scene> make_scenes(const SceneOptions& o) {
     scenes.push_back(copy(o));
     for (double d : {1e-9, 1e-12, 1e-15}) scenes.push_back(near_touching(o, d));
     int frames = o.frames > 0 ? o.frames : (o.full ? 200 : 4);
+    for (auto& s : scenes) s.frames = frames;
+    return scenes;
+}
+
+std::vector<SelfScene> make_self_scenes(const SceneOptions& o) {
+    std::vector<SelfScene> scenes;
+    scenes.push_back(roll(o));
+    scenes.push_back(crumple(o));
+    scenes.push_back(fold(o));
+    scenes.push_back(twist(o));
+    int frames = o.frames > 0 ? o.frames : (o.full ? 40 : 5);
     for (auto& s : scenes) s.frames = frames;
     return scenes;
 }

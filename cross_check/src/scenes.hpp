@@ -35,4 +35,17 @@ struct SceneOptions {
 // Every scene of the chosen mode, built (meshes loaded, subdivided, placed).
 std::vector<Scene> make_scenes(const SceneOptions& options);
 
+// One mesh bending until it passes through itself, for the self-collision run (and, small, for
+// the self-proximity part of the proximity run).
+struct SelfScene {
+    std::string name;
+    std::string description;
+    MeshData rest;
+    std::function<void(double t, std::vector<double>& out)> at;  // positions at time t in [0, 1]; 0: rest
+    int frames = 0;
+};
+
+// Every self-collision scene of the chosen mode.
+std::vector<SelfScene> make_self_scenes(const SceneOptions& options);
+
 }  // namespace xc
