@@ -95,6 +95,9 @@ pub struct Mesh {
     /// by every mesh at build and at every change of positions, copied by a clone. Equal states
     /// mean equal contents, which lets a scene's rigid objects share one copy.
     pub(crate) state: u64,
+    /// Which way the nodes' triangles turn at the current positions, for self-collision; found
+    /// on first use and forgotten when the positions change.
+    pub(crate) turns: crate::query::Turns,
     /// Stacks for the wrapped-radius search, one per refit thread, sized at build so refits
     /// never allocate.
     pub(crate) scratch: Vec<Vec<u32>>,
@@ -206,7 +209,12 @@ impl Mesh {
         let tree = heap_bytes(&self.shape.tree.nodes)
             + heap_bytes(&self.shape.tree.leaf_of_ring)
             + heap_bytes(&self.shape.tree.subtrees)
-            + self.shape.blocks.get().map_or(0, Blocks::heap_bytes);
+            + self.shape.blocks.get().map_or(0, Blocks::heap_bytes)
+            + self
+                .shape
+                .patches
+                .get()
+                .map_or(0, crate::query::Patches::heap_bytes);
         self.state_bytes()
             + heap_bytes(&self.shape.triangles)
             + self.shape.rings.heap_bytes()
@@ -225,7 +233,11 @@ impl Mesh {
         };
         let scratch: usize =
             heap_bytes(&self.scratch) + self.scratch.iter().map(heap_bytes).sum::<usize>();
-        heap_bytes(&self.positions) + heap_bytes(&self.spare) + volumes + scratch
+        heap_bytes(&self.positions)
+            + heap_bytes(&self.spare)
+            + volumes
+            + scratch
+            + self.turns.heap_bytes()
     }
 
     /// Counters of the last refit (or of the build's initial fit).

@@ -33,7 +33,9 @@ use crate::mesh::Mesh;
 /// intersecting pair; `max_pairs` bounds the result; `threads` shares the work out.
 ///
 /// Cost: a node whose patch is a disk that projects one to one along a coordinate axis (decided
-/// exactly per query) is not opened, so a smooth region never reaches the triangle stage.
+/// exactly per query) is not opened, and neither is a pair of neighbouring nodes whose patches
+/// together make such a disk, so a smooth region never reaches the triangle stage. Which way
+/// each node's triangles turn is kept with the mesh until its positions change.
 ///
 /// Errors: [`crate::Error::ZeroBudget`]; [`crate::Error::OutOfMemory`]. On error `out` still
 /// holds the previous result.
@@ -96,10 +98,17 @@ pub(crate) fn self_pair_intersects(
     tj: [u32; 3],
     pj: &[Point; 3],
 ) -> Option<bool> {
-    let shared_i: Vec<usize> = (0..3)
-        .filter(|&k| tj.contains(&ti[k]) && ti[..k].iter().all(|&v| v != ti[k]))
-        .collect();
-    match shared_i.len() {
+    // The corners of ti whose vertex tj has (each vertex once), without allocating: this runs
+    // for every pair of neighbouring triangles a query meets.
+    let mut shared_i = [0usize; 3];
+    let mut count = 0;
+    for k in 0..3 {
+        if tj.contains(&ti[k]) && ti[..k].iter().all(|&v| v != ti[k]) {
+            shared_i[count] = k;
+            count += 1;
+        }
+    }
+    match count {
         0 => None,
         1 => {
             let k = shared_i[0];

@@ -7,7 +7,8 @@
 //! (root, root) of two views of one mesh ([`Walk::own`]): a node paired with itself (an *own*
 //! pair) opens into each child with itself and each pair of distinct children, so every
 //! unordered pair of nodes is reached once; own pairs need no volume test, and a patch that
-//! cannot intersect itself is not opened at all.
+//! cannot intersect itself, or a pair of patches that cannot meet beyond their shared seam, is
+//! not opened at all.
 
 use super::pairs::QueryStats;
 use super::patches::Patches;
@@ -41,11 +42,16 @@ pub(crate) struct OneMesh<'m> {
 }
 
 impl OneMesh<'_> {
-    /// Can node `n` paired with itself be skipped?
+    /// Can the pair `(x, y)` (a node with itself when `x == y`) be skipped?
     #[inline]
-    fn skips(&self, mesh: &Mesh, n: u32) -> bool {
-        self.patches
-            .is_some_and(|p| p.cannot_self_intersect(mesh, n, &mesh.positions))
+    fn skips(&self, mesh: &Mesh, x: u32, y: u32) -> bool {
+        self.patches.is_some_and(|p| {
+            if x == y {
+                p.cannot_self_intersect(mesh, x)
+            } else {
+                p.cannot_intersect_each_other(mesh, x, y)
+            }
+        })
     }
 }
 
@@ -59,10 +65,10 @@ pub(crate) struct Walk<'m> {
 }
 
 impl<'m> Walk<'m> {
-    /// Is `(na, nb)` a node against itself that can be skipped?
+    /// Is `(na, nb)` a pair of one mesh whose patches are proved apart?
     #[inline(always)]
     fn skips<A: QuerySide<'m>>(&self, a: &A, na: u32, nb: u32) -> bool {
-        na == nb && self.own.is_some_and(|o| o.skips(a.mesh(), na))
+        self.own.is_some_and(|o| o.skips(a.mesh(), na, nb))
     }
 }
 
