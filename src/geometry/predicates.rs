@@ -139,6 +139,10 @@ fn orient3d_stage_one(a: &Point, b: &Point, c: &Point, d: &Point) -> (f64, f64) 
     (det, permanent)
 }
 
+/// More than the absolute error of the two products of [`orient2d_stage_one`] where they
+/// underflow (each at most half the least subnormal, `2^-1075`).
+const UNDERFLOW_SLACK: f64 = f64::from_bits((1023 - 1000) << 52);
+
 /// Shewchuk's error bound for the floating-point `orient2d` (`ccwerrboundA`).
 const ORIENT2D_FILTER: f64 = (3.0 + 16.0 * HALF_ULP) * HALF_ULP;
 
@@ -426,6 +430,17 @@ impl Orient for BigExact {
 
 /// Exact `orient2d` for any finite coordinates (see [`Orient::orient2d`]).
 pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
+    // The first stage settles most calls whatever the range: its bound holds for rounding, and
+    // [`UNDERFLOW_SLACK`] covers products that fell below the normal range; an overflow makes
+    // the bound infinite or NaN, which no comparison passes.
+    let (det, bound) = orient2d_stage_one(a, b, c);
+    let bound = bound + UNDERFLOW_SLACK;
+    if det > bound {
+        return 1;
+    }
+    if -det > bound {
+        return -1;
+    }
     if [a, b, c]
         .iter()
         .all(|p| is_safe_coordinate(p[0]) && is_safe_coordinate(p[1]))

@@ -38,6 +38,10 @@ pub(crate) struct Patches {
     /// Per node: is its patch a disk none of whose inner vertices is used by a triangle outside
     /// it? Only then is the union with a neighbour's patch a disk when their loops share a path.
     sealed: Vec<bool>,
+    /// Per node: is it the first of exactly two children? Then it and the next node make up
+    /// their parent's patch, and the traversal only meets the pair when the parent failed the
+    /// same test.
+    first_of_two: Vec<bool>,
 }
 
 impl Patches {
@@ -77,16 +81,26 @@ impl Patches {
             sorted.end_row();
             sealed.push(is_sealed);
         }
+        let mut first_of_two = vec![false; tree.len()];
+        for node in &tree.nodes {
+            if node.child_count == 2 {
+                first_of_two[node.first_child as usize] = true;
+            }
+        }
         Patches {
             loops,
             sorted,
             sealed,
+            first_of_two,
         }
     }
 
     /// Bytes held on the heap.
     pub fn heap_bytes(&self) -> usize {
-        self.loops.heap_bytes() + self.sorted.heap_bytes() + crate::csr::heap_bytes(&self.sealed)
+        self.loops.heap_bytes()
+            + self.sorted.heap_bytes()
+            + crate::csr::heap_bytes(&self.sealed)
+            + crate::csr::heap_bytes(&self.first_of_two)
     }
 
     /// Can node `n`'s patch, at the mesh's positions, have no self-intersection? (`true` only
@@ -94,7 +108,8 @@ impl Patches {
     pub fn cannot_self_intersect(&self, mesh: &Mesh, n: u32) -> bool {
         let boundary = self.loops.row(n as usize);
         boundary.len() >= 3
-            && projects_simply(&mesh.positions, mesh.turns.of(mesh, n), boundary, &[])
+            && (mesh.turns.proved(n)
+                || projects_simply(&mesh.positions, mesh.turns.of(mesh, n), boundary, &[]))
     }
 
     /// Can the patches of nodes `x` and `y` (different, neither below the other), at the mesh's
@@ -106,7 +121,8 @@ impl Patches {
     /// seams between neighbouring nodes, whose volumes always overlap.
     pub fn cannot_intersect_each_other(&self, mesh: &Mesh, x: u32, y: u32) -> bool {
         let (i, j) = (x as usize, y as usize);
-        if !(self.sealed[i] && self.sealed[j]) {
+        let twins = (i.min(j) + 1 == i.max(j)) && self.first_of_two[i.min(j)];
+        if twins || !(self.sealed[i] && self.sealed[j]) {
             return false;
         }
         let axes = mesh.turns.of(mesh, x) | mesh.turns.of(mesh, y);
@@ -118,7 +134,14 @@ impl Patches {
         };
         let [x0, x1] = stretch(self.loops.row(i), from_x);
         let [y0, y1] = stretch(self.loops.row(j), from_y);
-        projects_simply(&mesh.positions, axes, x0, &[x1, y0, y1])
+        let apart = projects_simply(&mesh.positions, axes, x0, &[x1, y0, y1]);
+        if apart {
+            // The union projects one to one, so each part does: their own tests are settled
+            // (the traversal asks them after their pairs).
+            mesh.turns.prove(x);
+            mesh.turns.prove(y);
+        }
+        apart
     }
 
     /// Where the union of the patches of `x` and `y` is a disk glued along one shared path (see
@@ -206,8 +229,8 @@ fn projects_simply(positions: &[Point], axes: u8, first: &[u32], rest: &[&[u32]]
             scratch.flat.clear();
             let all = std::iter::once(first).chain(rest.iter().copied()).flatten();
             scratch.flat.extend(all.map(|&v| flat(positions, v, drop)));
-            let Scratch { flat, edges } = scratch;
-            simple_polygon(flat, edges)
+            let Scratch { flat, polygon } = scratch;
+            simple_polygon(flat, polygon)
         })
     })
 }
@@ -217,7 +240,15 @@ fn projects_simply(positions: &[Point], axes: u8, first: &[u32], rest: &[&[u32]]
 #[derive(Default)]
 struct Scratch {
     flat: Vec<[f64; 2]>,
+    polygon: PolygonScratch,
+}
+
+/// Room for [`simple_polygon`].
+#[derive(Default)]
+struct PolygonScratch {
     edges: Vec<EdgeBox>,
+    keys: Vec<(f64, f64)>,
+    turns: Vec<u32>,
 }
 
 thread_local! {
@@ -240,7 +271,9 @@ fn one_way_axes(axes: u8) -> u8 {
 ///
 /// Per node a byte: two bits per left-out coordinate `k` (bits `2k`, `2k + 1`), `01` when every
 /// triangle turns positively, `10` negatively, `11` when they differ or one is flat; the top bit
-/// marks the byte as found. The bits of a union of nodes are the `|` of theirs.
+/// marks the byte as found. The bits of a union of nodes are the `|` of theirs. One more bit,
+/// [`PROVED`], records that a union holding the node passed the patch test, which settles the
+/// node's own test at these positions.
 #[derive(Debug, Default)]
 pub(crate) struct Turns {
     /// Atomic so that queries on several threads share what they find; every thread writes the
@@ -250,6 +283,9 @@ pub(crate) struct Turns {
 
 /// [`Turns`]'s mark of a found byte.
 const FOUND: u8 = 0x80;
+
+/// [`Turns`]'s mark of a node proved free of self-intersection at the current positions.
+const PROVED: u8 = 0x40;
 
 impl Clone for Turns {
     fn clone(&self) -> Turns {
@@ -285,7 +321,22 @@ impl Turns {
                 .map(|_| AtomicU8::new(0))
                 .collect()
         });
-        self.find(bits, mesh, n) & !FOUND
+        self.find(bits, mesh, n) & !(FOUND | PROVED)
+    }
+
+    /// Has node `n` been proved free of self-intersection (see [`Turns::prove`])?
+    pub fn proved(&self, n: u32) -> bool {
+        self.bits
+            .get()
+            .is_some_and(|bits| bits[n as usize].load(Relaxed) & PROVED != 0)
+    }
+
+    /// Records that node `n`'s patch cannot intersect itself at the current positions; its
+    /// turns must be found already.
+    pub fn prove(&self, n: u32) {
+        if let Some(bits) = self.bits.get() {
+            bits[n as usize].fetch_or(PROVED, Relaxed);
+        }
     }
 
     fn find(&self, bits: &[AtomicU8], mesh: &Mesh, n: u32) -> u8 {
@@ -315,9 +366,10 @@ impl Turns {
             })
         } else {
             node.children()
-                .fold(FOUND, |acc, c| acc | self.find(bits, mesh, c))
+                .fold(FOUND, |acc, c| acc | (self.find(bits, mesh, c) & !PROVED))
         };
-        bits[n as usize].store(found, Relaxed);
+        // `|`, not a store: another thread may have proved the node meanwhile.
+        bits[n as usize].fetch_or(found, Relaxed);
         found
     }
 }
@@ -413,9 +465,11 @@ fn connected(directed: &HashMap<(u32, u32), u32>, vertices: &[u32]) -> bool {
 
 /// Is the closed polygon `p` simple: no two edges meet except consecutive ones at their common
 /// corner, and no corner turns back along its incoming edge? Exact.
-fn simple_polygon(p: &[[f64; 2]], edges: &mut Vec<EdgeBox>) -> bool {
-    // The loops of small patches are often monotone along an axis, which settles it in one pass.
-    if let Some(simple) = monotone_simple(p, 0).or_else(|| monotone_simple(p, 1)) {
+fn simple_polygon(p: &[[f64; 2]], scratch: &mut PolygonScratch) -> bool {
+    let PolygonScratch { edges, keys, turns } = scratch;
+    // The loops of patches are mostly a few monotone pieces along some direction, which
+    // settles it in a few passes.
+    if let Some(simple) = monotone_pieces(p, keys, turns) {
         return simple;
     }
     let m = p.len();
@@ -482,69 +536,156 @@ impl EdgeBox {
     }
 }
 
-/// Is the closed polygon `p` simple, when it is strictly monotone along coordinate `k` (`None`
-/// when it is not)? Exact.
+/// Where [`monotone_pieces`] looks for a loop's pieces, as exact keys of a projected point: the
+/// rounded value and Knuth's two-sum error, compared in lexicographic order (rounding to nearest
+/// never reverses an order, and equal rounded values leave the errors to decide).
+const KEY_DIRECTIONS: usize = 4;
+
+/// Point `q`'s key along direction `d` of [`KEY_DIRECTIONS`]: `x`, `y`, `x + y`, `x - y`.
+#[inline]
+fn key(q: [f64; 2], d: usize) -> (f64, f64) {
+    let (a, b) = match d {
+        0 => return (q[0], 0.0),
+        1 => return (q[1], 0.0),
+        2 => (q[0], q[1]),
+        _ => (q[0], -q[1]),
+    };
+    let s = a + b;
+    let back = s - a;
+    (s, (a - (s - back)) + (b - back))
+}
+
+/// Loops with more pieces than this are left to the sweep.
+const MOST_PIECES: usize = 8;
+
+/// Is the closed polygon `p` simple, decided from its pieces that are strictly monotone along
+/// one direction (`None` when no direction of [`KEY_DIRECTIONS`] cuts it into at most
+/// [`MOST_PIECES`] of them, or an edge is level in all)? Exact.
 ///
-/// Strictly monotone: from the corner with the least coordinate `k` to the one with the
-/// greatest, both ways round, that coordinate strictly grows. The two chains are then graphs
-/// over the axis, meeting at their ends, and the polygon is simple when one lies strictly on
-/// one side of the other at every corner in between (between corners the gap is linear).
-fn monotone_simple(p: &[[f64; 2]], k: usize) -> Option<bool> {
+/// Cut at the corners where the key turns, the loop is a ring of pieces along each of which the
+/// key strictly grows or falls: each piece is the graph of a function over the key, so it
+/// cannot meet itself. Two pieces do not meet (but at the extreme corner that neighbours share)
+/// exactly when, over the range of keys they share, one lies strictly to one side of the other;
+/// the gap between them is linear between corners, so its sign at the corners of both decides.
+/// A loop monotone along the direction is two pieces and one such walk.
+fn monotone_pieces(
+    p: &[[f64; 2]],
+    keys: &mut Vec<(f64, f64)>,
+    turns: &mut Vec<u32>,
+) -> Option<bool> {
     let m = p.len();
-    let (mut lo, mut hi) = (0, 0);
-    for (i, q) in p.iter().enumerate() {
-        if q[k] < p[lo][k] {
-            lo = i;
-        }
-        if q[k] > p[hi][k] {
-            hi = i;
+    // The direction with the fewest pieces (two at best).
+    let mut best: Option<(usize, usize)> = None;
+    for d in 0..KEY_DIRECTIONS {
+        keys.clear();
+        keys.extend(p.iter().map(|&q| key(q, d)));
+        if let Some(pieces) = count_turns(keys) {
+            if best.is_none_or(|(_, b)| pieces < b) {
+                best = Some((d, pieces));
+            }
+            if pieces == 2 {
+                break;
+            }
         }
     }
-    if p[lo][k] == p[hi][k] {
+    let (d, pieces) = best?;
+    if pieces > MOST_PIECES {
         return None;
     }
-    let ahead = |i: usize| if i + 1 == m { 0 } else { i + 1 };
+    keys.clear();
+    keys.extend(p.iter().map(|&q| key(q, d)));
+    turns.clear();
     let behind = |i: usize| if i == 0 { m - 1 } else { i - 1 };
-    for forward in [true, false] {
-        let mut i = lo;
-        while i != hi {
-            let j = if forward { ahead(i) } else { behind(i) };
-            if p[j][k] <= p[i][k] {
-                return None;
-            }
-            i = j;
-        }
-    }
-    // Walk both chains together: each corner inside one chain against the edge of the other
-    // chain over it. The sign of the turn from the forward chain's view is kept by both.
-    let turn = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| {
-        let t = orient2d(a, b, c);
-        if k == 0 { t } else { -t }
-    };
-    let (mut f, mut b) = (lo, lo);
-    let mut side: Sign = 0;
-    loop {
-        let (fn_, bn) = (ahead(f), behind(b));
-        if fn_ == hi && bn == hi {
-            return Some(true);
-        }
-        // The chain whose next corner comes first: that corner against the other's edge.
-        let forward_first = bn == hi || (fn_ != hi && p[fn_][k] <= p[bn][k]);
-        let s = if forward_first {
-            // Forward chain's corner against the backward chain's edge b -> bn.
-            let s = turn(p[b], p[bn], p[fn_]);
-            f = fn_;
-            s
+    let ahead = |i: usize| if i + 1 == m { 0 } else { i + 1 };
+    turns.extend((0..m as u32).filter(|&i| {
+        let i = i as usize;
+        below(keys[behind(i)], keys[i]) == below(keys[ahead(i)], keys[i])
+    }));
+    // Each piece as (first corner, steps, step): from its lowest key up.
+    let piece = |t: usize| {
+        let (from, to) = (turns[t] as usize, turns[(t + 1) % turns.len()] as usize);
+        let steps = (to + m - from) % m;
+        if below(keys[from], keys[to]) {
+            (from, steps, true)
         } else {
-            let s = -turn(p[f], p[fn_], p[bn]);
-            b = bn;
-            s
-        };
-        if s == 0 || (side != 0 && s != side) {
-            return Some(false);
+            (to, steps, false)
         }
-        side = s;
+    };
+    let at = |(first, _, forward): (usize, usize, bool), r: usize| {
+        let i = if forward { first + r } else { first + m - r };
+        if i >= m { i - m } else { i }
+    };
+    for s in 0..pieces {
+        for t in s + 1..pieces {
+            let (a, b) = (piece(s), piece(t));
+            let (a_lo, a_hi, b_lo, b_hi) = (at(a, 0), at(a, a.1), at(b, 0), at(b, b.1));
+            let lo = if below(keys[a_lo], keys[b_lo]) {
+                keys[b_lo]
+            } else {
+                keys[a_lo]
+            };
+            let hi = if below(keys[a_hi], keys[b_hi]) {
+                keys[a_hi]
+            } else {
+                keys[b_hi]
+            };
+            if below(hi, lo) {
+                continue; // no key in common
+            }
+            // The corners of each piece in the common range against the other's edge over
+            // them; from `b`'s side, the turn is the other way round.
+            let mut side: Sign = 0;
+            for (x, y, flip) in [(a, b, 1), (b, a, -1)] {
+                let (y_lo, y_hi) = (at(y, 0), at(y, y.1));
+                let mut e = 0;
+                for r in 0..=x.1 {
+                    let c = at(x, r);
+                    if below(keys[c], lo) || c == y_lo || c == y_hi {
+                        continue; // below the range, or the corner both pieces end at
+                    }
+                    if below(hi, keys[c]) {
+                        break;
+                    }
+                    while below(keys[at(y, e + 1)], keys[c]) {
+                        e += 1;
+                    }
+                    let s = flip * orient2d(p[at(y, e)], p[at(y, e + 1)], p[c]);
+                    if s == 0 || (side != 0 && s != side) {
+                        return Some(false);
+                    }
+                    side = s;
+                }
+            }
+        }
     }
+    Some(true)
+}
+
+/// How many corners of the loop with keys `keys` are turning points of the key (so how many
+/// monotone pieces it has), or `None` when two neighbouring corners have equal keys.
+fn count_turns(keys: &[(f64, f64)]) -> Option<usize> {
+    let m = keys.len();
+    let mut turns = 0;
+    let mut rising = below(keys[m - 1], keys[0]);
+    if keys[0] == keys[m - 1] {
+        return None;
+    }
+    for i in 0..m {
+        let next = keys[if i + 1 == m { 0 } else { i + 1 }];
+        if next == keys[i] {
+            return None;
+        }
+        let up = below(keys[i], next);
+        turns += usize::from(up != rising);
+        rising = up;
+    }
+    Some(turns)
+}
+
+/// Does key `a` come before key `b` (see [`key`])?
+#[inline(always)]
+fn below(a: (f64, f64), b: (f64, f64)) -> bool {
+    a.0 < b.0 || (a.0 == b.0 && a.1 < b.1)
 }
 
 /// Loops up to this long are tested pair by pair (boxes first): cheaper than sorting.
@@ -573,7 +714,7 @@ mod tests {
     use super::*;
 
     fn simple_polygon_alone(p: &[[f64; 2]]) -> bool {
-        simple_polygon(p, &mut Vec::new())
+        simple_polygon(p, &mut PolygonScratch::default())
     }
 
     #[test]
@@ -643,9 +784,10 @@ mod tests {
     }
 
     #[test]
-    fn monotone_loops_agree_with_every_pair() {
-        // Wobbly circles and random stars, of lengths past the pairwise threshold, on a coarse
-        // lattice so that corners tie, touch and cross often.
+    fn monotone_pieces_agree_with_every_pair() {
+        // Wobbly circles, random stars, short lattice loops and scattered corners (some turned by 45 degrees, so
+        // that the diagonal keys matter), of lengths either side of the pairwise threshold, on
+        // a coarse lattice so that corners tie, touch and cross often.
         let mut state = 0x2545_f491_4f6c_dd1du64;
         let mut next = || {
             state ^= state << 13;
@@ -653,36 +795,69 @@ mod tests {
             state ^= state << 17;
             (state >> 11) as f64 / (1u64 << 53) as f64
         };
-        let (mut simple, mut monotone) = (0, 0);
-        for trial in 0..4000 {
-            let m = 13 + trial % 30;
+        let (mut simple, mut two, mut more, mut more_simple) = (0, 0, 0, 0);
+        for trial in 0..20000 {
+            let short = trial % 2 == 1;
+            let m = if short {
+                5 + trial % 11
+            } else {
+                13 + trial % 30
+            };
+            let turned = trial % 4 == 3;
+            let scattered = trial % 5 == 4;
+            let m = if scattered { 4 + trial % 6 } else { m };
             let p: Vec<[f64; 2]> = (0..m)
                 .map(|i| {
+                    if scattered {
+                        return [(next() * 5.0).floor(), (next() * 5.0).floor()];
+                    }
                     let a = i as f64 * std::f64::consts::TAU / m as f64;
                     let r = match trial % 3 {
                         0 => 20.0 + (next() * 2.0).floor(),
                         1 => 6.0 + (next() * 6.0).floor(),
                         _ => 3.0 + (next() * 9.0).floor(),
                     };
-                    [
+                    let (x, y) = (
                         (r * a.cos()).round(),
                         (r * a.sin() * (1.0 + 0.3 * next())).round(),
-                    ]
+                    );
+                    if turned { [x + y, x - y] } else { [x, y] }
                 })
                 .collect();
             let expected = simple_by_pairs(&p);
             assert_eq!(simple_polygon_alone(&p), expected, "{p:?}");
-            for k in 0..2 {
-                if let Some(answer) = monotone_simple(&p, k) {
-                    monotone += 1;
-                    assert_eq!(answer, expected, "{p:?} along {k}");
+            if let Some(answer) = monotone_pieces(&p, &mut Vec::new(), &mut Vec::new()) {
+                assert_eq!(answer, expected, "{p:?}");
+                let pieces = (0..KEY_DIRECTIONS)
+                    .filter_map(|d| count_turns(&p.iter().map(|&q| key(q, d)).collect::<Vec<_>>()))
+                    .min()
+                    .expect("some direction");
+                if pieces == 2 {
+                    two += 1;
+                } else {
+                    more += 1;
+                    more_simple += usize::from(expected);
                 }
             }
             simple += usize::from(expected);
         }
-        // Both answers, and the monotone path, were exercised.
-        assert!(simple > 400 && simple < 3800, "{simple}");
-        assert!(monotone > 200, "{monotone}");
+        // Both answers, loops of two pieces and of more, simple and not, were exercised.
+        assert!(simple > 2000 && simple < 19000, "{simple}");
+        assert!(two > 1000, "{two}");
+        assert!(
+            more > 1000 && more_simple > 300 && more - more_simple > 300,
+            "{more} {more_simple}"
+        );
+    }
+
+    #[test]
+    fn keys_compare_exactly() {
+        // Sums that round to the same value still order by their errors.
+        let (a, b) = ([1.0, 1e-17], [1.0, 2e-17]);
+        assert_eq!(key(a, 2).0, key(b, 2).0);
+        assert!(below(key(a, 2), key(b, 2)));
+        assert!(below(key(b, 3), key(a, 3)));
+        assert_eq!(key([0.5, 0.25], 2), (0.75, 0.0));
     }
 
     #[test]

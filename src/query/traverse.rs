@@ -192,10 +192,15 @@ fn open_pair<'m, A: QuerySide<'m>, B: QuerySide<'m>>(
             }
         }
         Open::Own => {
+            // Each child with itself first, so that a depth-first walk, which takes the last
+            // pair kept first, reaches them after the pairs: a pair proved apart by the patch
+            // test settles its two nodes' own tests (see `Patches`).
             let children = nodes_a[na as usize].children();
             for x in children.clone() {
+                keep(x, x, &a.volume(x), &b.volume(x));
+            }
+            for x in children.clone() {
                 let vx = a.volume(x);
-                keep(x, x, &vx, &b.volume(x));
                 for y in x + 1..children.end {
                     let vy = b.volume(y);
                     stats.bv_tests += 1;
