@@ -76,11 +76,13 @@ struct Args {
     threads: u32,
     pause_ms: u64,
     out: PathBuf,
+    /// `self` without its proximity rows.
+    no_proximity: bool,
 }
 
 fn usage() -> String {
     "usage: dvh-runner [paper|knobs|exactness|rigid|all|checksums|profile|scenes|self] [--full] \
-     [--scene NAME]... [--frames N] [--knob-frames N] [--repeat N] [--threads N] [--pause MS] [--out DIR]"
+     [--scene NAME]... [--frames N] [--knob-frames N] [--repeat N] [--threads N] [--pause MS] [--out DIR] [--no-proximity]"
         .to_string()
 }
 
@@ -105,6 +107,7 @@ fn parse() -> Result<Args, String> {
         threads: 1,
         pause_ms: 0,
         out: PathBuf::from("target/dvh-runner"),
+        no_proximity: false,
     };
     let mut it = std::env::args().skip(1);
     while let Some(a) = it.next() {
@@ -127,6 +130,7 @@ fn parse() -> Result<Args, String> {
             "--threads" => args.threads = number("--threads", value("--threads")?)?,
             "--pause" => args.pause_ms = number("--pause", value("--pause")?)?,
             "--out" => args.out = PathBuf::from(value("--out")?),
+            "--no-proximity" => args.no_proximity = true,
             "-h" | "--help" => return Err(usage()),
             other => return Err(format!("unknown argument {other:?}\n{}", usage())),
         }
@@ -249,7 +253,14 @@ fn run(args: &Args) -> Result<bool, Box<dyn std::error::Error>> {
         };
         print!(
             "{}",
-            self_scenes::run(args.size, &args.scenes, frames, args.repeat, args.threads)?
+            self_scenes::run(
+                args.size,
+                &args.scenes,
+                frames,
+                args.repeat,
+                args.threads,
+                !args.no_proximity
+            )?
         );
         return Ok(true);
     }
