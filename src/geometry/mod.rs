@@ -4,6 +4,7 @@
 pub mod aabb;
 pub mod adjacent;
 pub mod distance;
+pub mod polygon;
 pub mod pose;
 pub mod predicates;
 pub mod sphere;

@@ -429,6 +429,7 @@ impl Orient for BigExact {
 }
 
 /// Exact `orient2d` for any finite coordinates (see [`Orient::orient2d`]).
+#[inline]
 pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
     // The first stage settles most calls whatever the range: its bound holds for rounding, and
     // [`UNDERFLOW_SLACK`] covers products that fell below the normal range; an overflow makes
@@ -441,6 +442,37 @@ pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
     if -det > bound {
         return -1;
     }
+    orient2d_beyond_filter(a, b, c)
+}
+
+/// [`orient2d`] of the triangle `a, b, c` in the three coordinate projections: entry `k` leaves
+/// coordinate `k` out and keeps the other two in cyclic order (`k + 1`, `k + 2`), so it is the
+/// sign of component `k` of the triangle's normal. Exact; the three first stages share their
+/// coordinate differences.
+#[inline]
+pub fn projected_orientations(a: &Point, b: &Point, c: &Point) -> [Sign; 3] {
+    let ac = [a[0] - c[0], a[1] - c[1], a[2] - c[2]];
+    let bc = [b[0] - c[0], b[1] - c[1], b[2] - c[2]];
+    std::array::from_fn(|k| {
+        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+        // `orient2d_stage_one` of the projections, from the shared differences.
+        let (left, right) = (ac[i] * bc[j], ac[j] * bc[i]);
+        let det = left - right;
+        let bound = ORIENT2D_FILTER * (left.abs() + right.abs()) + UNDERFLOW_SLACK;
+        if det > bound {
+            1
+        } else if -det > bound {
+            -1
+        } else {
+            orient2d_beyond_filter([a[i], a[j]], [b[i], b[j]], [c[i], c[j]])
+        }
+    })
+}
+
+/// [`orient2d`] where its first stage cannot decide: rare, so kept out of its callers' loops.
+#[cold]
+#[inline(never)]
+fn orient2d_beyond_filter(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Sign {
     if [a, b, c]
         .iter()
         .all(|p| is_safe_coordinate(p[0]) && is_safe_coordinate(p[1]))
@@ -545,6 +577,21 @@ mod tests {
                 Adaptive::orient2d(p(a), p(b), p(c)),
                 BigExact::orient2d(p(a), p(b), p(c))
             );
+        }
+
+        #[test]
+        fn projected_orientations_are_orient2d(
+            a in point(), b in point(), c in point(), k in prop_oneof![Just(0i32), -1000i32..-900, 900i32..1000]
+        ) {
+            // Also at scales where the products underflow into subnormals or overflow.
+            let s = 2f64.powi(k);
+            let (a, b, c) = (a.map(|x| x * s), b.map(|x| x * s), c.map(|x| x * s));
+            let flat = |p: Point, k: usize| [p[(k + 1) % 3], p[(k + 2) % 3]];
+            let expected: [Sign; 3] = std::array::from_fn(|k| BigExact::orient2d(flat(a, k), flat(b, k), flat(c, k)));
+            prop_assert_eq!(projected_orientations(&a, &b, &c), expected);
+            for (k, &sign) in expected.iter().enumerate() {
+                prop_assert_eq!(orient2d(flat(a, k), flat(b, k), flat(c, k)), sign);
+            }
         }
 
         #[test]

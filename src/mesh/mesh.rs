@@ -95,9 +95,10 @@ pub struct Mesh {
     /// by every mesh at build and at every change of positions, copied by a clone. Equal states
     /// mean equal contents, which lets a scene's rigid objects share one copy.
     pub(crate) state: u64,
-    /// Which way the nodes' triangles turn at the current positions, for self-collision; found
-    /// on first use and forgotten when the positions change.
-    pub(crate) turns: crate::query::Turns,
+    /// What self-collision finds about the nodes at the current positions (which way their
+    /// triangles turn, whether their loops project simply); found on first use and forgotten
+    /// when the positions change.
+    pub(crate) facts: crate::query::Facts,
     /// Stacks for the wrapped-radius search, one per refit thread, sized at build so refits
     /// never allocate.
     pub(crate) scratch: Vec<Vec<u32>>,
@@ -237,7 +238,7 @@ impl Mesh {
             + heap_bytes(&self.spare)
             + volumes
             + scratch
-            + self.turns.heap_bytes()
+            + self.facts.heap_bytes()
     }
 
     /// Counters of the last refit (or of the build's initial fit).

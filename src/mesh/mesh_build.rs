@@ -92,7 +92,7 @@ impl Mesh {
             safe: extent.safe,
             last_refit: RefitStats::default(),
             state: super::mesh::next_state(),
-            turns: Default::default(),
+            facts: Default::default(),
             scratch,
         };
         mesh.last_refit = mesh.update_volumes();

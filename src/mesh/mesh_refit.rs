@@ -94,7 +94,7 @@ impl Mesh {
         self.max_abs = extent.max_abs;
         self.safe = extent.safe;
         self.state = super::mesh::next_state();
-        self.turns.clear();
+        self.facts.clear();
     }
 
     /// Recomputes every volume from the current positions.

@@ -23,6 +23,6 @@ pub use collide::collide;
 pub(crate) use collide::collide_lazy;
 pub use options::{QueryMode, QueryOptions};
 pub use pairs::{Pair, PairKind, Pairs, QueryStats};
-pub(crate) use patches::{Patches, Turns};
+pub(crate) use patches::{Facts, Patches};
 pub use proximity::{proximity, self_proximity};
 pub use self_collide::self_collide;

@@ -14,19 +14,22 @@
 //! Two neighbouring nodes always have overlapping volumes (their patches share vertices), so
 //! without more the traversal would follow every seam between them down to the leaves and test
 //! each pair of neighbouring triangles there. The same argument closes the seams: when both
-//! patches are disks glued along one path of their loops, their union is a disk, with a loop
-//! made of the rest of the two, and it takes the same test ([`Patches::cannot_intersect_each_other`]).
+//! patches are disks glued along one path of their loops, their union is a disk, and it projects
+//! one to one when both patches do along one axis, on opposite sides of the path, and the rest of
+//! their loops keep apart ([`Patches::cannot_intersect_each_other`]). A node's own test is made
+//! once per positions and shared by all its seams.
 //!
 //! What depends on the shape (which nodes are disks, their loops, which seams glue) is found once
-//! per shape; which way the triangles turn ([`Turns`], kept with the mesh until its positions
-//! change) and the loops' simplicity are decided from the positions.
+//! per shape; which way the triangles turn and whether each loop projects simply ([`Facts`], kept
+//! with the mesh until its positions change) are decided from the positions.
 
 use crate::csr::Csr;
-use crate::geometry::predicates::{Point, Sign, orient2d};
+use crate::geometry::polygon::{PolygonScratch, chains_apart, is_simple, turns_before};
+use crate::geometry::predicates::{Point, projected_orientations};
 use crate::mesh::Mesh;
 use std::collections::HashMap;
 use std::sync::OnceLock;
-use std::sync::atomic::{AtomicU8, Ordering::Relaxed};
+use std::sync::atomic::{AtomicU16, Ordering::Relaxed};
 
 /// The boundary loop of every node whose patch is a disk (an empty row for the others), and
 /// what the test of two nodes' patches together needs.
@@ -35,9 +38,11 @@ pub(crate) struct Patches {
     loops: Csr<u32>,
     /// Per node, its loop's vertices in increasing order, each with its place in the loop.
     sorted: Csr<(u32, u32)>,
-    /// Per node: is its patch a disk none of whose inner vertices is used by a triangle outside
-    /// it? Only then is the union with a neighbour's patch a disk when their loops share a path.
-    sealed: Vec<bool>,
+    /// Per node whose patch is a disk none of whose inner vertices is used by a triangle outside
+    /// it (only then is the union with a neighbour's patch a disk when their loops share a
+    /// path): a summary of its loop's vertices, bit `v % 64` for vertex `v`, never zero. Zero
+    /// for the other nodes. Loops whose summaries share no bit share no vertex.
+    sealed: Vec<u64>,
     /// Per node: is it the first of exactly two children? Then it and the next node make up
     /// their parent's patch, and the traversal only meets the pair when the parent failed the
     /// same test.
@@ -64,9 +69,11 @@ impl Patches {
             let range = node.ring_start as usize..node.ring_end as usize;
             let own = rings.row_range(range);
             let patch = own.iter().map(|&t| tris[t as usize]);
-            let mut is_sealed = false;
+            let mut summary = 0;
             if let Some(l) = disk_loop(patch.clone()) {
-                is_sealed = seals(patch, &l, &uses);
+                if seals(patch, &l, &uses) {
+                    summary = l.iter().fold(0u64, |s, &v| s | 1 << (v % 64));
+                }
                 let mut by_vertex: Vec<(u32, u32)> =
                     l.iter().enumerate().map(|(i, &v)| (v, i as u32)).collect();
                 by_vertex.sort_unstable();
@@ -79,7 +86,7 @@ impl Patches {
             }
             loops.end_row();
             sorted.end_row();
-            sealed.push(is_sealed);
+            sealed.push(summary);
         }
         let mut first_of_two = vec![false; tree.len()];
         for node in &tree.nodes {
@@ -103,13 +110,33 @@ impl Patches {
             + crate::csr::heap_bytes(&self.first_of_two)
     }
 
+    /// Can node `n`'s patch be part of a union that passes
+    /// [`Patches::cannot_intersect_each_other`]: is it a sealed disk whose triangles all turn one
+    /// way along some axis?
+    pub fn may_join(&self, mesh: &Mesh, n: u32) -> bool {
+        self.sealed[n as usize] != 0 && one_way_axes(mesh.facts.turns(mesh, n)) != 0
+    }
+
     /// Can node `n`'s patch, at the mesh's positions, have no self-intersection? (`true` only
     /// when sure.)
     pub fn cannot_self_intersect(&self, mesh: &Mesh, n: u32) -> bool {
-        let boundary = self.loops.row(n as usize);
-        boundary.len() >= 3
-            && (mesh.turns.proved(n)
-                || projects_simply(&mesh.positions, mesh.turns.of(mesh, n), boundary, &[]))
+        let axes = one_way_axes(mesh.facts.turns(mesh, n));
+        (0..3).any(|k| axes & 1 << k != 0 && self.projects_simply(mesh, n, k))
+    }
+
+    /// Does node `n`'s loop (three corners or more) project to a simple polygon along axis `k`?
+    /// Decided once per positions ([`Facts`]).
+    fn projects_simply(&self, mesh: &Mesh, n: u32, k: usize) -> bool {
+        mesh.facts.simple(mesh, n, k, || {
+            let boundary = self.loops.row(n as usize);
+            boundary.len() >= 3
+                && SCRATCH.with_borrow_mut(|scratch| {
+                    let Scratch { flat, polygon, .. } = scratch;
+                    flat.clear();
+                    flat.extend(boundary.iter().map(|&v| project(&mesh.positions, v, k)));
+                    is_simple(flat, polygon)
+                })
+        })
     }
 
     /// Can the patches of nodes `x` and `y` (different, neither below the other), at the mesh's
@@ -117,39 +144,81 @@ impl Patches {
     ///
     /// When both patches are sealed disks whose loops share one path, walked in opposite
     /// directions, and nothing else, their union is a disk whose loop is the rest of the two
-    /// loops; the union then takes [`Patches::cannot_self_intersect`]'s test. This closes the
-    /// seams between neighbouring nodes, whose volumes always overlap.
+    /// loops (their stretches). Along an axis on which every triangle of both turns one way and
+    /// both loops project simply, the two projected patches lie on opposite sides of the path
+    /// near it; the union projects one to one exactly when, besides, neither stretch leaves
+    /// either end of the path into the other patch's corner there, and the two stretches do not
+    /// meet elsewhere (a stretch that stays outside the other patch near the path's end and
+    /// never crosses its loop stays outside it, and two overlapping regions would need a
+    /// boundary inside the path). This closes the seams between neighbouring nodes, whose volumes
+    /// always overlap, at the cost of the stretches near each other.
     pub fn cannot_intersect_each_other(&self, mesh: &Mesh, x: u32, y: u32) -> bool {
         let (i, j) = (x as usize, y as usize);
         let twins = (i.min(j) + 1 == i.max(j)) && self.first_of_two[i.min(j)];
-        if twins || !(self.sealed[i] && self.sealed[j]) {
+        if twins || self.sealed[i] & self.sealed[j] == 0 {
             return false;
         }
-        let axes = mesh.turns.of(mesh, x) | mesh.turns.of(mesh, y);
-        if one_way_axes(axes) == 0 {
+        let turns = mesh.facts.turns(mesh, x) | mesh.facts.turns(mesh, y);
+        let axes = one_way_axes(turns);
+        if axes == 0 {
             return false;
         }
-        let Some([from_x, from_y]) = self.glued(i, j) else {
+        let Some(seam) = self.glued(i, j) else {
             return false;
         };
-        let [x0, x1] = stretch(self.loops.row(i), from_x);
-        let [y0, y1] = stretch(self.loops.row(j), from_y);
-        let apart = projects_simply(&mesh.positions, axes, x0, &[x1, y0, y1]);
-        if apart {
-            // The union projects one to one, so each part does: their own tests are settled
-            // (the traversal asks them after their pairs).
-            mesh.turns.prove(x);
-            mesh.turns.prove(y);
-        }
-        apart
+        (0..3).any(|k| {
+            axes & 1 << k != 0
+                && self.projects_simply(mesh, x, k)
+                && self.projects_simply(mesh, y, k)
+                && self.seam_closes(mesh, &seam, k, (turns >> (2 * k)) & 3 == 2)
+        })
+    }
+
+    /// Along axis `k`, with both loops simple there: do the stretches of `seam` keep apart and
+    /// out of each other's corners at the path's ends? `mirrored` when the triangles turn
+    /// negatively along `k`: the projection is then mirrored so that the loops run
+    /// counterclockwise.
+    fn seam_closes(&self, mesh: &Mesh, seam: &Seam, k: usize, mirrored: bool) -> bool {
+        let at = |v: u32| {
+            let q = project(&mesh.positions, v, k);
+            if mirrored { [q[1], q[0]] } else { q }
+        };
+        let (lx, ly) = (
+            self.loops.row(seam.x as usize),
+            self.loops.row(seam.y as usize),
+        );
+        let [x0, x1] = stretch(lx, seam.from_x);
+        let [y0, y1] = stretch(ly, seam.from_y);
+        SCRATCH.with_borrow_mut(|scratch| {
+            // The stretches as chains, each closed by the other's first corner: `x`'s runs from
+            // the path's last vertex round to its first, `y`'s from the first to the last.
+            let Scratch {
+                flat,
+                other,
+                polygon,
+            } = scratch;
+            flat.clear();
+            flat.extend(x0.iter().chain(x1).map(|&v| at(v)));
+            other.clear();
+            other.extend(y0.iter().chain(y1).map(|&v| at(v)));
+            let (first, last) = (other[0], flat[0]);
+            flat.push(first);
+            other.push(last);
+            // At the path's first vertex, going counterclockwise from the path: `x`'s corner
+            // reaches back to its stretch before `y`'s corner starts; at the last vertex, the
+            // other way round.
+            let (a, b) = (&flat[..], &other[..]);
+            turns_before(first, at(seam.after_first), a[a.len() - 2], b[1])
+                && turns_before(last, at(seam.before_last), b[b.len() - 2], a[1])
+                && chains_apart(a, b, polygon)
+        })
     }
 
     /// Where the union of the patches of `x` and `y` is a disk glued along one shared path (see
-    /// [`Patches::cannot_intersect_each_other`]), its loop as two stretches: `(start, length)` in
-    /// `x`'s loop (from the path's last vertex round to before its first) and in `y`'s (from the
-    /// path's first vertex round to before its last). `None` otherwise, or when the path is
-    /// longer than [`LONGEST_SEAM`] (the children's seams are shorter).
-    fn glued(&self, x: usize, y: usize) -> Option<[(u32, u32); 2]> {
+    /// [`Patches::cannot_intersect_each_other`]), the path and the two stretches. `None`
+    /// otherwise, or when the path is longer than [`LONGEST_SEAM`] (the children's seams are
+    /// shorter).
+    fn glued(&self, x: usize, y: usize) -> Option<Seam> {
         let (m, k) = (self.loops.row_len(x), self.loops.row_len(y));
         // The shared vertices, with their places in both loops.
         let mut shared = [(0u32, 0u32); LONGEST_SEAM];
@@ -157,19 +226,17 @@ impl Patches {
         let (sx, sy) = (self.sorted.row(x), self.sorted.row(y));
         let (mut i, mut j) = (0, 0);
         while i < sx.len() && j < sy.len() {
-            match sx[i].0.cmp(&sy[j].0) {
-                std::cmp::Ordering::Less => i += 1,
-                std::cmp::Ordering::Greater => j += 1,
-                std::cmp::Ordering::Equal => {
-                    if s == LONGEST_SEAM {
-                        return None;
-                    }
-                    shared[s] = (sx[i].1, sy[j].1);
-                    s += 1;
-                    i += 1;
-                    j += 1;
+            let ((u, pu), (v, pv)) = (sx[i], sy[j]);
+            if u == v {
+                if s == LONGEST_SEAM {
+                    return None;
                 }
+                shared[s] = (pu, pv);
+                s += 1;
             }
+            // Without branches on which side steps: the merge's order is unpredictable.
+            i += usize::from(u <= v);
+            j += usize::from(v <= u);
         }
         // A path of at least one edge, and each loop keeps a vertex of its own.
         if s < 2 || s >= m || s >= k {
@@ -191,10 +258,19 @@ impl Patches {
         });
         reversed.then(|| {
             let s = s as u32;
-            [
-                (shared[last].0, m as u32 - s + 1),
-                (shared[first].1, k as u32 - s + 1),
-            ]
+            let lx = self.loops.row(x);
+            let from_x = (shared[last].0, m as u32 - s + 1);
+            let place = |p: u32| lx[(p as usize) % m];
+            Seam {
+                x: x as u32,
+                y: y as u32,
+                from_x,
+                from_y: (shared[first].1, k as u32 - s + 1),
+                // In `x`'s loop the path runs from its first vertex, right after the stretch,
+                // to its last, where the stretch starts.
+                after_first: place(from_x.0 + from_x.1 + 1),
+                before_last: place(from_x.0 + m as u32 - 1),
+            }
         })
     }
 }
@@ -210,45 +286,34 @@ fn stretch(l: &[u32], (start, len): (u32, u32)) -> [&[u32]; 2] {
 /// their children's seams are tested instead.
 const LONGEST_SEAM: usize = 64;
 
-/// Vertex `v` at `positions` without coordinate `drop`.
+/// Vertex `v` at `positions` projected along axis `k`: coordinates `k + 1` and `k + 2`.
 #[inline]
-fn flat(positions: &[Point], v: u32, drop: usize) -> [f64; 2] {
+fn project(positions: &[Point], v: u32, k: usize) -> [f64; 2] {
     let p = positions[v as usize];
-    [p[(drop + 1) % 3], p[(drop + 2) % 3]]
+    [p[(k + 1) % 3], p[(k + 2) % 3]]
 }
 
-/// Does the loop made of `first` and then the stretches `rest` project to a simple polygon
-/// along an axis on which every triangle of its patch turns one way (`axes`, as in [`Turns`])?
-fn projects_simply(positions: &[Point], axes: u8, first: &[u32], rest: &[&[u32]]) -> bool {
-    let one_way = one_way_axes(axes);
-    SCRATCH.with_borrow_mut(|scratch| {
-        (0..3).any(|drop| {
-            if one_way & (1 << drop) == 0 {
-                return false;
-            }
-            scratch.flat.clear();
-            let all = std::iter::once(first).chain(rest.iter().copied()).flatten();
-            scratch.flat.extend(all.map(|&v| flat(positions, v, drop)));
-            let Scratch { flat, polygon } = scratch;
-            simple_polygon(flat, polygon)
-        })
-    })
+/// A seam between two nodes' patches (see [`Patches::glued`]): the stretches `(start,
+/// length)` of `x`'s loop (from the path's last vertex round to before its first) and of `y`'s
+/// (from the path's first vertex round to before its last), and the vertices next to the path's
+/// ends along it.
+struct Seam {
+    x: u32,
+    y: u32,
+    from_x: (u32, u32),
+    from_y: (u32, u32),
+    /// The path's vertex after its first.
+    after_first: u32,
+    /// The path's vertex before its last.
+    before_last: u32,
 }
 
-/// Room for [`projects_simply`], kept per thread so that the patch tests allocate nothing once
-/// warm.
+/// Room for the patch tests, kept per thread so that they allocate nothing once warm.
 #[derive(Default)]
 struct Scratch {
     flat: Vec<[f64; 2]>,
+    other: Vec<[f64; 2]>,
     polygon: PolygonScratch,
-}
-
-/// Room for [`simple_polygon`].
-#[derive(Default)]
-struct PolygonScratch {
-    edges: Vec<EdgeBox>,
-    keys: Vec<(f64, f64)>,
-    turns: Vec<u32>,
 }
 
 thread_local! {
@@ -256,52 +321,51 @@ thread_local! {
 }
 
 /// The axes (bit `k` for coordinate `k` left out) along which triangles whose turns are
-/// `axes` all turn one strict way.
+/// `turns` (as in [`Facts`]) all turn one strict way.
 #[inline]
-fn one_way_axes(axes: u8) -> u8 {
+fn one_way_axes(turns: u8) -> u8 {
     (0..3)
-        .filter(|k| matches!((axes >> (2 * k)) & 3, 1 | 2))
+        .filter(|k| matches!((turns >> (2 * k)) & 3, 1 | 2))
         .fold(0, |m, k| m | 1 << k)
 }
 
-/// Which way each node's triangles turn in the three coordinate projections, at the mesh's
-/// current positions: the normal cones of the nodes, in the exact form the patch test needs.
-/// Found on first need (a node from its children), kept until the positions change; nodes no
-/// self query reaches cost nothing.
+/// What self-collision finds about each node at the mesh's current positions, on first need,
+/// kept until the positions change; nodes no self query reaches cost nothing.
 ///
-/// Per node a byte: two bits per left-out coordinate `k` (bits `2k`, `2k + 1`), `01` when every
-/// triangle turns positively, `10` negatively, `11` when they differ or one is flat; the top bit
-/// marks the byte as found. The bits of a union of nodes are the `|` of theirs. One more bit,
-/// [`PROVED`], records that a union holding the node passed the patch test, which settles the
-/// node's own test at these positions.
+/// Per node sixteen bits. The low six say which way its triangles turn in the three coordinate
+/// projections (the normal cone, in the exact form the patch test needs): two bits per left-out
+/// coordinate `k` (bits `2k`, `2k + 1`), `01` when every triangle turns positively, `10`
+/// negatively, `11` when they differ or one is flat; the turns of a union of nodes are the `|`
+/// of theirs. Bit [`TURNS_FOUND`] marks them found. Bits `8 + k` mark the node's loop tested
+/// along axis `k`, and bits `12 + k` record that it projects simply there.
 #[derive(Debug, Default)]
-pub(crate) struct Turns {
-    /// Atomic so that queries on several threads share what they find; every thread writes the
-    /// same value for a node, so relaxed order is enough.
-    bits: OnceLock<Box<[AtomicU8]>>,
+pub(crate) struct Facts {
+    /// Atomic so that queries on several threads share what they find; every thread finds the
+    /// same value, so relaxed order is enough.
+    bits: OnceLock<Box<[AtomicU16]>>,
 }
 
-/// [`Turns`]'s mark of a found byte.
-const FOUND: u8 = 0x80;
+/// [`Facts`]' mark of a node's turns found.
+const TURNS_FOUND: u16 = 1 << 7;
 
-/// [`Turns`]'s mark of a node proved free of self-intersection at the current positions.
-const PROVED: u8 = 0x40;
+/// [`Facts`]' first bit of "tested along axis `k`"; the result is four bits up.
+const TESTED: u16 = 1 << 8;
 
-impl Clone for Turns {
-    fn clone(&self) -> Turns {
+impl Clone for Facts {
+    fn clone(&self) -> Facts {
         let copy = OnceLock::new();
         if let Some(bits) = self.bits.get() {
             let _ = copy.set(
                 bits.iter()
-                    .map(|b| AtomicU8::new(b.load(Relaxed)))
+                    .map(|b| AtomicU16::new(b.load(Relaxed)))
                     .collect(),
             );
         }
-        Turns { bits: copy }
+        Facts { bits: copy }
     }
 }
 
-impl Turns {
+impl Facts {
     /// Forgets everything found (the positions changed).
     pub fn clear(&mut self) {
         if let Some(bits) = self.bits.get_mut() {
@@ -311,38 +375,39 @@ impl Turns {
 
     /// Bytes held on the heap.
     pub fn heap_bytes(&self) -> usize {
-        self.bits.get().map_or(0, |b| b.len())
+        self.bits.get().map_or(0, |b| std::mem::size_of_val(&**b))
     }
 
-    /// Node `n`'s turns (see [`Turns`]), without the mark.
-    pub fn of(&self, mesh: &Mesh, n: u32) -> u8 {
-        let bits = self.bits.get_or_init(|| {
+    fn bits(&self, mesh: &Mesh) -> &[AtomicU16] {
+        self.bits.get_or_init(|| {
             (0..mesh.shape.tree.len())
-                .map(|_| AtomicU8::new(0))
+                .map(|_| AtomicU16::new(0))
                 .collect()
-        });
-        self.find(bits, mesh, n) & !(FOUND | PROVED)
+        })
     }
 
-    /// Has node `n` been proved free of self-intersection (see [`Turns::prove`])?
-    pub fn proved(&self, n: u32) -> bool {
-        self.bits
-            .get()
-            .is_some_and(|bits| bits[n as usize].load(Relaxed) & PROVED != 0)
+    /// Node `n`'s turns (see [`Facts`]).
+    pub fn turns(&self, mesh: &Mesh, n: u32) -> u8 {
+        self.find_turns(self.bits(mesh), mesh, n)
     }
 
-    /// Records that node `n`'s patch cannot intersect itself at the current positions; its
-    /// turns must be found already.
-    pub fn prove(&self, n: u32) {
-        if let Some(bits) = self.bits.get() {
-            bits[n as usize].fetch_or(PROVED, Relaxed);
-        }
-    }
-
-    fn find(&self, bits: &[AtomicU8], mesh: &Mesh, n: u32) -> u8 {
+    /// Whether node `n`'s loop projects simply along axis `k`, found by `test` the first time.
+    fn simple(&self, mesh: &Mesh, n: u32, k: usize, test: impl FnOnce() -> bool) -> bool {
+        let bits = self.bits(mesh);
+        let (tested, simple) = (TESTED << k, TESTED << (k + 4));
         let known = bits[n as usize].load(Relaxed);
-        if known & FOUND != 0 {
-            return known;
+        if known & tested != 0 {
+            return known & simple != 0;
+        }
+        let answer = test();
+        bits[n as usize].fetch_or(tested | if answer { simple } else { 0 }, Relaxed);
+        answer
+    }
+
+    fn find_turns(&self, bits: &[AtomicU16], mesh: &Mesh, n: u32) -> u8 {
+        let known = bits[n as usize].load(Relaxed);
+        if known & TURNS_FOUND != 0 {
+            return known as u8 & 0x3f;
         }
         let node = &mesh.shape.tree.nodes[n as usize];
         let found = if node.is_leaf() {
@@ -352,24 +417,25 @@ impl Turns {
                 .rings
                 .triangles
                 .row_range(node.ring_start as usize..node.ring_end as usize);
-            own.iter().fold(FOUND, |acc, &t| {
+            let at = |v: u32| &mesh.positions[v as usize];
+            own.iter().fold(0, |acc, &t| {
                 let [a, b, c] = tris[t as usize];
-                (0..3).fold(acc, |acc, drop| {
-                    let at = |v| flat(&mesh.positions, v, drop);
-                    let bits = match orient2d(at(a), at(b), at(c)) {
+                let signs = projected_orientations(at(a), at(b), at(c));
+                (0..3).fold(acc, |acc, k| {
+                    let bits = match signs[k] {
                         1.. => 1,
                         ..0 => 2,
                         0 => 3,
                     };
-                    acc | bits << (2 * drop)
+                    acc | bits << (2 * k)
                 })
             })
         } else {
             node.children()
-                .fold(FOUND, |acc, c| acc | (self.find(bits, mesh, c) & !PROVED))
+                .fold(0, |acc, c| acc | self.find_turns(bits, mesh, c))
         };
-        // `|`, not a store: another thread may have proved the node meanwhile.
-        bits[n as usize].fetch_or(found, Relaxed);
+        // `|`, not a store: another thread may have tested the node's loop meanwhile.
+        bits[n as usize].fetch_or(u16::from(found) | TURNS_FOUND, Relaxed);
         found
     }
 }
@@ -463,402 +529,9 @@ fn connected(directed: &HashMap<(u32, u32), u32>, vertices: &[u32]) -> bool {
     (0..vertices.len()).all(|x| root(&mut parent, x) == r)
 }
 
-/// Is the closed polygon `p` simple: no two edges meet except consecutive ones at their common
-/// corner, and no corner turns back along its incoming edge? Exact.
-fn simple_polygon(p: &[[f64; 2]], scratch: &mut PolygonScratch) -> bool {
-    let PolygonScratch { edges, keys, turns } = scratch;
-    // The loops of patches are mostly a few monotone pieces along some direction, which
-    // settles it in a few passes.
-    if let Some(simple) = monotone_pieces(p, keys, turns) {
-        return simple;
-    }
-    let m = p.len();
-    let after = |i: usize| if i + 1 == m { 0 } else { i + 1 };
-    for i in 0..m {
-        let (a, b) = (p[i], p[after(i)]);
-        if a == b {
-            return false;
-        }
-        // The corner at b: the next edge must not fold back over this one.
-        let c = p[after(after(i))];
-        if (c == b || between(a, b, c) || between(b, c, a)) && orient2d(a, b, c) == 0 {
-            return false;
-        }
-    }
-    // Edges that are not consecutive must not meet at all. Their boxes, found once, settle
-    // most pairs without a predicate.
-    edges.clear();
-    edges.extend((0..m).map(|i| EdgeBox::new(p[i], p[after(i)], i as u32)));
-    let meet = |e: &EdgeBox, f: &EdgeBox| {
-        let (i, j) = (e.index.min(f.index) as usize, e.index.max(f.index) as usize);
-        let apart = j - i > 1 && !(i == 0 && j == m - 1);
-        apart
-            && e.lo[1] <= f.hi[1]
-            && f.lo[1] <= e.hi[1]
-            && segments_meet(p[i], p[after(i)], p[j], p[after(j)])
-    };
-    if m <= SMALL_LOOP {
-        return !(0..m).any(|i| {
-            let e = &edges[i];
-            edges[i + 1..]
-                .iter()
-                .any(|f| e.lo[0] <= f.hi[0] && f.lo[0] <= e.hi[0] && meet(e, f))
-        });
-    }
-    // A sweep along x: edges in order of their lower x, each tested only against the edges
-    // after it whose lower x is within its span. Loops of patches cross most vertical lines a
-    // few times, so this is about linear after the sort.
-    edges.sort_unstable_by(|e, f| e.lo[0].total_cmp(&f.lo[0]));
-    !(0..m).any(|s| {
-        let e = &edges[s];
-        edges[s + 1..]
-            .iter()
-            .take_while(|f| f.lo[0] <= e.hi[0])
-            .any(|f| meet(e, f))
-    })
-}
-
-/// An edge of a polygon, `index`, with its box.
-#[derive(Clone, Copy, Debug)]
-struct EdgeBox {
-    lo: [f64; 2],
-    hi: [f64; 2],
-    index: u32,
-}
-
-impl EdgeBox {
-    fn new(a: [f64; 2], b: [f64; 2], index: u32) -> EdgeBox {
-        EdgeBox {
-            lo: [a[0].min(b[0]), a[1].min(b[1])],
-            hi: [a[0].max(b[0]), a[1].max(b[1])],
-            index,
-        }
-    }
-}
-
-/// Where [`monotone_pieces`] looks for a loop's pieces, as exact keys of a projected point: the
-/// rounded value and Knuth's two-sum error, compared in lexicographic order (rounding to nearest
-/// never reverses an order, and equal rounded values leave the errors to decide).
-const KEY_DIRECTIONS: usize = 4;
-
-/// Point `q`'s key along direction `d` of [`KEY_DIRECTIONS`]: `x`, `y`, `x + y`, `x - y`.
-#[inline]
-fn key(q: [f64; 2], d: usize) -> (f64, f64) {
-    let (a, b) = match d {
-        0 => return (q[0], 0.0),
-        1 => return (q[1], 0.0),
-        2 => (q[0], q[1]),
-        _ => (q[0], -q[1]),
-    };
-    let s = a + b;
-    let back = s - a;
-    (s, (a - (s - back)) + (b - back))
-}
-
-/// Loops with more pieces than this are left to the sweep.
-const MOST_PIECES: usize = 8;
-
-/// Is the closed polygon `p` simple, decided from its pieces that are strictly monotone along
-/// one direction (`None` when no direction of [`KEY_DIRECTIONS`] cuts it into at most
-/// [`MOST_PIECES`] of them, or an edge is level in all)? Exact.
-///
-/// Cut at the corners where the key turns, the loop is a ring of pieces along each of which the
-/// key strictly grows or falls: each piece is the graph of a function over the key, so it
-/// cannot meet itself. Two pieces do not meet (but at the extreme corner that neighbours share)
-/// exactly when, over the range of keys they share, one lies strictly to one side of the other;
-/// the gap between them is linear between corners, so its sign at the corners of both decides.
-/// A loop monotone along the direction is two pieces and one such walk.
-fn monotone_pieces(
-    p: &[[f64; 2]],
-    keys: &mut Vec<(f64, f64)>,
-    turns: &mut Vec<u32>,
-) -> Option<bool> {
-    let m = p.len();
-    // The direction with the fewest pieces (two at best).
-    let mut best: Option<(usize, usize)> = None;
-    for d in 0..KEY_DIRECTIONS {
-        keys.clear();
-        keys.extend(p.iter().map(|&q| key(q, d)));
-        if let Some(pieces) = count_turns(keys) {
-            if best.is_none_or(|(_, b)| pieces < b) {
-                best = Some((d, pieces));
-            }
-            if pieces == 2 {
-                break;
-            }
-        }
-    }
-    let (d, pieces) = best?;
-    if pieces > MOST_PIECES {
-        return None;
-    }
-    keys.clear();
-    keys.extend(p.iter().map(|&q| key(q, d)));
-    turns.clear();
-    let behind = |i: usize| if i == 0 { m - 1 } else { i - 1 };
-    let ahead = |i: usize| if i + 1 == m { 0 } else { i + 1 };
-    turns.extend((0..m as u32).filter(|&i| {
-        let i = i as usize;
-        below(keys[behind(i)], keys[i]) == below(keys[ahead(i)], keys[i])
-    }));
-    // Each piece as (first corner, steps, step): from its lowest key up.
-    let piece = |t: usize| {
-        let (from, to) = (turns[t] as usize, turns[(t + 1) % turns.len()] as usize);
-        let steps = (to + m - from) % m;
-        if below(keys[from], keys[to]) {
-            (from, steps, true)
-        } else {
-            (to, steps, false)
-        }
-    };
-    let at = |(first, _, forward): (usize, usize, bool), r: usize| {
-        let i = if forward { first + r } else { first + m - r };
-        if i >= m { i - m } else { i }
-    };
-    for s in 0..pieces {
-        for t in s + 1..pieces {
-            let (a, b) = (piece(s), piece(t));
-            let (a_lo, a_hi, b_lo, b_hi) = (at(a, 0), at(a, a.1), at(b, 0), at(b, b.1));
-            let lo = if below(keys[a_lo], keys[b_lo]) {
-                keys[b_lo]
-            } else {
-                keys[a_lo]
-            };
-            let hi = if below(keys[a_hi], keys[b_hi]) {
-                keys[a_hi]
-            } else {
-                keys[b_hi]
-            };
-            if below(hi, lo) {
-                continue; // no key in common
-            }
-            // The corners of each piece in the common range against the other's edge over
-            // them; from `b`'s side, the turn is the other way round.
-            let mut side: Sign = 0;
-            for (x, y, flip) in [(a, b, 1), (b, a, -1)] {
-                let (y_lo, y_hi) = (at(y, 0), at(y, y.1));
-                let mut e = 0;
-                for r in 0..=x.1 {
-                    let c = at(x, r);
-                    if below(keys[c], lo) || c == y_lo || c == y_hi {
-                        continue; // below the range, or the corner both pieces end at
-                    }
-                    if below(hi, keys[c]) {
-                        break;
-                    }
-                    while below(keys[at(y, e + 1)], keys[c]) {
-                        e += 1;
-                    }
-                    let s = flip * orient2d(p[at(y, e)], p[at(y, e + 1)], p[c]);
-                    if s == 0 || (side != 0 && s != side) {
-                        return Some(false);
-                    }
-                    side = s;
-                }
-            }
-        }
-    }
-    Some(true)
-}
-
-/// How many corners of the loop with keys `keys` are turning points of the key (so how many
-/// monotone pieces it has), or `None` when two neighbouring corners have equal keys.
-fn count_turns(keys: &[(f64, f64)]) -> Option<usize> {
-    let m = keys.len();
-    let mut turns = 0;
-    let mut rising = below(keys[m - 1], keys[0]);
-    if keys[0] == keys[m - 1] {
-        return None;
-    }
-    for i in 0..m {
-        let next = keys[if i + 1 == m { 0 } else { i + 1 }];
-        if next == keys[i] {
-            return None;
-        }
-        let up = below(keys[i], next);
-        turns += usize::from(up != rising);
-        rising = up;
-    }
-    Some(turns)
-}
-
-/// Does key `a` come before key `b` (see [`key`])?
-#[inline(always)]
-fn below(a: (f64, f64), b: (f64, f64)) -> bool {
-    a.0 < b.0 || (a.0 == b.0 && a.1 < b.1)
-}
-
-/// Loops up to this long are tested pair by pair (boxes first): cheaper than sorting.
-const SMALL_LOOP: usize = 32;
-
-/// Is `x` on the segment `[a, b]` (all three collinear)? Coordinates compared exactly.
-fn between(a: [f64; 2], b: [f64; 2], x: [f64; 2]) -> bool {
-    (0..2).all(|k| a[k].min(b[k]) <= x[k] && x[k] <= a[k].max(b[k]))
-}
-
-/// Do the closed segments `[a, b]` and `[c, d]` share a point? Exact.
-#[inline]
-fn segments_meet(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
-    let (o1, o2) = (orient2d(a, b, c), orient2d(a, b, d));
-    let (o3, o4) = (orient2d(c, d, a), orient2d(c, d, b));
-    let opposite = |x: Sign, y: Sign| x * y <= 0;
-    if o1 == 0 && o2 == 0 {
-        // Collinear: overlapping projections on the line.
-        return between(a, b, c) || between(a, b, d) || between(c, d, a) || between(c, d, b);
-    }
-    opposite(o1, o2) && opposite(o3, o4)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn simple_polygon_alone(p: &[[f64; 2]]) -> bool {
-        simple_polygon(p, &mut PolygonScratch::default())
-    }
-
-    #[test]
-    fn polygons() {
-        let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
-        assert!(simple_polygon_alone(&square));
-        let bow = [[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]];
-        assert!(!simple_polygon_alone(&bow));
-        // A corner that turns straight back along its edge.
-        let spike = [[0.0, 0.0], [2.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
-        assert!(!simple_polygon_alone(&spike));
-        // Touching at a corner.
-        let pinch = [
-            [0.0, 0.0],
-            [2.0, 0.0],
-            [1.0, 1.0],
-            [2.0, 2.0],
-            [0.0, 2.0],
-            [1.0, 1.0],
-        ];
-        assert!(!simple_polygon_alone(&pinch));
-        // Straight corners are fine.
-        let straight = [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [2.0, 1.0]];
-        assert!(simple_polygon_alone(&straight));
-        // Long loops (the grid of cells): a circle, and the same circle with one vertex pulled
-        // out across the far side (its edges cross others), or onto another vertex (they touch).
-        let circle: Vec<[f64; 2]> = (0..500)
-            .map(|k| {
-                let a = k as f64 * std::f64::consts::TAU / 500.0;
-                [a.cos(), a.sin()]
-            })
-            .collect();
-        assert!(simple_polygon_alone(&circle));
-        let mut crossed = circle.clone();
-        crossed[100] = [-1.5, 0.0];
-        assert!(!simple_polygon_alone(&crossed));
-        let mut touching = circle.clone();
-        touching[100] = circle[300];
-        assert!(!simple_polygon_alone(&touching));
-        // A figure-eight: simple but for one crossing in the middle.
-        let eight: Vec<[f64; 2]> = (0..400)
-            .map(|k| {
-                let a = k as f64 * std::f64::consts::TAU / 400.0;
-                [a.sin(), a.sin() * a.cos()]
-            })
-            .collect();
-        assert!(!simple_polygon_alone(&eight));
-    }
-
-    /// Every pair of edges, the definition of a simple polygon written out.
-    fn simple_by_pairs(p: &[[f64; 2]]) -> bool {
-        let m = p.len();
-        let edge = |i: usize| (p[i], p[(i + 1) % m]);
-        (0..m).all(|i| {
-            let (a, b) = edge(i);
-            let c = p[(i + 2) % m];
-            let folds = orient2d(a, b, c) == 0 && (c == b || between(a, b, c) || between(b, c, a));
-            a != b
-                && !folds
-                && (i + 2..m).all(|j| {
-                    (i == 0 && j == m - 1) || {
-                        let (c, d) = edge(j);
-                        !segments_meet(a, b, c, d)
-                    }
-                })
-        })
-    }
-
-    #[test]
-    fn monotone_pieces_agree_with_every_pair() {
-        // Wobbly circles, random stars, short lattice loops and scattered corners (some turned by 45 degrees, so
-        // that the diagonal keys matter), of lengths either side of the pairwise threshold, on
-        // a coarse lattice so that corners tie, touch and cross often.
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
-        let (mut simple, mut two, mut more, mut more_simple) = (0, 0, 0, 0);
-        for trial in 0..20000 {
-            let short = trial % 2 == 1;
-            let m = if short {
-                5 + trial % 11
-            } else {
-                13 + trial % 30
-            };
-            let turned = trial % 4 == 3;
-            let scattered = trial % 5 == 4;
-            let m = if scattered { 4 + trial % 6 } else { m };
-            let p: Vec<[f64; 2]> = (0..m)
-                .map(|i| {
-                    if scattered {
-                        return [(next() * 5.0).floor(), (next() * 5.0).floor()];
-                    }
-                    let a = i as f64 * std::f64::consts::TAU / m as f64;
-                    let r = match trial % 3 {
-                        0 => 20.0 + (next() * 2.0).floor(),
-                        1 => 6.0 + (next() * 6.0).floor(),
-                        _ => 3.0 + (next() * 9.0).floor(),
-                    };
-                    let (x, y) = (
-                        (r * a.cos()).round(),
-                        (r * a.sin() * (1.0 + 0.3 * next())).round(),
-                    );
-                    if turned { [x + y, x - y] } else { [x, y] }
-                })
-                .collect();
-            let expected = simple_by_pairs(&p);
-            assert_eq!(simple_polygon_alone(&p), expected, "{p:?}");
-            if let Some(answer) = monotone_pieces(&p, &mut Vec::new(), &mut Vec::new()) {
-                assert_eq!(answer, expected, "{p:?}");
-                let pieces = (0..KEY_DIRECTIONS)
-                    .filter_map(|d| count_turns(&p.iter().map(|&q| key(q, d)).collect::<Vec<_>>()))
-                    .min()
-                    .expect("some direction");
-                if pieces == 2 {
-                    two += 1;
-                } else {
-                    more += 1;
-                    more_simple += usize::from(expected);
-                }
-            }
-            simple += usize::from(expected);
-        }
-        // Both answers, loops of two pieces and of more, simple and not, were exercised.
-        assert!(simple > 2000 && simple < 19000, "{simple}");
-        assert!(two > 1000, "{two}");
-        assert!(
-            more > 1000 && more_simple > 300 && more - more_simple > 300,
-            "{more} {more_simple}"
-        );
-    }
-
-    #[test]
-    fn keys_compare_exactly() {
-        // Sums that round to the same value still order by their errors.
-        let (a, b) = ([1.0, 1e-17], [1.0, 2e-17]);
-        assert_eq!(key(a, 2).0, key(b, 2).0);
-        assert!(below(key(a, 2), key(b, 2)));
-        assert!(below(key(b, 3), key(a, 3)));
-        assert_eq!(key([0.5, 0.25], 2), (0.75, 0.0));
-    }
 
     #[test]
     fn disks_and_others() {

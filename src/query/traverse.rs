@@ -102,7 +102,10 @@ fn open(na: &Node, size_a: f64, nb: &Node, size_b: f64, max_depth: u32) -> Open 
     }
 }
 
-/// The volumes of nodes `na` and `nb`, and which of them to open.
+/// The volumes of nodes `na` and `nb`, and which of them to open. In a traversal of one mesh
+/// with the patch test, a node that cannot join a union of patches (see [`Patches::may_join`])
+/// is opened before one that can: every union with it fails, while its children may pass with
+/// the other node whole.
 #[inline(always)]
 fn volumes_and_opening<'m, A: QuerySide<'m>, B: QuerySide<'m>>(
     a: &mut A,
@@ -118,13 +121,25 @@ fn volumes_and_opening<'m, A: QuerySide<'m>, B: QuerySide<'m>>(
         let end = node.is_leaf() || u32::from(node.depth) >= max_depth;
         return (va, vb, if end { Open::Neither } else { Open::Own });
     }
-    let how = open(
-        &a.nodes()[na as usize],
+    let (node_a, node_b) = (&a.nodes()[na as usize], &b.nodes()[nb as usize]);
+    let mut how = open(
+        node_a,
         va.size_squared(),
-        &b.nodes()[nb as usize],
+        node_b,
         vb.size_squared(),
         max_depth,
     );
+    if let (Some(patches), Open::A | Open::B | Open::Both) = (walk.own.and_then(|o| o.patches), how)
+    {
+        let mesh = a.mesh();
+        let (join_a, join_b) = (patches.may_join(mesh, na), patches.may_join(mesh, nb));
+        let end = |n: &Node| n.is_leaf() || u32::from(n.depth) >= max_depth;
+        if join_a && !join_b && !end(node_b) {
+            how = Open::B;
+        } else if join_b && !join_a && !end(node_a) {
+            how = Open::A;
+        }
+    }
     (va, vb, how)
 }
 
@@ -192,15 +207,10 @@ fn open_pair<'m, A: QuerySide<'m>, B: QuerySide<'m>>(
             }
         }
         Open::Own => {
-            // Each child with itself first, so that a depth-first walk, which takes the last
-            // pair kept first, reaches them after the pairs: a pair proved apart by the patch
-            // test settles its two nodes' own tests (see `Patches`).
             let children = nodes_a[na as usize].children();
             for x in children.clone() {
-                keep(x, x, &a.volume(x), &b.volume(x));
-            }
-            for x in children.clone() {
                 let vx = a.volume(x);
+                keep(x, x, &vx, &b.volume(x));
                 for y in x + 1..children.end {
                     let vy = b.volume(y);
                     stats.bv_tests += 1;

@@ -1,0 +1,742 @@
+//! Is a closed polygon simple? Exact, for the loops of self-collision's patch test.
+//!
+//! The loops are those of mesh patches projected along an axis: a few dozen corners, jagged
+//! (they run round rings of triangles), seldom convex or star-shaped, and monotone along an
+//! axis only when small. The test cuts a loop into pieces that are monotone in the
+//! lexicographic order of the points (along `x`, ties broken by `y`, or the other way round,
+//! whichever gives fewer pieces) and checks each pair of pieces over the range they share:
+//! linear in the loop's length when few pieces meet each line across it, as for these loops.
+//! Loops cut into very many pieces go to a sweep over the edges' boxes instead.
+
+use super::predicates::{Sign, orient2d};
+
+/// Room for [`is_simple`], kept by the caller so that a warm test allocates nothing.
+#[derive(Debug, Default)]
+pub struct PolygonScratch {
+    /// Per edge: does it run forwards along `x` (bit 0), along `y` (bit 1)?
+    ups: Vec<u8>,
+    /// The pieces' points, each piece in increasing order.
+    points: Vec<[f64; 2]>,
+    pieces: Vec<Piece>,
+    /// The pieces crossing the sweep's line, from below.
+    active: Vec<Crossing>,
+    edges: Vec<EdgeBox>,
+}
+
+/// A monotone piece of a loop: `points[start..=end]` in increasing order, from corner `lo` of
+/// the loop to corner `hi`.
+#[derive(Clone, Copy, Debug)]
+struct Piece {
+    start: u32,
+    end: u32,
+    lo: u32,
+    hi: u32,
+}
+
+/// Loops cut into more pieces than this go to the sweep: the pairs of pieces would cost more.
+const MOST_PIECES: usize = 48;
+
+/// Is the closed polygon `p` simple: no two edges meet except consecutive ones at their common
+/// corner, and no corner turns back along its incoming edge? Exact. `p` has three corners or
+/// more.
+pub fn is_simple(p: &[[f64; 2]], scratch: &mut PolygonScratch) -> bool {
+    let m = p.len();
+    debug_assert!(m >= 3);
+    // Edge `i` runs from corner `i` to `i + 1`; the pieces end where an edge's direction in the
+    // order differs from the one before it. Both orders are counted in one pass, and each
+    // edge's directions kept (bit 0 along `x`, bit 1 along `y`).
+    let ups = &mut scratch.ups;
+    ups.clear();
+    let (mut turns_x, mut turns_y) = (0usize, 0usize);
+    let (mut up_x, mut up_y) = (before_x(p[m - 1], p[0]), before_y(p[m - 1], p[0]));
+    for i in 0..m {
+        let (a, b) = (p[i], p[if i + 1 == m { 0 } else { i + 1 }]);
+        if a == b {
+            return false;
+        }
+        let (x, y) = (before_x(a, b), before_y(a, b));
+        turns_x += usize::from(x != up_x);
+        turns_y += usize::from(y != up_y);
+        (up_x, up_y) = (x, y);
+        ups.push(u8::from(x) | u8::from(y) << 1);
+    }
+    let pieces = turns_x.min(turns_y);
+    if pieces > MOST_PIECES {
+        return sweep(p, &mut scratch.edges);
+    }
+    // Along `y` as along `x` with the coordinates swapped (a reflection, which keeps a loop
+    // simple or not).
+    if turns_x <= turns_y {
+        monotone_pieces(p, 1, |q| q, scratch)
+    } else {
+        monotone_pieces(p, 2, |q| [q[1], q[0]], scratch)
+    }
+}
+
+/// Does `a` come before `b` along `x` (ties broken by `y`)?
+#[inline(always)]
+fn before_x(a: [f64; 2], b: [f64; 2]) -> bool {
+    // Without branches: the loops' directions change often, and would be mispredicted.
+    (a[0] < b[0]) | ((a[0] == b[0]) & (a[1] < b[1]))
+}
+
+/// Does `a` come before `b` along `y` (ties broken by `x`)?
+#[inline(always)]
+fn before_y(a: [f64; 2], b: [f64; 2]) -> bool {
+    before_x([a[1], a[0]], [b[1], b[0]])
+}
+
+/// [`is_simple`] of the loop `p` read through `at` (the identity or a swap of coordinates),
+/// with no two consecutive corners equal, by its pieces monotone along `x` (`bit` of
+/// `scratch.ups` says which edges run forwards).
+///
+/// Each piece is the graph of a function over the order (the order is that of `x + e y` for a
+/// small enough `e > 0`), so it cannot meet itself; [`sweep_pieces`] checks them against each
+/// other.
+#[inline(always)]
+fn monotone_pieces(
+    p: &[[f64; 2]],
+    bit: u8,
+    at: impl Fn([f64; 2]) -> [f64; 2],
+    scratch: &mut PolygonScratch,
+) -> bool {
+    let m = p.len();
+    let PolygonScratch {
+        ups,
+        points,
+        pieces,
+        active,
+        ..
+    } = scratch;
+    let up = |i: usize| ups[i] & bit != 0;
+    // The first corner where a piece starts: one whose edge differs in direction from the one
+    // before it (there are at least two, since the loop closes).
+    let Some(first) = (0..m).find(|&i| up(i) != up(if i == 0 { m - 1 } else { i - 1 })) else {
+        return false; // unreachable for a closed loop of distinct consecutive corners
+    };
+    points.clear();
+    pieces.clear();
+    let next = |i: usize| if i + 1 == m { 0 } else { i + 1 };
+    let mut from = first;
+    loop {
+        let rising = up(from);
+        let mut to = next(from);
+        while up(to) == rising {
+            to = next(to);
+        }
+        // Corners `from..=to`, round the loop: at most two runs of `p`.
+        let (head, tail) = if from <= to {
+            (&p[from..=to], &p[..0])
+        } else {
+            (&p[from..], &p[..=to])
+        };
+        let start = points.len() as u32;
+        let run = head.iter().chain(tail).map(|&c| at(c));
+        if rising {
+            points.extend(run);
+        } else {
+            points.extend(run.rev());
+        }
+        let (lo, hi) = if rising { (from, to) } else { (to, from) };
+        pieces.push(Piece {
+            start,
+            end: points.len() as u32 - 1,
+            lo: lo as u32,
+            hi: hi as u32,
+        });
+        if to == first {
+            break;
+        }
+        from = to;
+    }
+    // Partners (the two pieces leaving a lowest corner) next to each other.
+    pieces.sort_unstable_by(|a, b| {
+        let (pa, pb) = (points[a.start as usize], points[b.start as usize]);
+        if before_x(pa, pb) || (pa == pb && a.lo < b.lo) {
+            std::cmp::Ordering::Less
+        } else {
+            std::cmp::Ordering::Greater
+        }
+    });
+    sweep_pieces(points, pieces, active)
+}
+
+/// A piece crossing the sweep's line: its edge over the line runs from `from` (point `at`) to
+/// `to`; it ends at point `end`, corner `hi` of the loop.
+#[derive(Clone, Copy, Debug)]
+struct Crossing {
+    from: [f64; 2],
+    to: [f64; 2],
+    at: u32,
+    end: u32,
+    hi: u32,
+}
+
+impl Crossing {
+    /// `> 0`: `c` is above the edge, which runs forwards along `x`.
+    #[inline(always)]
+    fn above(&self, c: [f64; 2]) -> Sign {
+        orient2d(self.from, self.to, c)
+    }
+}
+
+/// The sweep of [`monotone_pieces`]: the pieces crossing the line are kept in order from below,
+/// and every corner the line reaches is checked strictly between the edges of its piece's
+/// neighbours. Between two corners the gap between neighbouring pieces is linear, so two pieces
+/// meet only where one's corner fails against the other's edge while they are neighbours (a
+/// piece between them would have to meet one of them first), or at a corner two corners share.
+/// `pieces` are in order of their first points, partners together.
+fn sweep_pieces(points: &[[f64; 2]], pieces: &[Piece], active: &mut Vec<Crossing>) -> bool {
+    active.clear();
+    let mut starting = 0;
+    // Each corner is one step of the sweep (the two pieces that start or end at a turning
+    // corner together), so two steps at one point are two corners at one point.
+    let mut last = [f64::NAN; 2];
+    loop {
+        // The next corner along the line: the lowest of the active pieces' next corners and the
+        // next pieces' first.
+        let (mut slot, mut c) = (usize::MAX, [f64::INFINITY; 2]);
+        for (s, x) in active.iter().enumerate() {
+            if before_x(x.to, c) {
+                (slot, c) = (s, x.to);
+            }
+        }
+        let start = pieces
+            .get(starting)
+            .map(|piece| points[piece.start as usize]);
+        if let Some(s) = start.filter(|&s| slot == usize::MAX || before_x(s, c)) {
+            // Two pieces leave the corner `s`: in the order above the first edge below it
+            // (none on it), the lower of them first.
+            let (a, b) = (pieces[starting], pieces.get(starting + 1));
+            let Some(&b) = b.filter(|b| b.lo == a.lo && s != last) else {
+                return false; // a corner met twice (or, unreachably, a lone piece)
+            };
+            last = s;
+            let at = active.partition_point(|x| x.above(s) > 0);
+            if active.get(at).is_some_and(|x| x.above(s) == 0) {
+                return false;
+            }
+            let crossing = |x: Piece| Crossing {
+                from: s,
+                to: points[x.start as usize + 1],
+                at: x.start,
+                end: x.end,
+                hi: x.hi,
+            };
+            let (a, b) = (crossing(a), crossing(b));
+            let (lower, upper) = match b.above(a.to) {
+                ..0 => (a, b),
+                1.. => (b, a),
+                0 => return false, // the loop turns straight back at `s`
+            };
+            active.splice(at..at, [lower, upper]);
+            starting += 2;
+            continue;
+        }
+        if slot == usize::MAX {
+            return true;
+        }
+        if c == last {
+            return false;
+        }
+        last = c;
+        let x = active[slot];
+        let strictly_between = |low: usize, high: usize| {
+            !(low > 0 && active[low - 1].above(c) <= 0
+                || high + 1 < active.len() && active[high + 1].above(c) >= 0)
+        };
+        if x.at + 1 < x.end {
+            // A corner inside the piece.
+            if !strictly_between(slot, slot) {
+                return false;
+            }
+            let x = &mut active[slot];
+            x.at += 1;
+            x.from = c;
+            x.to = points[x.at as usize + 1];
+            continue;
+        }
+        // The piece's last corner, which its partner ends at too: the two must be neighbours
+        // (a piece between them would pass through the corner).
+        let partner = [slot.wrapping_sub(1), slot + 1]
+            .into_iter()
+            .find(|&s| active.get(s).is_some_and(|o| o.hi == x.hi));
+        let Some(partner) = partner else {
+            return false;
+        };
+        let (low, high) = (slot.min(partner), slot.max(partner));
+        if !strictly_between(low, high) {
+            return false;
+        }
+        active.drain(low..=high);
+    }
+}
+
+/// Going counterclockwise about `v` from the direction of `base`, does the direction of `d1`
+/// come strictly before that of `d2`? Exact; `false` when either lies along `base` or both
+/// point the same way. None of `base`, `d1`, `d2` is `v`.
+pub fn turns_before(v: [f64; 2], base: [f64; 2], d1: [f64; 2], d2: [f64; 2]) -> bool {
+    // Which part of the turn a direction is in: along `base` (0), the half to its left (1),
+    // straight back (2), the half to its right (3).
+    let part = |d: [f64; 2]| match orient2d(v, base, d) {
+        1.. => 1,
+        ..0 => 3,
+        0 => {
+            // On the line: the same way as `base` when both coordinates' differences agree.
+            let same = (0..2)
+                .all(|k| (d[k] > v[k]) == (base[k] > v[k]) && (d[k] < v[k]) == (base[k] < v[k]));
+            if same { 0 } else { 2 }
+        }
+    };
+    let (p1, p2) = (part(d1), part(d2));
+    p1 != 0 && p2 != 0 && (p1 < p2 || (p1 == p2 && p1 % 2 == 1 && orient2d(v, d1, d2) > 0))
+}
+
+/// Do the chains `a` and `b` keep apart? Each runs from the other's last corner to its first
+/// (`a[0] == b[b.len() - 1]`, `b[0] == a[a.len() - 1]`, two or more corners each), and no edge
+/// of one may meet an edge of the other, except at those two corners, where the edges that
+/// share them are not tested (the caller tells them apart by [`turns_before`]). Exact.
+///
+/// Only edges within the other chain's box can meet it; those are tested pair by pair, boxes
+/// first, or, when there are many, by a sweep along `x`.
+pub fn chains_apart(a: &[[f64; 2]], b: &[[f64; 2]], scratch: &mut PolygonScratch) -> bool {
+    let bounds = |c: &[[f64; 2]]| {
+        c.iter()
+            .fold(EdgeBox::new(c[0], c[0], 0), |e, &q| e.grown(q))
+    };
+    let (box_a, box_b) = (bounds(a), bounds(b));
+    let (ea, eb) = (a.len() - 1, b.len() - 1);
+    let edges = &mut scratch.edges;
+    edges.clear();
+    // Edges of `b` are numbered after those of `a`.
+    for (chain, other, offset) in [(a, &box_b, 0), (b, &box_a, ea)] {
+        for i in 0..chain.len() - 1 {
+            let e = EdgeBox::new(chain[i], chain[i + 1], (offset + i) as u32);
+            if e.meets(other) {
+                edges.push(e);
+            }
+        }
+    }
+    let point = |i: usize| {
+        if i < ea {
+            (a[i], a[i + 1])
+        } else {
+            (b[i - ea], b[i - ea + 1])
+        }
+    };
+    // Edges of different chains that may meet: not the two pairs at the shared corners.
+    let test = |e: &EdgeBox, f: &EdgeBox| {
+        let (i, j) = (e.index.min(f.index) as usize, e.index.max(f.index) as usize);
+        if i >= ea || j < ea || (i == ea - 1 && j == ea) || (i == 0 && j == ea + eb - 1) {
+            return false;
+        }
+        let ((p, q), (r, s)) = (point(i), point(j));
+        e.meets(f) && segments_meet(p, q, r, s)
+    };
+    if edges.len() <= 16 {
+        return !(0..edges.len()).any(|s| edges[s + 1..].iter().any(|f| test(&edges[s], f)));
+    }
+    edges.sort_unstable_by(|e, f| e.lo[0].total_cmp(&f.lo[0]));
+    !(0..edges.len()).any(|s| {
+        let e = &edges[s];
+        edges[s + 1..]
+            .iter()
+            .take_while(|f| f.lo[0] <= e.hi[0])
+            .any(|f| test(e, f))
+    })
+}
+
+/// An edge of a polygon, `index`, with its box.
+#[derive(Clone, Copy, Debug)]
+struct EdgeBox {
+    lo: [f64; 2],
+    hi: [f64; 2],
+    index: u32,
+}
+
+impl EdgeBox {
+    fn new(a: [f64; 2], b: [f64; 2], index: u32) -> EdgeBox {
+        EdgeBox {
+            lo: [a[0].min(b[0]), a[1].min(b[1])],
+            hi: [a[0].max(b[0]), a[1].max(b[1])],
+            index,
+        }
+    }
+
+    /// The box grown to hold `q`.
+    fn grown(self, q: [f64; 2]) -> EdgeBox {
+        EdgeBox {
+            lo: [self.lo[0].min(q[0]), self.lo[1].min(q[1])],
+            hi: [self.hi[0].max(q[0]), self.hi[1].max(q[1])],
+            index: self.index,
+        }
+    }
+
+    /// Do the closed boxes share a point?
+    fn meets(&self, other: &EdgeBox) -> bool {
+        self.lo[0] <= other.hi[0]
+            && other.lo[0] <= self.hi[0]
+            && self.lo[1] <= other.hi[1]
+            && other.lo[1] <= self.hi[1]
+    }
+}
+
+/// [`is_simple`] by a sweep along `x`: edges in order of their lower `x`, each tested only
+/// against the edges after it whose lower `x` is within its span and whose boxes meet.
+fn sweep(p: &[[f64; 2]], edges: &mut Vec<EdgeBox>) -> bool {
+    let m = p.len();
+    let after = |i: usize| if i + 1 == m { 0 } else { i + 1 };
+    for i in 0..m {
+        let (a, b) = (p[i], p[after(i)]);
+        if a == b {
+            return false;
+        }
+        // The corner at b: the next edge must not fold back over this one.
+        let c = p[after(after(i))];
+        if (c == b || between(a, b, c) || between(b, c, a)) && orient2d(a, b, c) == 0 {
+            return false;
+        }
+    }
+    edges.clear();
+    edges.extend((0..m).map(|i| EdgeBox::new(p[i], p[after(i)], i as u32)));
+    edges.sort_unstable_by(|e, f| e.lo[0].total_cmp(&f.lo[0]));
+    !(0..m).any(|s| {
+        let e = &edges[s];
+        edges[s + 1..]
+            .iter()
+            .take_while(|f| f.lo[0] <= e.hi[0])
+            .any(|f| {
+                let (i, j) = (e.index.min(f.index) as usize, e.index.max(f.index) as usize);
+                let apart = j - i > 1 && !(i == 0 && j == m - 1);
+                apart
+                    && e.lo[1] <= f.hi[1]
+                    && f.lo[1] <= e.hi[1]
+                    && segments_meet(p[i], p[after(i)], p[j], p[after(j)])
+            })
+    })
+}
+
+/// Is `x` on the segment `[a, b]` (all three collinear)? Coordinates compared exactly.
+fn between(a: [f64; 2], b: [f64; 2], x: [f64; 2]) -> bool {
+    (0..2).all(|k| a[k].min(b[k]) <= x[k] && x[k] <= a[k].max(b[k]))
+}
+
+/// Do the closed segments `[a, b]` and `[c, d]` share a point? Exact.
+#[inline]
+fn segments_meet(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
+    let (o1, o2) = (orient2d(a, b, c), orient2d(a, b, d));
+    let (o3, o4) = (orient2d(c, d, a), orient2d(c, d, b));
+    let opposite = |x: Sign, y: Sign| x * y <= 0;
+    if o1 == 0 && o2 == 0 {
+        // Collinear: overlapping projections on the line.
+        return between(a, b, c) || between(a, b, d) || between(c, d, a) || between(c, d, b);
+    }
+    opposite(o1, o2) && opposite(o3, o4)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn simple(p: &[[f64; 2]]) -> bool {
+        is_simple(p, &mut PolygonScratch::default())
+    }
+
+    #[test]
+    fn polygons() {
+        let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        assert!(simple(&square));
+        let bow = [[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]];
+        assert!(!simple(&bow));
+        // A corner that turns straight back along its edge, at a turning corner of the order
+        // and inside a piece.
+        let spike = [[0.0, 0.0], [2.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+        assert!(!simple(&spike));
+        let spike_up = [[0.0, 0.0], [0.0, 2.0], [0.0, 1.0], [-1.0, 3.0]];
+        assert!(!simple(&spike_up));
+        // Touching at a corner.
+        let pinch = [
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [1.0, 1.0],
+            [2.0, 2.0],
+            [0.0, 2.0],
+            [1.0, 1.0],
+        ];
+        assert!(!simple(&pinch));
+        // Straight corners are fine; a repeated corner is not.
+        let straight = [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [2.0, 1.0]];
+        assert!(simple(&straight));
+        let repeated = [[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [2.0, 1.0]];
+        assert!(!simple(&repeated));
+        // Long loops: a circle, and the same circle with one vertex pulled out across the far
+        // side (its edges cross others), or onto another vertex (they touch).
+        let circle: Vec<[f64; 2]> = (0..500)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::TAU / 500.0;
+                [a.cos(), a.sin()]
+            })
+            .collect();
+        assert!(simple(&circle));
+        let mut crossed = circle.clone();
+        crossed[100] = [-1.5, 0.0];
+        assert!(!simple(&crossed));
+        let mut touching = circle.clone();
+        touching[100] = circle[300];
+        assert!(!simple(&touching));
+        // A figure-eight: simple but for one crossing in the middle.
+        let eight: Vec<[f64; 2]> = (0..400)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::TAU / 400.0;
+                [a.sin(), a.sin() * a.cos()]
+            })
+            .collect();
+        assert!(!simple(&eight));
+        // A star of many spikes, cut into more pieces than the pairs take along either axis:
+        // the sweep; then one spike pulled across the middle.
+        let spikes = 4 * MOST_PIECES;
+        let mut star: Vec<[f64; 2]> = (0..2 * spikes)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::PI / spikes as f64;
+                let r = if k % 2 == 0 { 2.0 } else { 1.0 };
+                [r * a.cos(), r * a.sin()]
+            })
+            .collect();
+        assert!(simple(&star));
+        star[10] = [-1.5, -0.1];
+        assert!(!simple(&star));
+    }
+
+    /// Every pair of edges: the definition of a simple polygon written out.
+    fn simple_by_pairs(p: &[[f64; 2]]) -> bool {
+        let m = p.len();
+        let edge = |i: usize| (p[i], p[(i + 1) % m]);
+        (0..m).all(|i| {
+            let (a, b) = edge(i);
+            let c = p[(i + 2) % m];
+            let folds = orient2d(a, b, c) == 0 && (c == b || between(a, b, c) || between(b, c, a));
+            a != b
+                && !folds
+                && (i + 2..m).all(|j| {
+                    (i == 0 && j == m - 1) || {
+                        let (c, d) = edge(j);
+                        !segments_meet(a, b, c, d)
+                    }
+                })
+        })
+    }
+
+    #[test]
+    fn agrees_with_every_pair() {
+        // Wobbly circles, random stars, short loops, scattered corners and combs, on a coarse
+        // lattice so that corners tie, touch and cross often; each also through the sweep.
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut simple_count, mut two, mut more, mut more_simple) = (0, 0, 0, 0);
+        let mut scratch = PolygonScratch::default();
+        for trial in 0..20000 {
+            let m = match trial % 5 {
+                4 => 3 + trial % 7,
+                3 => 2 * (3 + trial % 9),
+                1 => 5 + trial % 11,
+                _ => 13 + trial % 30,
+            };
+            let turned = trial % 4 == 3;
+            let p: Vec<[f64; 2]> = (0..m)
+                .map(|i| {
+                    if trial % 5 == 4 {
+                        return [(next() * 5.0).floor(), (next() * 5.0).floor()];
+                    }
+                    if trial % 5 == 3 {
+                        // A comb: teeth up and down, some bent over their neighbours.
+                        let x = (i / 2) as f64 * 2.0 + (next() * 3.0).floor();
+                        let y = if i % 2 == 0 {
+                            0.0
+                        } else {
+                            4.0 + (next() * 3.0).floor()
+                        };
+                        return if i + 1 == m { [x, -3.0] } else { [x, y] };
+                    }
+                    let a = i as f64 * std::f64::consts::TAU / m as f64;
+                    let r = match trial % 3 {
+                        0 => 20.0 + (next() * 2.0).floor(),
+                        1 => 6.0 + (next() * 6.0).floor(),
+                        _ => 3.0 + (next() * 9.0).floor(),
+                    };
+                    let (x, y) = (
+                        (r * a.cos()).round(),
+                        (r * a.sin() * (1.0 + 0.3 * next())).round(),
+                    );
+                    if turned { [x + y, x - y] } else { [x, y] }
+                })
+                .collect();
+            let expected = simple_by_pairs(&p);
+            assert_eq!(is_simple(&p, &mut scratch), expected, "{p:?}");
+            assert_eq!(sweep(&p, &mut scratch.edges), expected, "sweep: {p:?}");
+            let distinct = (0..m).all(|i| p[i] != p[(i + 1) % m]);
+            if distinct {
+                let pieces = scratch.pieces.len();
+                if pieces == 2 {
+                    two += 1;
+                } else if pieces > 2 {
+                    more += 1;
+                    more_simple += usize::from(expected);
+                }
+            }
+            simple_count += usize::from(expected);
+        }
+        // Both answers, loops of two pieces and of more, simple and not, were exercised.
+        assert!(
+            simple_count > 2000 && simple_count < 19000,
+            "{simple_count}"
+        );
+        assert!(two > 1000, "{two}");
+        assert!(
+            more > 1000 && more_simple > 300 && more - more_simple > 300,
+            "{more} {more_simple}"
+        );
+    }
+
+    /// The angle of `d` about `v`, counterclockwise from `base`, as an exact rational
+    /// "pseudo-angle" in `[0, 4)`: the quadrant plus the fraction of it (small integer vectors).
+    fn angle_from(v: [i64; 2], base: [i64; 2], d: [i64; 2]) -> (i128, i128) {
+        let pseudo = |q: [i64; 2]| -> (i128, i128) {
+            let (x, y) = ((q[0] - v[0]) as i128, (q[1] - v[1]) as i128);
+            let r = x.abs() + y.abs();
+            // In quarters: (quadrant * r + position within it) / r.
+            let (quadrant, within) = match (x > 0, y >= 0, x <= 0, y > 0) {
+                (true, true, _, _) => (0, y),
+                (_, _, true, true) => (1, -x),
+                (_, _, true, false) if x < 0 => (2, -y),
+                _ => (3, x),
+            };
+            (quadrant * r + within, r)
+        };
+        let ((n, d_), (nb, db)) = (pseudo(d), pseudo(base));
+        // (n/d - nb/db) mod 4
+        let (mut num, den) = (n * db - nb * d_, d_ * db);
+        if num < 0 {
+            num += 4 * den;
+        }
+        (num, den)
+    }
+
+    #[test]
+    fn corners_in_turning_order() {
+        // Every ordered pair of lattice directions about a corner, against exact pseudo-angles.
+        let dirs: Vec<[i64; 2]> = (-3..=3)
+            .flat_map(|x| (-3..=3).map(move |y| [x, y]))
+            .filter(|&d| d != [0, 0])
+            .collect();
+        let v = [0, 0];
+        let f = |p: [i64; 2]| [p[0] as f64 + 0.5, p[1] as f64 - 0.25];
+        let shift = |p: [i64; 2]| f([p[0] + v[0], p[1] + v[1]]);
+        let (mut before, mut after) = (0, 0);
+        for &base in &dirs {
+            for &d1 in &dirs {
+                for &d2 in &dirs {
+                    let (a1, a2) = (angle_from(v, base, d1), angle_from(v, base, d2));
+                    let expected = a1.0 > 0 && a2.0 > 0 && a1.0 * a2.1 < a2.0 * a1.1;
+                    let got = turns_before(shift(v), shift(base), shift(d1), shift(d2));
+                    assert_eq!(got, expected, "{base:?} {d1:?} {d2:?}");
+                    before += usize::from(got);
+                    after += usize::from(!got);
+                }
+            }
+        }
+        assert!(before > 10_000 && after > 10_000, "{before} {after}");
+    }
+
+    /// Twice the signed area of the closed polygon `p` (small integers: exact).
+    fn twice_area(p: &[[f64; 2]]) -> f64 {
+        (0..p.len())
+            .map(|i| {
+                let (a, b) = (p[i], p[(i + 1) % p.len()]);
+                a[0] * b[1] - a[1] * b[0]
+            })
+            .sum()
+    }
+
+    #[test]
+    fn glued_loops_keep_apart_exactly_when_their_union_is_simple() {
+        // Two simple counterclockwise lattice loops sharing a path, walked in opposite
+        // directions: their union is simple exactly when the corners at the path's ends keep
+        // apart and so do the rest of the loops (the seam test of self-collision).
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = |n: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % n) as f64
+        };
+        let (mut simple, mut not, mut scratch) = (0, 0, PolygonScratch::default());
+        let mut trials = 0;
+        while simple < 1500 || not < 1500 {
+            trials += 1;
+            assert!(trials < 2_000_000, "{simple} {not}");
+            // The path, then each loop's own stretch (x on one side, y anywhere).
+            let path_len = 2 + next(3) as usize;
+            let path: Vec<[f64; 2]> = (0..path_len)
+                .map(|i| [i as f64 * 2.0, next(3) - 1.0])
+                .collect();
+            // Mostly on their own sides of the path, sometimes across it.
+            let stretch = |n: usize, next: &mut dyn FnMut(u64) -> f64, up: bool| -> Vec<[f64; 2]> {
+                (0..n)
+                    .map(|_| {
+                        let y = next(9) - 3.0;
+                        [next(9) - 2.0, if up { y } else { -y }]
+                    })
+                    .collect()
+            };
+            let sx = stretch(1 + next(4) as usize, &mut next, true);
+            let sy = stretch(1 + next(4) as usize, &mut next, false);
+            // x: the path forwards, then its stretch back; y: the path backwards, then its own.
+            let x: Vec<[f64; 2]> = path
+                .iter()
+                .copied()
+                .chain(sx.iter().rev().copied())
+                .collect();
+            let y: Vec<[f64; 2]> = path
+                .iter()
+                .rev()
+                .copied()
+                .chain(sy.iter().copied())
+                .collect();
+            if !(simple_by_pairs(&x)
+                && simple_by_pairs(&y)
+                && twice_area(&x) > 0.0
+                && twice_area(&y) > 0.0)
+            {
+                continue;
+            }
+            let (first, last) = (path[0], path[path_len - 1]);
+            // The chains as the seam test builds them: x's from the path's last vertex round to
+            // its first, y's from the first round to the last.
+            let a: Vec<[f64; 2]> = std::iter::once(last)
+                .chain(sx.iter().rev().copied())
+                .chain([first])
+                .collect();
+            let b: Vec<[f64; 2]> = std::iter::once(first)
+                .chain(sy.iter().copied())
+                .chain([last])
+                .collect();
+            let union: Vec<[f64; 2]> = a[..a.len() - 1]
+                .iter()
+                .chain(&b[..b.len() - 1])
+                .copied()
+                .collect();
+            let expected = simple_by_pairs(&union);
+            let got = turns_before(first, path[1], a[a.len() - 2], b[1])
+                && turns_before(last, path[path_len - 2], b[b.len() - 2], a[1])
+                && chains_apart(&a, &b, &mut scratch);
+            assert_eq!(got, expected, "x {x:?} y {y:?}");
+            simple += usize::from(expected);
+            not += usize::from(!expected);
+        }
+    }
+}
