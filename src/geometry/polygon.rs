@@ -300,6 +300,33 @@ pub fn turns_before(v: [f64; 2], base: [f64; 2], d1: [f64; 2], d2: [f64; 2]) -> 
 /// Only edges within the other chain's box can meet it; those are tested pair by pair, boxes
 /// first, or, when there are many, by a sweep along `x`.
 pub fn chains_apart(a: &[[f64; 2]], b: &[[f64; 2]], scratch: &mut PolygonScratch) -> bool {
+    edges_apart(a, b, false, scratch)
+}
+
+/// Do the regions of two simple counterclockwise loops that share one corner meet there only?
+/// Each loop is given closed at that corner (`a[0] == a[a.len() - 1] == b[0] == b[b.len() -
+/// 1]`, four corners or more each). Exact.
+///
+/// Near the corner, going counterclockwise from `a`'s first edge, `a`'s region ends (its last
+/// edge) before `b`'s begins (its first edge), and `b`'s ends before `a`'s begins again; away
+/// from it no edges meet. Then neither loop enters the other's region (it leaves the corner
+/// outside it and never crosses its boundary), so neither region holds a point of the other.
+pub fn corner_apart(a: &[[f64; 2]], b: &[[f64; 2]], scratch: &mut PolygonScratch) -> bool {
+    let v = a[0];
+    turns_before(v, a[1], a[a.len() - 2], b[1])
+        && turns_before(v, a[1], b[1], b[b.len() - 2])
+        && edges_apart(a, b, true, scratch)
+}
+
+/// [`chains_apart`], and with `one_corner` (the chains are loops closed at one shared corner,
+/// as in [`corner_apart`]) the first edges and the last edges of both are not tested either:
+/// the four edges at the corner meet there.
+fn edges_apart(
+    a: &[[f64; 2]],
+    b: &[[f64; 2]],
+    one_corner: bool,
+    scratch: &mut PolygonScratch,
+) -> bool {
     let bounds = |c: &[[f64; 2]]| {
         c.iter()
             .fold(EdgeBox::new(c[0], c[0], 0), |e, &q| e.grown(q))
@@ -327,7 +354,13 @@ pub fn chains_apart(a: &[[f64; 2]], b: &[[f64; 2]], scratch: &mut PolygonScratch
     // Edges of different chains that may meet: not the two pairs at the shared corners.
     let test = |e: &EdgeBox, f: &EdgeBox| {
         let (i, j) = (e.index.min(f.index) as usize, e.index.max(f.index) as usize);
-        if i >= ea || j < ea || (i == ea - 1 && j == ea) || (i == 0 && j == ea + eb - 1) {
+        let last_b = ea + eb - 1;
+        if i >= ea
+            || j < ea
+            || (i == ea - 1 && j == ea)
+            || (i == 0 && j == last_b)
+            || (one_corner && ((i == 0 && j == ea) || (i == ea - 1 && j == last_b)))
+        {
             return false;
         }
         let ((p, q), (r, s)) = (point(i), point(j));
@@ -650,6 +683,68 @@ mod tests {
             }
         }
         assert!(before > 10_000 && after > 10_000, "{before} {after}");
+    }
+
+    #[test]
+    fn loops_at_one_corner_apart_exactly_when_their_regions_meet_only_there() {
+        // Two simple counterclockwise lattice loops through the origin, against every pair of
+        // edges and the exact pseudo-angles of the four edges at the origin.
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = |n: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % n) as i64
+        };
+        let (mut apart, mut not, mut scratch) = (0, 0, PolygonScratch::default());
+        let mut trials = 0;
+        while apart < 1500 || not < 1500 {
+            trials += 1;
+            assert!(trials < 2_000_000, "{apart} {not}");
+            let mut lattice_loop = || -> Vec<[i64; 2]> {
+                let n = 2 + next(4) as usize;
+                std::iter::once([0, 0])
+                    .chain((0..n).map(|_| [next(7) - 3, next(7) - 3]))
+                    .collect()
+            };
+            let (x, y) = (lattice_loop(), lattice_loop());
+            let float = |l: &[[i64; 2]]| -> Vec<[f64; 2]> {
+                l.iter().map(|p| [p[0] as f64, p[1] as f64]).collect()
+            };
+            let (fx, fy) = (float(&x), float(&y));
+            if !(simple_by_pairs(&fx)
+                && simple_by_pairs(&fy)
+                && twice_area(&fx) > 0.0
+                && twice_area(&fy) > 0.0)
+            {
+                continue;
+            }
+            let closed =
+                |l: &[[f64; 2]]| -> Vec<[f64; 2]> { l.iter().copied().chain([l[0]]).collect() };
+            let (a, b) = (closed(&fx), closed(&fy));
+            // Edges apart, but for edges at the origin, which must leave it different ways.
+            let edges_ok = (0..a.len() - 1).all(|i| {
+                (0..b.len() - 1).all(|j| {
+                    let (p, q, r, s) = (a[i], a[i + 1], b[j], b[j + 1]);
+                    let at_origin = |p: [f64; 2], q: [f64; 2]| p == [0.0; 2] || q == [0.0; 2];
+                    if at_origin(p, q) && at_origin(r, s) {
+                        let d1 = if p == [0.0; 2] { q } else { p };
+                        let d2 = if r == [0.0; 2] { s } else { r };
+                        !(orient2d([0.0; 2], d1, d2) == 0 && d1[0] * d2[0] + d1[1] * d2[1] > 0.0)
+                    } else {
+                        !segments_meet(p, q, r, s)
+                    }
+                })
+            });
+            let base = x[1];
+            let angle = |d: [i64; 2]| angle_from([0, 0], base, d);
+            let less = |p: (i128, i128), q: (i128, i128)| p.0 * q.1 < q.0 * p.1;
+            let (alpha, b1, b2) = (angle(x[x.len() - 1]), angle(y[1]), angle(y[y.len() - 1]));
+            let expected = edges_ok && less(alpha, b1) && less(b1, b2);
+            assert_eq!(corner_apart(&a, &b, &mut scratch), expected, "{x:?} {y:?}");
+            apart += usize::from(expected);
+            not += usize::from(!expected);
+        }
     }
 
     /// Twice the signed area of the closed polygon `p` (small integers: exact).

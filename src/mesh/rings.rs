@@ -19,8 +19,9 @@ use std::collections::VecDeque;
 /// How triangles that touch no ring centre are put into leaves.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum LeftoverPolicy {
-    /// Each joins the adjacent ring whose centre is nearest (at build-time positions): fewer
-    /// leaves, somewhat larger leaf spheres.
+    /// Each joins an adjacent ring, one across an edge of it where there is one (so that leaves
+    /// stay disks, which self-collision can prove free of self-intersection), the one whose
+    /// centre is nearest (at build-time positions): fewer leaves, somewhat larger leaf spheres.
     #[default]
     JoinAdjacent,
     /// Extra rings are centred on leftover vertices (greedily, the vertex with most uncovered
@@ -146,9 +147,21 @@ pub(crate) fn build_rings(
                         .map(|&w| distance_squared(c, &positions[w as usize]))
                         .fold(0.0f64, f64::max)
                 };
-                let r = distinct_corners(tri)
-                    .map(|v| claimed_by[v as usize])
-                    .min_by(|&r1, &r2| reach(r1).total_cmp(&reach(r2)).then(r1.cmp(&r2)))
+                // A ring across one of the triangle's edges first: joined by a corner alone, the
+                // leaf's patch would be pinched there, not a disk, and self-collision could not
+                // prove it free of self-intersection.
+                let across = (0..3).filter_map(|k| {
+                    let (u, w) = (tri[k], tri[(k + 1) % 3]);
+                    incidence.row(u as usize).iter().find_map(|&t2| {
+                        let r = ring_of[t2 as usize];
+                        (t2 != t && r != NONE && triangles[t2 as usize].contains(&w)).then_some(r)
+                    })
+                });
+                let nearest = |rings: &mut dyn Iterator<Item = u32>| {
+                    rings.min_by(|&r1, &r2| reach(r1).total_cmp(&reach(r2)).then(r1.cmp(&r2)))
+                };
+                let r = nearest(&mut across.into_iter())
+                    .or_else(|| nearest(&mut distinct_corners(tri).map(|v| claimed_by[v as usize])))
                     .expect("a triangle has a corner");
                 debug_assert_ne!(r, NONE);
                 ring_of[t as usize] = r;

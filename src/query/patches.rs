@@ -16,15 +16,18 @@
 //! each pair of neighbouring triangles there. The same argument closes the seams: when both
 //! patches are disks glued along one path of their loops, their union is a disk, and it projects
 //! one to one when both patches do along one axis, on opposite sides of the path, and the rest of
-//! their loops keep apart ([`Patches::cannot_intersect_each_other`]). A node's own test is made
-//! once per positions and shared by all its seams.
+//! their loops keep apart ([`Patches::cannot_intersect_each_other`]); two disks whose loops share
+//! one vertex pass when their projections meet only there. A node's own test is made once per
+//! positions and shared by all its seams.
 //!
 //! What depends on the shape (which nodes are disks, their loops, which seams glue) is found once
 //! per shape; which way the triangles turn and whether each loop projects simply ([`Facts`], kept
 //! with the mesh until its positions change) are decided from the positions.
 
 use crate::csr::Csr;
-use crate::geometry::polygon::{PolygonScratch, chains_apart, is_simple, turns_before};
+use crate::geometry::polygon::{
+    PolygonScratch, chains_apart, corner_apart, is_simple, turns_before,
+};
 use crate::geometry::predicates::{Point, projected_orientations};
 use crate::mesh::Mesh;
 use std::collections::HashMap;
@@ -152,10 +155,13 @@ impl Patches {
     /// never crosses its loop stays outside it, and two overlapping regions would need a
     /// boundary inside the path). This closes the seams between neighbouring nodes, whose volumes
     /// always overlap, at the cost of the stretches near each other.
+    ///
+    /// Patches whose loops share one vertex and nothing else (nodes meeting at a corner) pass
+    /// the same way when, along such an axis, their projected regions meet only there
+    /// ([`corner_apart`]): each projects one to one, so only that vertex projects to that point.
     pub fn cannot_intersect_each_other(&self, mesh: &Mesh, x: u32, y: u32) -> bool {
         let (i, j) = (x as usize, y as usize);
-        let twins = (i.min(j) + 1 == i.max(j)) && self.first_of_two[i.min(j)];
-        if twins || self.sealed[i] & self.sealed[j] == 0 {
+        if self.sealed[i] & self.sealed[j] == 0 {
             return false;
         }
         let turns = mesh.facts.turns(mesh, x) | mesh.facts.turns(mesh, y);
@@ -166,6 +172,12 @@ impl Patches {
         let Some(seam) = self.glued(i, j) else {
             return false;
         };
+        // Two children that make up their parent's patch along a path: the traversal meets
+        // them only when the parent failed the same test.
+        let twins = (i.min(j) + 1 == i.max(j)) && self.first_of_two[i.min(j)];
+        if twins && !seam.corner {
+            return false;
+        }
         (0..3).any(|k| {
             axes & 1 << k != 0
                 && self.projects_simply(mesh, x, k)
@@ -208,6 +220,9 @@ impl Patches {
             // reaches back to its stretch before `y`'s corner starts; at the last vertex, the
             // other way round.
             let (a, b) = (&flat[..], &other[..]);
+            if seam.corner {
+                return corner_apart(a, b, polygon);
+            }
             turns_before(first, at(seam.after_first), a[a.len() - 2], b[1])
                 && turns_before(last, at(seam.before_last), b[b.len() - 2], a[1])
                 && chains_apart(a, b, polygon)
@@ -215,8 +230,8 @@ impl Patches {
     }
 
     /// Where the union of the patches of `x` and `y` is a disk glued along one shared path (see
-    /// [`Patches::cannot_intersect_each_other`]), the path and the two stretches. `None`
-    /// otherwise, or when the path is longer than [`LONGEST_SEAM`] (the children's seams are
+    /// [`Patches::cannot_intersect_each_other`]), the path and the two stretches; where their
+    /// loops share one vertex only, that corner. `None` otherwise, or when the path is longer than [`LONGEST_SEAM`] (the children's seams are
     /// shorter).
     fn glued(&self, x: usize, y: usize) -> Option<Seam> {
         let (m, k) = (self.loops.row_len(x), self.loops.row_len(y));
@@ -237,6 +252,20 @@ impl Patches {
             // Without branches on which side steps: the merge's order is unpredictable.
             i += usize::from(u <= v);
             j += usize::from(v <= u);
+        }
+        if s == 1 {
+            // One corner: both loops whole, each starting there.
+            let (px, py) = shared[0];
+            let v = self.loops.row(x)[px as usize];
+            return Some(Seam {
+                x: x as u32,
+                y: y as u32,
+                from_x: (px, m as u32),
+                from_y: (py, k as u32),
+                after_first: v,
+                before_last: v,
+                corner: true,
+            });
         }
         // A path of at least one edge, and each loop keeps a vertex of its own.
         if s < 2 || s >= m || s >= k {
@@ -270,6 +299,7 @@ impl Patches {
                 // to its last, where the stretch starts.
                 after_first: place(from_x.0 + from_x.1 + 1),
                 before_last: place(from_x.0 + m as u32 - 1),
+                corner: false,
             }
         })
     }
@@ -306,6 +336,9 @@ struct Seam {
     after_first: u32,
     /// The path's vertex before its last.
     before_last: u32,
+    /// The loops share one corner, not a path: the stretches are the whole loops, from it
+    /// round to it, and the patches must keep apart in projection but for it.
+    corner: bool,
 }
 
 /// Room for the patch tests, kept per thread so that they allocate nothing once warm.
@@ -344,6 +377,9 @@ pub(crate) struct Facts {
     /// same value, so relaxed order is enough.
     bits: OnceLock<Box<[AtomicU16]>>,
 }
+
+/// [`Facts`]' turns of triangles that differ along every axis: no more can change them.
+const MIXED: u8 = 0x3f;
 
 /// [`Facts`]' mark of a node's turns found.
 const TURNS_FOUND: u16 = 1 << 7;
@@ -411,29 +447,36 @@ impl Facts {
         }
         let node = &mesh.shape.tree.nodes[n as usize];
         let found = if node.is_leaf() {
-            let tris = &mesh.shape.triangles;
-            let own = mesh
-                .shape
-                .rings
+            // The ring-ordered corners: one contiguous run, not a jump per triangle.
+            let rings = &mesh.shape.rings;
+            let own = &rings.corners[rings
                 .triangles
-                .row_range(node.ring_start as usize..node.ring_end as usize);
+                .span(node.ring_start as usize..node.ring_end as usize)];
             let at = |v: u32| &mesh.positions[v as usize];
-            own.iter().fold(0, |acc, &t| {
-                let [a, b, c] = tris[t as usize];
+            // Once every axis is mixed, more triangles change nothing: stop.
+            own.iter().try_fold(0, |acc, &[a, b, c]| {
+                if acc == MIXED {
+                    return Err(acc);
+                }
                 let signs = projected_orientations(at(a), at(b), at(c));
-                (0..3).fold(acc, |acc, k| {
+                Ok((0..3).fold(acc, |acc, k| {
                     let bits = match signs[k] {
                         1.. => 1,
                         ..0 => 2,
                         0 => 3,
                     };
                     acc | bits << (2 * k)
-                })
+                }))
             })
         } else {
-            node.children()
-                .fold(0, |acc, c| acc | self.find_turns(bits, mesh, c))
-        };
+            node.children().try_fold(0, |acc, c| {
+                if acc == MIXED {
+                    return Err(acc);
+                }
+                Ok(acc | self.find_turns(bits, mesh, c))
+            })
+        }
+        .unwrap_or_else(|mixed| mixed);
         // `|`, not a store: another thread may have tested the node's loop meanwhile.
         bits[n as usize].fetch_or(u16::from(found) | TURNS_FOUND, Relaxed);
         found
