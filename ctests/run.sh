@@ -38,7 +38,7 @@ done
 echo "C tests under valgrind memcheck"
 for t in test_api test_threads; do
     gcc -std=c99 -g -O1 "${warn[@]}" $cflags ctests/$t.c -o "$work/$t" $libs -lpthread -lm
-    valgrind --quiet --error-exitcode=99 --leak-check=full --show-leak-kinds=definite,indirect,possible \
+    DVH_ONE_THREAD_AT_A_TIME=1 valgrind --quiet --error-exitcode=99 --leak-check=full --show-leak-kinds=definite,indirect,possible \
         --suppressions=ctests/valgrind.supp \
         --errors-for-leak-kinds=definite,indirect,possible "$work/$t"
 done

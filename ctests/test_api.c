@@ -141,8 +141,9 @@ static void test_versions_and_names(void) {
     CHECK(strcmp(dvh_status_name(DVH_STATUS_OK), "DVH_STATUS_OK") == 0);
     CHECK(strcmp(dvh_status_name(DVH_STATUS_NULL_ARGUMENT), "DVH_STATUS_NULL_ARGUMENT") == 0);
     CHECK(strcmp(dvh_status_name(DVH_STATUS_INVARIANT_BROKEN), "DVH_STATUS_INVARIANT_BROKEN") == 0);
+    CHECK(strcmp(dvh_status_name(DVH_STATUS_BUSY), "DVH_STATUS_BUSY") == 0);
     CHECK(strcmp(dvh_status_name(4242), "DVH_STATUS_UNKNOWN") == 0);
-    for (s = 0; s <= DVH_STATUS_INVARIANT_BROKEN; s++) CHECK(strcmp(dvh_status_name(s), "DVH_STATUS_UNKNOWN") != 0);
+    for (s = 0; s <= DVH_STATUS_BUSY; s++) CHECK(strcmp(dvh_status_name(s), "DVH_STATUS_UNKNOWN") != 0);
 }
 
 static void test_defaults(void) {

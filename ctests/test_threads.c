@@ -5,6 +5,7 @@
  * give the answers of the calling thread alone, pair for pair.
  */
 #include <pthread.h>
+#include <time.h>
 
 #include "common.h"
 
@@ -129,6 +130,119 @@ static void test_one_query_on_many_threads(void) {
     mesh_free(&mb);
 }
 
+/* Misuse from C, detected: a refit of a mesh while queries on it run on another thread, two
+ * threads sharing one result buffer, two scene queries at once. Each late call is refused with
+ * DVH_STATUS_BUSY and a message naming the call and the argument, and touches nothing: every
+ * query that succeeds still gives the answer of a quiet run. */
+typedef struct Busy {
+    const DvhMesh *mesh;
+    DvhPairs *pairs; /* shared by both query threads */
+    DvhScene *scene;
+    size_t expected;
+    int stop;
+    int wrong, busy, ok;
+} Busy;
+
+static void *query_until_stopped(void *arg) {
+    Busy *b = arg;
+    while (!__atomic_load_n(&b->stop, __ATOMIC_RELAXED)) {
+        DvhStatus s = dvh_self_proximity(b->mesh, 1.0, NULL, b->pairs, NULL);
+        if (s == DVH_STATUS_OK) {
+            __atomic_fetch_add(&b->ok, 1, __ATOMIC_RELAXED);
+            /* Both threads ask the same question: whoever wrote last wrote this answer. */
+            if (dvh_pairs_len(b->pairs) != b->expected && dvh_pairs_len(b->pairs) != 0)
+                __atomic_fetch_add(&b->wrong, 1, __ATOMIC_RELAXED);
+        } else if (s == DVH_STATUS_BUSY) {
+            char message[256];
+            dvh_last_error_message(message, sizeof message);
+            if (strstr(message, "dvh_self_proximity: ") != message || strstr(message, "is busy") == NULL)
+                __atomic_fetch_add(&b->wrong, 1, __ATOMIC_RELAXED);
+            __atomic_fetch_add(&b->busy, 1, __ATOMIC_RELAXED);
+        } else {
+            __atomic_fetch_add(&b->wrong, 1, __ATOMIC_RELAXED);
+        }
+    }
+    return NULL;
+}
+
+static void *scene_until_stopped(void *arg) {
+    Busy *b = arg;
+    DvhContacts *contacts = dvh_contacts_new();
+    while (!__atomic_load_n(&b->stop, __ATOMIC_RELAXED)) {
+        DvhStatus s = dvh_scene_collide(b->scene, NULL, contacts, NULL);
+        if (s == DVH_STATUS_BUSY)
+            __atomic_fetch_add(&b->busy, 1, __ATOMIC_RELAXED);
+        else if (s != DVH_STATUS_OK)
+            __atomic_fetch_add(&b->wrong, 1, __ATOMIC_RELAXED);
+    }
+    dvh_contacts_free(contacts);
+    return NULL;
+}
+
+static void test_misuse_is_refused(void) {
+    Mesh m = mesh_terrain(60, 0, 0, wavy);
+    DvhMesh *mesh = NULL;
+    DvhPairs *pairs = dvh_pairs_new();
+    Busy b;
+    pthread_t q[2];
+    int t, refits_busy = 0, refits_ok = 0;
+    int interleaved = getenv("DVH_ONE_THREAD_AT_A_TIME") == NULL;
+    time_t start, limit = interleaved ? 20 : 2;
+    char message[256];
+    uint32_t object;
+
+    CHECK_STATUS(dvh_mesh_create(m.pos, m.vertex_count, m.tris, m.triangle_count, NULL, &mesh), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_self_proximity(mesh, 1.0, NULL, pairs, NULL), DVH_STATUS_OK, NULL);
+    memset(&b, 0, sizeof b);
+    b.mesh = mesh;
+    b.pairs = pairs;
+    b.expected = dvh_pairs_len(pairs);
+    CHECK(b.expected > 0);
+    for (t = 0; t < 2; t++) CHECK(pthread_create(&q[t], NULL, query_until_stopped, &b) == 0);
+    /* Refits to the same positions: whichever gets in, the answer does not change. */
+    start = time(NULL);
+    while (time(NULL) - start < limit &&
+           (refits_busy == 0 || refits_ok == 0 || __atomic_load_n(&b.busy, __ATOMIC_RELAXED) == 0)) {
+        DvhStatus s = dvh_mesh_refit(mesh, m.pos, m.vertex_count);
+        if (s == DVH_STATUS_BUSY) {
+            dvh_last_error_message(message, sizeof message);
+            CHECK(strstr(message, "dvh_mesh_refit: DvhMesh `mesh` is busy") == message);
+            refits_busy++;
+        } else {
+            CHECK(s == DVH_STATUS_OK);
+            refits_ok++;
+        }
+    }
+    __atomic_store_n(&b.stop, 1, __ATOMIC_RELAXED);
+    for (t = 0; t < 2; t++) CHECK(pthread_join(q[t], NULL) == 0);
+    /* Valgrind runs one thread at a time: calls may then never overlap. */
+    CHECK(interleaved == 0 || (refits_busy > 0 && refits_ok > 0 && b.busy > 0 && b.ok > 0));
+    CHECK(b.wrong == 0);
+    CHECK_STATUS(dvh_self_proximity(mesh, 1.0, NULL, pairs, NULL), DVH_STATUS_OK, NULL);
+    CHECK(dvh_pairs_len(pairs) == b.expected);
+
+    /* Two threads querying one scene: the late one is refused. */
+    memset(&b, 0, sizeof b);
+    CHECK_STATUS(dvh_scene_create(&b.scene), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_add_deformable(b.scene, mesh, 1, 1, &object), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_add_deformable(b.scene, mesh, 1, 1, &object), DVH_STATUS_OK, NULL);
+    for (t = 0; t < 2; t++) CHECK(pthread_create(&q[t], NULL, scene_until_stopped, &b) == 0);
+    start = time(NULL);
+    while (time(NULL) - start < limit && __atomic_load_n(&b.busy, __ATOMIC_RELAXED) == 0) {
+        DvhStatus s = dvh_scene_set_positions(b.scene, object, m.pos, m.vertex_count);
+        if (s == DVH_STATUS_BUSY) __atomic_fetch_add(&b.busy, 1, __ATOMIC_RELAXED);
+        else CHECK(s == DVH_STATUS_OK);
+    }
+    __atomic_store_n(&b.stop, 1, __ATOMIC_RELAXED);
+    for (t = 0; t < 2; t++) CHECK(pthread_join(q[t], NULL) == 0);
+    CHECK(interleaved == 0 || b.busy > 0);
+    CHECK(b.wrong == 0);
+    dvh_scene_free(b.scene);
+    dvh_pairs_free(pairs);
+    dvh_mesh_free(mesh);
+    mesh_free(&m);
+}
+
 int main(void) {
     Mesh ma = mesh_terrain(12, 0, 0, bumpy), mb = mesh_terrain(8, 0, 0, hill);
     DvhMesh *a = NULL, *b = NULL;
@@ -176,5 +290,6 @@ int main(void) {
     mesh_free(&ma);
     mesh_free(&mb);
     test_one_query_on_many_threads();
+    test_misuse_is_refused();
     return finish("test_threads");
 }

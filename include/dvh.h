@@ -18,6 +18,12 @@
  *   its own DvhPairs; dvh_mesh_refit needs exclusive access to its mesh. Every dvh_scene_* call,
  *   dvh_scene_collide included (it refits objects), needs exclusive access to its scene; distinct
  *   scenes may be used from distinct threads at once. The last error message is per thread.
+ *   Breaking these rules is detected, not a data race: each handle keeps an atomic state, and
+ *   the late call (a refit while a query runs, two scene calls at once, one DvhPairs or
+ *   DvhContacts used by two threads, a release of a handle in use) is refused with
+ *   DVH_STATUS_BUSY and touches nothing. A pointer that is not a live handle of the right kind
+ *   is refused with DVH_STATUS_INVALID_ARGUMENT when its tag says so; a released handle is
+ *   caught only while its memory has not been reused (see ROBUSTNESS.md).
  * - Threads of the library's own: a query (DvhQueryOptions.threads) and a refit
  *   (DvhBuildOptions.refit_threads) may share their work among threads of one pool, created on
  *   first use and kept for the life of the process (set RAYON_NUM_THREADS to size it); the
@@ -390,6 +396,13 @@ typedef struct DvhContact {
 #define DVH_STATUS_INVARIANT_BROKEN 9
 
 /**
+ * The call would break the threading rules: a refit of a mesh while a query on it runs on
+ * another thread, two calls changing one scene at once, one result buffer used by two threads.
+ * The object was not touched; the call may be retried once the other has returned.
+ */
+#define DVH_STATUS_BUSY 10
+
+/**
  * Up to 8 children per node (midpoint cut on all three axes): shallow trees. The default.
  */
 #define DVH_TREE_KIND_OCTREE 0
@@ -600,7 +613,7 @@ DvhStatus dvh_mesh_create_f32(const float *positions,
  * NON_FINITE_COORDINATE. On failure the mesh is exactly as it was.
  *
  * Thread safety: needs exclusive access to `mesh`: no query or other call on it may run at the
- * same time.
+ * same time. A refit that would is refused with BUSY, the mesh untouched.
  *
  * # Safety
  * `mesh` is NULL or a live mesh from `dvh_mesh_create*`; `positions` points to
@@ -626,7 +639,8 @@ DvhStatus dvh_mesh_refit_f32(struct DvhMesh *mesh,
 /**
  * Releases a mesh. NULL is a no-op.
  *
- * Thread safety: needs exclusive access to `mesh`; it must not be used afterwards.
+ * Thread safety: needs exclusive access to `mesh`; it must not be used afterwards. A mesh in
+ * use by another call is not released (the last error message says so).
  *
  * # Safety
  * `mesh` is NULL or a live mesh from `dvh_mesh_create*`, not freed before.
@@ -636,7 +650,8 @@ void dvh_mesh_free(struct DvhMesh *mesh);
 /**
  * Number of vertices of a mesh (0 for NULL).
  *
- * Thread safety: may run alongside queries on the same mesh, not alongside a refit.
+ * Thread safety: may run alongside queries on the same mesh, not alongside a refit (0 then, and
+ * the functions below that return a status return BUSY).
  *
  * # Safety
  * `mesh` is NULL or a live mesh.
@@ -732,7 +747,7 @@ struct DvhPairs *dvh_pairs_new(void);
 /**
  * Number of pairs of the last successful query into `pairs` (0 for NULL or a new buffer).
  *
- * Thread safety: not alongside a query writing the same buffer.
+ * Thread safety: not alongside a query writing the same buffer (0 then).
  *
  * # Safety
  * `pairs` is NULL or a live buffer.
@@ -784,12 +799,14 @@ void dvh_pairs_free(struct DvhPairs *pairs);
  * touching counts as intersecting. On failure neither `pairs_out` nor `*stats_out` changes.
  *
  * Errors: NULL_ARGUMENT (`a`, `b`, `pairs_out`); INVALID_ARGUMENT (options out of range, a
- * budget of 0 in `DVH_QUERY_MODE_BUDGET`);
+ * budget of 0 in `DVH_QUERY_MODE_BUDGET`, a pointer that is not a live handle); BUSY;
  * NON_FINITE_COORDINATE and NON_RIGID_POSE (a pose); POSE_OUT_OF_RANGE; OUT_OF_MEMORY (the
  * result could not grow: set `max_pairs`); INTERNAL_PANIC.
  *
  * Thread safety: `a` and `b` are only read: any number of threads may query the same meshes at
- * once, each with its own `pairs_out`. No refit of `a` or `b` may run meanwhile.
+ * once, each with its own `pairs_out`. No refit of `a` or `b` may run meanwhile. A query that
+ * would break this (a refit running, `pairs_out` in use by another call) is refused with BUSY
+ * and changes nothing.
  *
  * # Safety
  * `a` and `b` are NULL or live meshes; `pose_a`, `pose_b`, `options` are NULL or readable;
@@ -1072,7 +1089,8 @@ DvhStatus dvh_scene_set_lazy_refit(struct DvhScene *scene, bool lazy);
  * budget of 0); OUT_OF_MEMORY (set `max_pairs`).
  *
  * Thread safety: exclusive access to `scene` (the query refits objects), and a `contacts_out`
- * used by no other thread.
+ * used by no other thread; otherwise refused with BUSY, nothing changed (as every
+ * `dvh_scene_*` call that needs exclusive access).
  *
  * # Safety
  * `scene` is NULL or a live scene; `options` is NULL or readable; `contacts_out` is NULL or a
@@ -1095,7 +1113,7 @@ struct DvhContacts *dvh_contacts_new(void);
  * Number of contacts of the last successful query into `contacts` (0 for NULL or a new
  * buffer).
  *
- * Thread safety: not alongside a query writing the same buffer.
+ * Thread safety: not alongside a query writing the same buffer (0 then).
  *
  * # Safety
  * `contacts` is NULL or a live buffer.

@@ -1,10 +1,12 @@
 //! Meshes through the C ABI: create, refit, free, inspect.
 
+use super::access::{Access, MESH_TAG, Read, Tag, read, release, write};
 use super::boundary::{Failure, choice, guard, guard_value, slice_from, times_three, try_box};
 use super::types::*;
 use crate::geometry::predicates::Point;
 use crate::{BuildOptions, LeftoverPolicy, Mesh, RadiusKind, TreeKind, VolumeKind};
 use std::borrow::Cow;
+use std::cell::UnsafeCell;
 
 /// The default build options, the fastest measured for meshes that deform: octree, box volumes
 /// (`DVH_VOLUME_KIND_AABB`), layered radii (for sphere volumes), leftover triangles joined to
@@ -169,8 +171,9 @@ fn check_counts(vertex_count: usize, triangle_count: usize) -> Result<(), Failur
 /// `mesh_out` is NULL or writable.
 unsafe fn publish(mesh: Mesh, mesh_out: *mut *mut DvhMesh) -> Result<(), Failure> {
     let ptr = try_box(DvhMesh {
-        mesh,
-        poisoned: false,
+        tag: Tag::new(MESH_TAG),
+        access: Access::default(),
+        mesh: UnsafeCell::new(mesh),
     })?;
     // SAFETY: checked non-NULL by the callers before any work; writable per the contract.
     unsafe { mesh_out.write(ptr) };
@@ -361,32 +364,23 @@ pub unsafe extern "C" fn dvh_mesh_create_f32(
     })
 }
 
-/// Runs a refit on a mesh that is not poisoned, poisoning it for the duration: if the refit
-/// panics the half-updated mesh stays refused.
+/// Runs a refit (entry point `call`) with the mesh taken for change: refused while another call
+/// uses it; if the refit panics the half-updated mesh stays refused.
 fn refit_guarded(
     mesh: *mut DvhMesh,
     vertex_count: usize,
+    call: &str,
     refit: impl FnOnce(&mut Mesh) -> Result<(), Failure>,
 ) -> Result<(), Failure> {
-    // SAFETY: NULL or a live mesh not accessed by any other thread during the call, per the
-    // contracts of the callers.
-    let m = unsafe { mesh.as_mut() }.ok_or_else(|| Failure::null("mesh"))?;
-    if m.poisoned {
-        return Err(Failure::new(
-            DVH_STATUS_INTERNAL_PANIC,
-            "the mesh is unusable: an internal panic interrupted an earlier refit",
-        ));
-    }
-    if vertex_count != m.mesh.vertex_count() {
+    // SAFETY: NULL or a live mesh, per the contracts of the callers.
+    let mut m = unsafe { write(mesh, "mesh", call)? };
+    if vertex_count != m.vertex_count() {
         return Err(Failure::invalid(format!(
             "vertex_count = {vertex_count}, but the mesh has {} vertices",
-            m.mesh.vertex_count()
+            m.vertex_count()
         )));
     }
-    m.poisoned = true;
-    let result = refit(&mut m.mesh);
-    m.poisoned = false;
-    result
+    refit(&mut m)
 }
 
 /// Refits a mesh to new `double` positions (`x, y, z` per vertex, the same vertex count as at
@@ -396,7 +390,7 @@ fn refit_guarded(
 /// NON_FINITE_COORDINATE. On failure the mesh is exactly as it was.
 ///
 /// Thread safety: needs exclusive access to `mesh`: no query or other call on it may run at the
-/// same time.
+/// same time. A refit that would is refused with BUSY, the mesh untouched.
 ///
 /// # Safety
 /// `mesh` is NULL or a live mesh from `dvh_mesh_create*`; `positions` points to
@@ -408,7 +402,7 @@ pub unsafe extern "C" fn dvh_mesh_refit(
     vertex_count: usize,
 ) -> DvhStatus {
     guard(|| {
-        refit_guarded(mesh, vertex_count, |m| {
+        refit_guarded(mesh, vertex_count, "dvh_mesh_refit", |m| {
             // SAFETY: readable per the contract; NULL, alignment and size are checked inside.
             let positions = unsafe { slice_from(positions, vertex_count * 3, "positions")? };
             m.refit(positions)?;
@@ -433,7 +427,7 @@ pub unsafe extern "C" fn dvh_mesh_refit_f32(
     vertex_count: usize,
 ) -> DvhStatus {
     guard(|| {
-        refit_guarded(mesh, vertex_count, |m| {
+        refit_guarded(mesh, vertex_count, "dvh_mesh_refit_f32", |m| {
             // SAFETY: readable per the contract; NULL, stride and span are checked inside.
             let reader = unsafe { StridedF32::new(positions, stride_bytes, vertex_count)? };
             m.refit_with(vertex_count, |i| reader.get(i))?;
@@ -444,31 +438,31 @@ pub unsafe extern "C" fn dvh_mesh_refit_f32(
 
 /// Releases a mesh. NULL is a no-op.
 ///
-/// Thread safety: needs exclusive access to `mesh`; it must not be used afterwards.
+/// Thread safety: needs exclusive access to `mesh`; it must not be used afterwards. A mesh in
+/// use by another call is not released (the last error message says so).
 ///
 /// # Safety
 /// `mesh` is NULL or a live mesh from `dvh_mesh_create*`, not freed before.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn dvh_mesh_free(mesh: *mut DvhMesh) {
-    guard_value((), || {
-        if !mesh.is_null() {
-            // SAFETY: allocated by `try_box` (the global allocator, `DvhMesh`'s layout), owned by
-            // the caller and released once, per the contract.
-            drop(unsafe { Box::from_raw(mesh) });
-        }
-    })
+    // SAFETY: allocated by `try_box` (the global allocator, `DvhMesh`'s layout) and owned by
+    // the caller, per the contract.
+    guard_value((), || unsafe { release(mesh, "mesh", "dvh_mesh_free") })
 }
 
+/// The mesh behind `mesh` for accessor `call`.
+///
 /// # Safety
-/// `mesh` is NULL or a live mesh, not being refit.
-unsafe fn mesh_ref<'a>(mesh: *const DvhMesh) -> Option<&'a Mesh> {
+/// `mesh` is NULL or a live mesh.
+unsafe fn mesh_ref<'a>(mesh: *const DvhMesh, call: &str) -> Result<Read<'a, Mesh>, Failure> {
     // SAFETY: per the contract.
-    unsafe { mesh.as_ref() }.map(|m| &m.mesh)
+    unsafe { read(mesh, "mesh", call) }
 }
 
 /// Number of vertices of a mesh (0 for NULL).
 ///
-/// Thread safety: may run alongside queries on the same mesh, not alongside a refit.
+/// Thread safety: may run alongside queries on the same mesh, not alongside a refit (0 then, and
+/// the functions below that return a status return BUSY).
 ///
 /// # Safety
 /// `mesh` is NULL or a live mesh.
@@ -476,7 +470,7 @@ unsafe fn mesh_ref<'a>(mesh: *const DvhMesh) -> Option<&'a Mesh> {
 pub unsafe extern "C" fn dvh_mesh_vertex_count(mesh: *const DvhMesh) -> usize {
     // SAFETY: per the contract.
     guard_value(0, || {
-        unsafe { mesh_ref(mesh) }.map_or(0, Mesh::vertex_count)
+        unsafe { mesh_ref(mesh, "dvh_mesh_vertex_count") }.map_or(0, |m| m.vertex_count())
     })
 }
 
@@ -490,7 +484,7 @@ pub unsafe extern "C" fn dvh_mesh_vertex_count(mesh: *const DvhMesh) -> usize {
 pub unsafe extern "C" fn dvh_mesh_triangle_count(mesh: *const DvhMesh) -> usize {
     // SAFETY: per the contract.
     guard_value(0, || {
-        unsafe { mesh_ref(mesh) }.map_or(0, Mesh::triangle_count)
+        unsafe { mesh_ref(mesh, "dvh_mesh_triangle_count") }.map_or(0, |m| m.triangle_count())
     })
 }
 
@@ -503,7 +497,9 @@ pub unsafe extern "C" fn dvh_mesh_triangle_count(mesh: *const DvhMesh) -> usize 
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn dvh_mesh_node_count(mesh: *const DvhMesh) -> usize {
     // SAFETY: per the contract.
-    guard_value(0, || unsafe { mesh_ref(mesh) }.map_or(0, Mesh::node_count))
+    guard_value(0, || {
+        unsafe { mesh_ref(mesh, "dvh_mesh_node_count") }.map_or(0, |m| m.node_count())
+    })
 }
 
 /// Writes the shape of a mesh's hierarchy to `*stats_out`.
@@ -519,7 +515,7 @@ pub unsafe extern "C" fn dvh_mesh_tree_stats(
 ) -> DvhStatus {
     guard(|| {
         // SAFETY: per the contract.
-        let m = unsafe { mesh_ref(mesh) }.ok_or_else(|| Failure::null("mesh"))?;
+        let m = unsafe { mesh_ref(mesh, "dvh_mesh_tree_stats")? };
         if stats_out.is_null() {
             return Err(Failure::null("stats_out"));
         }
@@ -551,7 +547,7 @@ pub unsafe extern "C" fn dvh_mesh_last_refit_stats(
 ) -> DvhStatus {
     guard(|| {
         // SAFETY: per the contract.
-        let m = unsafe { mesh_ref(mesh) }.ok_or_else(|| Failure::null("mesh"))?;
+        let m = unsafe { mesh_ref(mesh, "dvh_mesh_last_refit_stats")? };
         if stats_out.is_null() {
             return Err(Failure::null("stats_out"));
         }
@@ -586,7 +582,7 @@ pub unsafe extern "C" fn dvh_mesh_node_triangles(
 ) -> DvhStatus {
     guard(|| {
         // SAFETY: per the contract.
-        let m = unsafe { mesh_ref(mesh) }.ok_or_else(|| Failure::null("mesh"))?;
+        let m = unsafe { mesh_ref(mesh, "dvh_mesh_node_triangles")? };
         if triangles_out.is_null() {
             return Err(Failure::null("triangles_out"));
         }
@@ -620,7 +616,7 @@ pub unsafe extern "C" fn dvh_mesh_node_triangles(
 pub unsafe extern "C" fn dvh_mesh_validate(mesh: *const DvhMesh) -> DvhStatus {
     guard(|| {
         // SAFETY: per the contract.
-        let m = unsafe { mesh_ref(mesh) }.ok_or_else(|| Failure::null("mesh"))?;
+        let m = unsafe { mesh_ref(mesh, "dvh_mesh_validate")? };
         m.validate()
             .map_err(|e| Failure::new(DVH_STATUS_INVARIANT_BROKEN, e.to_string()))
     })

@@ -8,6 +8,7 @@
 //! `_free`, which accept NULL; every entry point checks its pointers and catches panics. All the
 //! crate's `unsafe` code is here, each block with its justification.
 
+mod access;
 mod boundary;
 mod mesh;
 mod query;
@@ -45,6 +46,7 @@ fn status_name(status: DvhStatus) -> &'static CStr {
         DVH_STATUS_INTERNAL_PANIC => c"DVH_STATUS_INTERNAL_PANIC",
         DVH_STATUS_POSE_OUT_OF_RANGE => c"DVH_STATUS_POSE_OUT_OF_RANGE",
         DVH_STATUS_INVARIANT_BROKEN => c"DVH_STATUS_INVARIANT_BROKEN",
+        DVH_STATUS_BUSY => c"DVH_STATUS_BUSY",
         _ => c"DVH_STATUS_UNKNOWN",
     }
 }

@@ -1,12 +1,14 @@
 //! Queries through the C ABI: result buffers, collide, self-collision, proximity, the exact
 //! triangle test.
 
+use super::access::{Access, PAIRS_TAG, Read, Tag, read, release, write};
 use super::boundary::{Failure, choice, guard, guard_value, set_last_error, slice_from, try_box};
 use super::types::*;
 use crate::{
     PairKind, Pairs, Pose, QueryMode, QueryOptions, QueryStats, collide, proximity, self_collide,
     self_proximity, triangles_intersect,
 };
+use std::cell::UnsafeCell;
 
 /// The default query options: every intersecting triangle pair, no pair limit, every core (all
 /// fields zero).
@@ -69,7 +71,9 @@ pub(super) fn pose(p: &DvhPose, name: &str) -> Result<Pose, Failure> {
 pub extern "C" fn dvh_pairs_new() -> *mut DvhPairs {
     guard_value(std::ptr::null_mut(), || {
         match try_box(DvhPairs {
-            pairs: Pairs::new(),
+            tag: Tag::new(PAIRS_TAG),
+            access: Access::default(),
+            pairs: UnsafeCell::new(Pairs::new()),
         }) {
             Ok(p) => p,
             Err(f) => {
@@ -80,23 +84,27 @@ pub extern "C" fn dvh_pairs_new() -> *mut DvhPairs {
     })
 }
 
+/// The buffer behind `pairs` for accessor `call`.
+///
 /// # Safety
-/// `pairs` is NULL or a live buffer not written by another thread during the call.
-unsafe fn pairs_ref<'a>(pairs: *const DvhPairs) -> Option<&'a Pairs> {
+/// `pairs` is NULL or a live buffer.
+unsafe fn pairs_ref<'a>(pairs: *const DvhPairs, call: &str) -> Option<Read<'a, Pairs>> {
     // SAFETY: per the contract.
-    unsafe { pairs.as_ref() }.map(|p| &p.pairs)
+    unsafe { read(pairs, "pairs", call) }.ok()
 }
 
 /// Number of pairs of the last successful query into `pairs` (0 for NULL or a new buffer).
 ///
-/// Thread safety: not alongside a query writing the same buffer.
+/// Thread safety: not alongside a query writing the same buffer (0 then).
 ///
 /// # Safety
 /// `pairs` is NULL or a live buffer.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn dvh_pairs_len(pairs: *const DvhPairs) -> usize {
     // SAFETY: per the contract.
-    guard_value(0, || unsafe { pairs_ref(pairs) }.map_or(0, Pairs::len))
+    guard_value(0, || {
+        unsafe { pairs_ref(pairs, "dvh_pairs_len") }.map_or(0, |p| p.len())
+    })
 }
 
 /// The pairs of the last successful query into `pairs`: `dvh_pairs_len(pairs)` entries, sorted
@@ -111,7 +119,7 @@ pub unsafe extern "C" fn dvh_pairs_len(pairs: *const DvhPairs) -> usize {
 pub unsafe extern "C" fn dvh_pairs_data(pairs: *const DvhPairs) -> *const DvhPair {
     guard_value(std::ptr::null(), || {
         // SAFETY: per the contract.
-        match unsafe { pairs_ref(pairs) } {
+        match unsafe { pairs_ref(pairs, "dvh_pairs_data") } {
             Some(p) if !p.is_empty() => p.as_slice().as_ptr().cast::<DvhPair>(),
             _ => std::ptr::null(),
         }
@@ -129,7 +137,7 @@ pub unsafe extern "C" fn dvh_pairs_data(pairs: *const DvhPairs) -> *const DvhPai
 pub unsafe extern "C" fn dvh_pairs_kind(pairs: *const DvhPairs) -> DvhPairKind {
     guard_value(DVH_PAIR_KIND_TRIANGLES, || {
         // SAFETY: per the contract.
-        match unsafe { pairs_ref(pairs) }.map(Pairs::kind) {
+        match unsafe { pairs_ref(pairs, "dvh_pairs_kind") }.map(|p| p.kind()) {
             Some(PairKind::Nodes) => DVH_PAIR_KIND_NODES,
             _ => DVH_PAIR_KIND_TRIANGLES,
         }
@@ -144,12 +152,8 @@ pub unsafe extern "C" fn dvh_pairs_kind(pairs: *const DvhPairs) -> DvhPairKind {
 /// `pairs` is NULL or a live buffer from `dvh_pairs_new`, not freed before.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn dvh_pairs_free(pairs: *mut DvhPairs) {
-    guard_value((), || {
-        if !pairs.is_null() {
-            // SAFETY: allocated by `try_box`, owned by the caller, released once (contract).
-            drop(unsafe { Box::from_raw(pairs) });
-        }
-    })
+    // SAFETY: allocated by `try_box` and owned by the caller (contract).
+    guard_value((), || unsafe { release(pairs, "pairs", "dvh_pairs_free") })
 }
 
 /// Finds what intersects between mesh `a` placed by `pose_a` and mesh `b` placed by `pose_b`
@@ -163,12 +167,14 @@ pub unsafe extern "C" fn dvh_pairs_free(pairs: *mut DvhPairs) {
 /// touching counts as intersecting. On failure neither `pairs_out` nor `*stats_out` changes.
 ///
 /// Errors: NULL_ARGUMENT (`a`, `b`, `pairs_out`); INVALID_ARGUMENT (options out of range, a
-/// budget of 0 in `DVH_QUERY_MODE_BUDGET`);
+/// budget of 0 in `DVH_QUERY_MODE_BUDGET`, a pointer that is not a live handle); BUSY;
 /// NON_FINITE_COORDINATE and NON_RIGID_POSE (a pose); POSE_OUT_OF_RANGE; OUT_OF_MEMORY (the
 /// result could not grow: set `max_pairs`); INTERNAL_PANIC.
 ///
 /// Thread safety: `a` and `b` are only read: any number of threads may query the same meshes at
-/// once, each with its own `pairs_out`. No refit of `a` or `b` may run meanwhile.
+/// once, each with its own `pairs_out`. No refit of `a` or `b` may run meanwhile. A query that
+/// would break this (a refit running, `pairs_out` in use by another call) is refused with BUSY
+/// and changes nothing.
 ///
 /// # Safety
 /// `a` and `b` are NULL or live meshes; `pose_a`, `pose_b`, `options` are NULL or readable;
@@ -185,43 +191,20 @@ pub unsafe extern "C" fn dvh_collide(
 ) -> DvhStatus {
     guard(|| {
         // SAFETY: NULL or live, read-only during the call (contract).
-        let (ma, mb) = unsafe { (live_mesh(a, "a")?, live_mesh(b, "b")?) };
+        let (ma, mb) = unsafe { (read(a, "a", "dvh_collide")?, read(b, "b", "dvh_collide")?) };
         // SAFETY: NULL or a live buffer used by this thread only (contract).
-        let out = unsafe { pairs_out.as_mut() }.ok_or_else(|| Failure::null("pairs_out"))?;
+        let mut out = unsafe { write(pairs_out, "pairs_out", "dvh_collide")? };
         // SAFETY: NULL or readable (contract).
         let (pa, pb) = unsafe { (pose_a.as_ref(), pose_b.as_ref()) };
         let pa = pa.map(|p| pose(p, "pose_a")).transpose()?;
         let pb = pb.map(|p| pose(p, "pose_b")).transpose()?;
         // SAFETY: NULL or readable (contract).
         let o = unsafe { options_or_default(options) }?;
-        let s = collide(
-            &ma.mesh,
-            pa.as_ref(),
-            &mb.mesh,
-            pb.as_ref(),
-            &o,
-            &mut out.pairs,
-        )?;
+        let s = collide(&ma, pa.as_ref(), &mb, pb.as_ref(), &o, &mut out)?;
         // SAFETY: NULL or writable (contract).
         unsafe { write_stats(stats_out, &s) };
         Ok(())
     })
-}
-
-/// The mesh behind `m`, unless NULL or unusable.
-///
-/// # Safety
-/// `m` is NULL or a live mesh, read-only for `'m`.
-unsafe fn live_mesh<'m>(m: *const DvhMesh, name: &str) -> Result<&'m DvhMesh, Failure> {
-    // SAFETY: NULL or live (contract).
-    let m = unsafe { m.as_ref() }.ok_or_else(|| Failure::null(name))?;
-    if m.poisoned {
-        return Err(Failure::new(
-            DVH_STATUS_INTERNAL_PANIC,
-            format!("mesh `{name}` is unusable: an internal panic interrupted an earlier refit"),
-        ));
-    }
-    Ok(m)
 }
 
 /// The options behind `o`, or the defaults for NULL.
@@ -285,12 +268,12 @@ pub unsafe extern "C" fn dvh_self_collide(
 ) -> DvhStatus {
     guard(|| {
         // SAFETY: NULL or live, read-only during the call (contract).
-        let m = unsafe { live_mesh(mesh, "mesh") }?;
+        let m = unsafe { read(mesh, "mesh", "dvh_self_collide") }?;
         // SAFETY: NULL or a live buffer used by this thread only (contract).
-        let out = unsafe { pairs_out.as_mut() }.ok_or_else(|| Failure::null("pairs_out"))?;
+        let mut out = unsafe { write(pairs_out, "pairs_out", "dvh_self_collide")? };
         // SAFETY: NULL or readable (contract).
         let o = unsafe { options_or_default(options) }?;
-        let s = self_collide(&m.mesh, &o, &mut out.pairs)?;
+        let s = self_collide(&m, &o, &mut out)?;
         // SAFETY: NULL or writable (contract).
         unsafe { write_stats(stats_out, &s) };
         Ok(())
@@ -330,24 +313,21 @@ pub unsafe extern "C" fn dvh_proximity(
 ) -> DvhStatus {
     guard(|| {
         // SAFETY: NULL or live, read-only during the call (contract).
-        let (ma, mb) = unsafe { (live_mesh(a, "a")?, live_mesh(b, "b")?) };
+        let (ma, mb) = unsafe {
+            (
+                read(a, "a", "dvh_proximity")?,
+                read(b, "b", "dvh_proximity")?,
+            )
+        };
         // SAFETY: NULL or a live buffer used by this thread only (contract).
-        let out = unsafe { pairs_out.as_mut() }.ok_or_else(|| Failure::null("pairs_out"))?;
+        let mut out = unsafe { write(pairs_out, "pairs_out", "dvh_proximity")? };
         // SAFETY: NULL or readable (contract).
         let (pa, pb) = unsafe { (pose_a.as_ref(), pose_b.as_ref()) };
         let pa = pa.map(|p| pose(p, "pose_a")).transpose()?;
         let pb = pb.map(|p| pose(p, "pose_b")).transpose()?;
         // SAFETY: NULL or readable (contract).
         let o = unsafe { options_or_default(options) }?;
-        let s = proximity(
-            &ma.mesh,
-            pa.as_ref(),
-            &mb.mesh,
-            pb.as_ref(),
-            distance,
-            &o,
-            &mut out.pairs,
-        )?;
+        let s = proximity(&ma, pa.as_ref(), &mb, pb.as_ref(), distance, &o, &mut out)?;
         // SAFETY: NULL or writable (contract).
         unsafe { write_stats(stats_out, &s) };
         Ok(())
@@ -378,12 +358,12 @@ pub unsafe extern "C" fn dvh_self_proximity(
 ) -> DvhStatus {
     guard(|| {
         // SAFETY: NULL or live, read-only during the call (contract).
-        let m = unsafe { live_mesh(mesh, "mesh") }?;
+        let m = unsafe { read(mesh, "mesh", "dvh_self_proximity") }?;
         // SAFETY: NULL or a live buffer used by this thread only (contract).
-        let out = unsafe { pairs_out.as_mut() }.ok_or_else(|| Failure::null("pairs_out"))?;
+        let mut out = unsafe { write(pairs_out, "pairs_out", "dvh_self_proximity")? };
         // SAFETY: NULL or readable (contract).
         let o = unsafe { options_or_default(options) }?;
-        let s = self_proximity(&m.mesh, distance, &o, &mut out.pairs)?;
+        let s = self_proximity(&m, distance, &o, &mut out)?;
         // SAFETY: NULL or writable (contract).
         unsafe { write_stats(stats_out, &s) };
         Ok(())

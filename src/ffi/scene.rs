@@ -1,5 +1,6 @@
 //! Scenes through the C ABI: objects, filters, the frame's query and its contact buffer.
 
+use super::access::{Access, CONTACTS_TAG, Read, SCENE_TAG, Tag, Write, read, release, write};
 use super::boundary::{
     Failure, guard, guard_value, set_last_error, slice_from, times_three, try_box,
 };
@@ -7,6 +8,7 @@ use super::mesh::StridedF32;
 use super::query::{pose, query_options};
 use super::types::*;
 use crate::{Contacts, Mesh, PairKind, Pose, Scene};
+use std::cell::UnsafeCell;
 
 /// Creates an empty scene and writes it to `*scene_out`. Release it with `dvh_scene_free`.
 ///
@@ -23,7 +25,9 @@ pub unsafe extern "C" fn dvh_scene_create(scene_out: *mut *mut DvhScene) -> DvhS
             return Err(Failure::null("scene_out"));
         }
         let ptr = try_box(DvhScene {
-            scene: Scene::new(),
+            tag: Tag::new(SCENE_TAG),
+            access: Access::default(),
+            scene: UnsafeCell::new(Scene::new()),
         })?;
         // SAFETY: non-NULL (checked) and writable per the contract.
         unsafe { scene_out.write(ptr) };
@@ -39,39 +43,17 @@ pub unsafe extern "C" fn dvh_scene_create(scene_out: *mut *mut DvhScene) -> DvhS
 /// `scene` is NULL or a live scene from `dvh_scene_create`, not freed before.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn dvh_scene_free(scene: *mut DvhScene) {
-    guard_value((), || {
-        if !scene.is_null() {
-            // SAFETY: allocated by `try_box`, owned by the caller and released once (contract).
-            drop(unsafe { Box::from_raw(scene) });
-        }
-    })
+    // SAFETY: allocated by `try_box` and owned by the caller (contract).
+    guard_value((), || unsafe { release(scene, "scene", "dvh_scene_free") })
 }
 
-/// The scene behind `scene`, for a call that changes it.
+/// The scene behind `scene`, for entry point `call`, which changes it.
 ///
 /// # Safety
-/// `scene` is NULL or a live scene used by no other thread during the call.
-unsafe fn scene_mut<'a>(scene: *mut DvhScene) -> Result<&'a mut Scene, Failure> {
+/// `scene` is NULL or a live scene.
+unsafe fn scene_mut<'a>(scene: *mut DvhScene, call: &str) -> Result<Write<'a, Scene>, Failure> {
     // SAFETY: per the contract.
-    unsafe { scene.as_mut() }
-        .map(|s| &mut s.scene)
-        .ok_or_else(|| Failure::null("scene"))
-}
-
-/// The mesh an object is made from, refused if an earlier refit of it panicked.
-///
-/// # Safety
-/// `mesh` is NULL or a live mesh not being refit.
-unsafe fn source_mesh<'a>(mesh: *const DvhMesh) -> Result<&'a Mesh, Failure> {
-    // SAFETY: per the contract.
-    let m = unsafe { mesh.as_ref() }.ok_or_else(|| Failure::null("mesh"))?;
-    if m.poisoned {
-        return Err(Failure::new(
-            DVH_STATUS_INTERNAL_PANIC,
-            "the mesh is unusable: an internal panic interrupted an earlier refit",
-        ));
-    }
-    Ok(&m.mesh)
+    unsafe { write(scene, "scene", call) }
 }
 
 /// Adds an object made from `mesh` with `make` and writes its id to `*object_out`.
@@ -83,15 +65,16 @@ unsafe fn add(
     scene: *mut DvhScene,
     mesh: *const DvhMesh,
     object_out: *mut u32,
+    call: &str,
     make: impl FnOnce(&mut Scene, &Mesh) -> Result<u32, Failure>,
 ) -> DvhStatus {
     guard(|| {
         // SAFETY: per the contract.
-        let (s, m) = unsafe { (scene_mut(scene)?, source_mesh(mesh)?) };
+        let (mut s, m) = unsafe { (scene_mut(scene, call)?, read(mesh, "mesh", call)?) };
         if object_out.is_null() {
             return Err(Failure::null("object_out"));
         }
-        let id = make(s, m)?;
+        let id = make(&mut s, &m)?;
         // SAFETY: non-NULL (checked), writable (contract).
         unsafe { object_out.write(id) };
         Ok(())
@@ -127,7 +110,7 @@ pub unsafe extern "C" fn dvh_scene_add_rigid(
     let pose = unsafe { pose.as_ref() };
     // SAFETY: the caller's contract is `add`'s.
     unsafe {
-        add(scene, mesh, object_out, |s, m| {
+        add(scene, mesh, object_out, "dvh_scene_add_rigid", |s, m| {
             let p = pose.map(|p| self::pose(p, "pose")).transpose()?;
             Ok(s.add_rigid(m, p.as_ref(), group, mask)?)
         })
@@ -156,9 +139,13 @@ pub unsafe extern "C" fn dvh_scene_add_deformable(
 ) -> DvhStatus {
     // SAFETY: the caller's contract is `add`'s.
     unsafe {
-        add(scene, mesh, object_out, |s, m| {
-            Ok(s.add_deformable(m, group, mask)?)
-        })
+        add(
+            scene,
+            mesh,
+            object_out,
+            "dvh_scene_add_deformable",
+            |s, m| Ok(s.add_deformable(m, group, mask)?),
+        )
     }
 }
 
@@ -180,7 +167,7 @@ pub unsafe extern "C" fn dvh_scene_set_pose(
 ) -> DvhStatus {
     guard(|| {
         // SAFETY: per the contract.
-        let s = unsafe { scene_mut(scene)? };
+        let mut s = unsafe { scene_mut(scene, "dvh_scene_set_pose")? };
         // SAFETY: NULL or readable (contract).
         let p: Option<Pose> = unsafe { pose.as_ref() }
             .map(|p| self::pose(p, "pose"))
@@ -222,8 +209,8 @@ pub unsafe extern "C" fn dvh_scene_set_positions(
 ) -> DvhStatus {
     guard(|| {
         // SAFETY: per the contract.
-        let s = unsafe { scene_mut(scene)? };
-        check_vertex_count(s, object, vertex_count)?;
+        let mut s = unsafe { scene_mut(scene, "dvh_scene_set_positions")? };
+        check_vertex_count(&s, object, vertex_count)?;
         let len = times_three(vertex_count, "vertex_count")?;
         // SAFETY: readable per the contract; NULL, alignment and size are checked inside.
         let positions = unsafe { slice_from(positions, len, "positions")? };
@@ -253,8 +240,8 @@ pub unsafe extern "C" fn dvh_scene_set_positions_f32(
 ) -> DvhStatus {
     guard(|| {
         // SAFETY: per the contract.
-        let s = unsafe { scene_mut(scene)? };
-        check_vertex_count(s, object, vertex_count)?;
+        let mut s = unsafe { scene_mut(scene, "dvh_scene_set_positions_f32")? };
+        check_vertex_count(&s, object, vertex_count)?;
         // SAFETY: readable per the contract; NULL, stride and span are checked inside.
         let reader = unsafe { StridedF32::new(positions, stride_bytes, vertex_count)? };
         s.set_positions_with(object, vertex_count, |i| reader.get(i))?;
@@ -274,7 +261,7 @@ pub unsafe extern "C" fn dvh_scene_set_positions_f32(
 pub unsafe extern "C" fn dvh_scene_remove(scene: *mut DvhScene, object: u32) -> DvhStatus {
     guard(|| {
         // SAFETY: per the contract.
-        unsafe { scene_mut(scene)? }.remove(object)?;
+        unsafe { scene_mut(scene, "dvh_scene_remove")? }.remove(object)?;
         Ok(())
     })
 }
@@ -295,7 +282,7 @@ pub unsafe extern "C" fn dvh_scene_exclude_pair(
 ) -> DvhStatus {
     guard(|| {
         // SAFETY: per the contract.
-        unsafe { scene_mut(scene)? }.exclude_pair(object_a, object_b)?;
+        unsafe { scene_mut(scene, "dvh_scene_exclude_pair")? }.exclude_pair(object_a, object_b)?;
         Ok(())
     })
 }
@@ -315,7 +302,7 @@ pub unsafe extern "C" fn dvh_scene_exclude_pair(
 pub unsafe extern "C" fn dvh_scene_set_lazy_refit(scene: *mut DvhScene, lazy: bool) -> DvhStatus {
     guard(|| {
         // SAFETY: per the contract.
-        unsafe { scene_mut(scene)? }.set_lazy_refit(lazy);
+        unsafe { scene_mut(scene, "dvh_scene_set_lazy_refit")? }.set_lazy_refit(lazy);
         Ok(())
     })
 }
@@ -337,7 +324,8 @@ pub unsafe extern "C" fn dvh_scene_set_lazy_refit(scene: *mut DvhScene, lazy: bo
 /// budget of 0); OUT_OF_MEMORY (set `max_pairs`).
 ///
 /// Thread safety: exclusive access to `scene` (the query refits objects), and a `contacts_out`
-/// used by no other thread.
+/// used by no other thread; otherwise refused with BUSY, nothing changed (as every
+/// `dvh_scene_*` call that needs exclusive access).
 ///
 /// # Safety
 /// `scene` is NULL or a live scene; `options` is NULL or readable; `contacts_out` is NULL or a
@@ -351,15 +339,15 @@ pub unsafe extern "C" fn dvh_scene_collide(
 ) -> DvhStatus {
     guard(|| {
         // SAFETY: per the contract.
-        let s = unsafe { scene_mut(scene)? };
+        let mut s = unsafe { scene_mut(scene, "dvh_scene_collide")? };
         // SAFETY: NULL or a live buffer used by this thread only (contract).
-        let out = unsafe { contacts_out.as_mut() }.ok_or_else(|| Failure::null("contacts_out"))?;
+        let mut out = unsafe { write(contacts_out, "contacts_out", "dvh_scene_collide")? };
         // SAFETY: NULL or readable (contract).
         let o = unsafe { options.as_ref() }
             .map(query_options)
             .transpose()?
             .unwrap_or_default();
-        let st = s.collide(&o, &mut out.contacts)?;
+        let st = s.collide(&o, &mut out)?;
         if !stats_out.is_null() {
             // SAFETY: non-NULL and writable (contract).
             unsafe {
@@ -387,7 +375,9 @@ pub unsafe extern "C" fn dvh_scene_collide(
 pub extern "C" fn dvh_contacts_new() -> *mut DvhContacts {
     guard_value(std::ptr::null_mut(), || {
         match try_box(DvhContacts {
-            contacts: Contacts::new(),
+            tag: Tag::new(CONTACTS_TAG),
+            access: Access::default(),
+            contacts: UnsafeCell::new(Contacts::new()),
         }) {
             Ok(p) => p,
             Err(f) => {
@@ -398,17 +388,19 @@ pub extern "C" fn dvh_contacts_new() -> *mut DvhContacts {
     })
 }
 
+/// The buffer behind `contacts` for accessor `call`.
+///
 /// # Safety
-/// `contacts` is NULL or a live buffer not written by another thread during the call.
-unsafe fn contacts_ref<'a>(contacts: *const DvhContacts) -> Option<&'a Contacts> {
+/// `contacts` is NULL or a live buffer.
+unsafe fn contacts_ref<'a>(contacts: *const DvhContacts, call: &str) -> Option<Read<'a, Contacts>> {
     // SAFETY: per the contract.
-    unsafe { contacts.as_ref() }.map(|c| &c.contacts)
+    unsafe { read(contacts, "contacts", call) }.ok()
 }
 
 /// Number of contacts of the last successful query into `contacts` (0 for NULL or a new
 /// buffer).
 ///
-/// Thread safety: not alongside a query writing the same buffer.
+/// Thread safety: not alongside a query writing the same buffer (0 then).
 ///
 /// # Safety
 /// `contacts` is NULL or a live buffer.
@@ -416,7 +408,7 @@ unsafe fn contacts_ref<'a>(contacts: *const DvhContacts) -> Option<&'a Contacts>
 pub unsafe extern "C" fn dvh_contacts_len(contacts: *const DvhContacts) -> usize {
     // SAFETY: per the contract.
     guard_value(0, || {
-        unsafe { contacts_ref(contacts) }.map_or(0, Contacts::len)
+        unsafe { contacts_ref(contacts, "dvh_contacts_len") }.map_or(0, |c| c.len())
     })
 }
 
@@ -432,7 +424,7 @@ pub unsafe extern "C" fn dvh_contacts_len(contacts: *const DvhContacts) -> usize
 pub unsafe extern "C" fn dvh_contacts_data(contacts: *const DvhContacts) -> *const DvhContact {
     guard_value(std::ptr::null(), || {
         // SAFETY: per the contract.
-        match unsafe { contacts_ref(contacts) } {
+        match unsafe { contacts_ref(contacts, "dvh_contacts_data") } {
             Some(c) if !c.is_empty() => c.as_slice().as_ptr().cast::<DvhContact>(),
             _ => std::ptr::null(),
         }
@@ -450,7 +442,7 @@ pub unsafe extern "C" fn dvh_contacts_data(contacts: *const DvhContacts) -> *con
 pub unsafe extern "C" fn dvh_contacts_kind(contacts: *const DvhContacts) -> DvhPairKind {
     guard_value(DVH_PAIR_KIND_TRIANGLES, || {
         // SAFETY: per the contract.
-        match unsafe { contacts_ref(contacts) }.map(Contacts::kind) {
+        match unsafe { contacts_ref(contacts, "dvh_contacts_kind") }.map(|c| c.kind()) {
             Some(PairKind::Nodes) => DVH_PAIR_KIND_NODES,
             _ => DVH_PAIR_KIND_TRIANGLES,
         }
@@ -465,10 +457,8 @@ pub unsafe extern "C" fn dvh_contacts_kind(contacts: *const DvhContacts) -> DvhP
 /// `contacts` is NULL or a live buffer from `dvh_contacts_new`, not freed before.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn dvh_contacts_free(contacts: *mut DvhContacts) {
-    guard_value((), || {
-        if !contacts.is_null() {
-            // SAFETY: allocated by `try_box`, owned by the caller, released once (contract).
-            drop(unsafe { Box::from_raw(contacts) });
-        }
+    // SAFETY: allocated by `try_box` and owned by the caller (contract).
+    guard_value((), || unsafe {
+        release(contacts, "contacts", "dvh_contacts_free")
     })
 }

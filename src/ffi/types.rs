@@ -4,7 +4,9 @@
 //! enums: a C caller can pass any integer, and an out-of-range value read as a Rust enum would be
 //! undefined behaviour. Every such value is checked and reported as an invalid argument.
 
+use super::access::{Access, Tag};
 use crate::{Contact, Pair};
+use std::cell::UnsafeCell;
 
 /// Result of every fallible call: `DVH_STATUS_OK` (0) or one of the `DVH_STATUS_*` codes.
 /// `dvh_last_error_message` gives the details of a failure.
@@ -32,6 +34,10 @@ pub const DVH_STATUS_INTERNAL_PANIC: DvhStatus = 7;
 pub const DVH_STATUS_POSE_OUT_OF_RANGE: DvhStatus = 8;
 /// `dvh_mesh_validate` found a broken invariant: a bug in dvh.
 pub const DVH_STATUS_INVARIANT_BROKEN: DvhStatus = 9;
+/// The call would break the threading rules: a refit of a mesh while a query on it runs on
+/// another thread, two calls changing one scene at once, one result buffer used by two threads.
+/// The object was not touched; the call may be retried once the other has returned.
+pub const DVH_STATUS_BUSY: DvhStatus = 10;
 
 /// How the hierarchy above the 1-rings is split: a `DVH_TREE_KIND_*` value.
 pub type DvhTreeKind = u32;
@@ -216,15 +222,19 @@ const _: () = {
 /// A mesh with its hierarchy: topology, current positions, 1-rings, spheres. Opaque; created by
 /// `dvh_mesh_create`, released by `dvh_mesh_free`.
 pub struct DvhMesh {
-    pub(crate) mesh: crate::Mesh,
-    /// Set while a refit runs; left set if it panicked, so the half-updated mesh is refused.
-    pub(crate) poisoned: bool,
+    pub(crate) tag: Tag,
+    /// Queries read it, refits change it (see [`Access`]).
+    pub(crate) access: Access,
+    pub(crate) mesh: UnsafeCell<crate::Mesh>,
 }
 
 /// A reusable result buffer with the scratch space queries need. Opaque; created by
 /// `dvh_pairs_new`, released by `dvh_pairs_free`. Use one per thread.
 pub struct DvhPairs {
-    pub(crate) pairs: crate::Pairs,
+    pub(crate) tag: Tag,
+    /// Queries write it, the accessors read it.
+    pub(crate) access: Access,
+    pub(crate) pairs: UnsafeCell<crate::Pairs>,
 }
 
 /// One contact of a scene query: `a` in object `object_a` meets `b` in object `object_b`, with
@@ -279,11 +289,17 @@ pub struct DvhSceneStats {
 /// A set of objects (rigid or deformable, sharing meshes) queried together. Opaque; created by
 /// `dvh_scene_create`, released by `dvh_scene_free`.
 pub struct DvhScene {
-    pub(crate) scene: crate::Scene,
+    pub(crate) tag: Tag,
+    /// Every call but release changes it (its query refits objects).
+    pub(crate) access: Access,
+    pub(crate) scene: UnsafeCell<crate::Scene>,
 }
 
 /// A reusable result buffer for `dvh_scene_collide`. Opaque; created by `dvh_contacts_new`,
 /// released by `dvh_contacts_free`. Use one per thread.
 pub struct DvhContacts {
-    pub(crate) contacts: crate::Contacts,
+    pub(crate) tag: Tag,
+    /// Scene queries write it, the accessors read it.
+    pub(crate) access: Access,
+    pub(crate) contacts: UnsafeCell<crate::Contacts>,
 }
