@@ -7,9 +7,9 @@
 //! object is not touched, so nothing is lost, and the caller may retry. A change interrupted by
 //! an internal panic leaves the object refused for good (its state half-updated).
 //!
-//! Each handle also starts with a tag naming its kind. A pointer to something else (another
+//! Each handle also carries a tag naming its kind. A pointer to something else (another
 //! allocator's memory, a different kind of handle) or to a handle already released is refused
-//! when its first eight bytes are not the live tag; this is best effort: memory that was freed
+//! when the tag read through it is not the live tag; this is best effort: memory that was freed
 //! may have been reused, and reading it is outside what C or Rust define, so such a check can
 //! only ever catch some of these mistakes (see `ROBUSTNESS.md`).
 
@@ -105,7 +105,7 @@ impl Drop for Writing<'_> {
     }
 }
 
-/// The first field of every handle: which kind it is while it lives.
+/// A field of every handle: which kind it is while it lives.
 #[derive(Debug)]
 #[repr(transparent)]
 pub(crate) struct Tag(AtomicU64);
@@ -201,11 +201,9 @@ pub(crate) unsafe fn read<'a, H: Handle + 'a>(
     name: &str,
     call: &str,
 ) -> Result<Read<'a, H::Inner>, Failure> {
-    // SAFETY: NULL or allocated (contract).
-    let h = unsafe { h.as_ref() }.ok_or_else(|| Failure::null(name))?;
-    let (tag, access, cell) = h.parts();
-    tag.check(H::TAG, name)?;
-    let reading = access.read(&|| format!("{} `{name}`", kind(H::TAG)), call)?;
+    // SAFETY: as this function's contract.
+    let (_, access, cell) = unsafe { live(h, name)? }.parts();
+    let reading = access.read(&describe::<H>(name), call)?;
     Ok(Read {
         // SAFETY: while `reading` lives no call may change the object (every change takes the
         // access state first), so a shared reference is sound.
@@ -224,11 +222,9 @@ pub(crate) unsafe fn write<'a, H: Handle + 'a>(
     name: &str,
     call: &str,
 ) -> Result<Write<'a, H::Inner>, Failure> {
-    // SAFETY: NULL or allocated (contract).
-    let h = unsafe { h.as_ref() }.ok_or_else(|| Failure::null(name))?;
-    let (tag, access, cell) = h.parts();
-    tag.check(H::TAG, name)?;
-    let writing = access.write(&|| format!("{} `{name}`", kind(H::TAG)), call)?;
+    // SAFETY: as this function's contract.
+    let (_, access, cell) = unsafe { live(h, name)? }.parts();
+    let writing = access.write(&describe::<H>(name), call)?;
     Ok(Write {
         // SAFETY: `writing` excludes every other call on the object while it lives.
         inner: unsafe { &mut *cell.get() },
@@ -243,16 +239,16 @@ pub(crate) unsafe fn write<'a, H: Handle + 'a>(
 /// # Safety
 /// `h` is NULL or points to a handle of type `H` allocated by `Box` and owned by the caller.
 pub(crate) unsafe fn release<H: Handle>(h: *mut H, name: &str, call: &str) {
-    // SAFETY: NULL or allocated (contract).
-    let Some(handle) = (unsafe { h.as_ref() }) else {
+    if h.is_null() {
         return;
-    };
-    let (tag, access, _) = handle.parts();
-    let taken = tag
-        .check(H::TAG, name)
-        .and_then(|()| access.write(&|| format!("{} `{name}`", kind(H::TAG)), call));
+    }
+    // SAFETY: as this function's contract.
+    let taken = unsafe { live(h, name) }.and_then(|handle| {
+        let (tag, access, _) = handle.parts();
+        Ok((tag, access.write(&describe::<H>(name), call)?))
+    });
     match taken {
-        Ok(writing) => {
+        Ok((tag, writing)) => {
             tag.release();
             // The state stays "being changed" until the memory goes: a late call is refused.
             std::mem::forget(writing);
@@ -262,6 +258,22 @@ pub(crate) unsafe fn release<H: Handle>(h: *mut H, name: &str, call: &str) {
         }
         Err(f) => set_last_error(&format!("{}; not released", f.message)),
     }
+}
+
+/// The handle behind `h` (argument `name`), refused when NULL or not a live handle of its kind.
+///
+/// # Safety
+/// `h` is NULL or points to a handle of type `H` that stays allocated for `'a`.
+unsafe fn live<'a, H: Handle + 'a>(h: *const H, name: &str) -> Result<&'a H, Failure> {
+    // SAFETY: NULL or allocated (contract).
+    let handle = unsafe { h.as_ref() }.ok_or_else(|| Failure::null(name))?;
+    handle.parts().0.check(H::TAG, name)?;
+    Ok(handle)
+}
+
+/// How messages name argument `name`, a handle of type `H`: "DvhMesh `a`".
+fn describe<H: Handle>(name: &str) -> impl Fn() -> String + '_ {
+    move || format!("{} `{name}`", kind(H::TAG))
 }
 
 fn kind(tag: u64) -> &'static str {

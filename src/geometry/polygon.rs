@@ -470,6 +470,7 @@ fn segments_meet(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fixtures::Rng;
 
     fn simple(p: &[[f64; 2]]) -> bool {
         is_simple(p, &mut PolygonScratch::default())
@@ -563,13 +564,8 @@ mod tests {
     fn agrees_with_every_pair() {
         // Wobbly circles, random stars, short loops, scattered corners and combs, on a coarse
         // lattice so that corners tie, touch and cross often; each also through the sweep.
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = Rng::new(0x2545_f491_4f6c_dd1d);
+        let mut next = || rng.unit();
         let (mut simple_count, mut two, mut more, mut more_simple) = (0, 0, 0, 0);
         let mut scratch = PolygonScratch::default();
         for trial in 0..20000 {
@@ -689,13 +685,8 @@ mod tests {
     fn loops_at_one_corner_apart_exactly_when_their_regions_meet_only_there() {
         // Two simple counterclockwise lattice loops through the origin, against every pair of
         // edges and the exact pseudo-angles of the four edges at the origin.
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = |n: u64| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state % n) as i64
-        };
+        let mut rng = Rng::new(0x2545_f491_4f6c_dd1d);
+        let mut next = |n: u64| (rng.next_u64() % n) as i64;
         let (mut apart, mut not, mut scratch) = (0, 0, PolygonScratch::default());
         let mut trials = 0;
         while apart < 1500 || not < 1500 {
@@ -762,13 +753,8 @@ mod tests {
         // Two simple counterclockwise lattice loops sharing a path, walked in opposite
         // directions: their union is simple exactly when the corners at the path's ends keep
         // apart and so do the rest of the loops (the seam test of self-collision).
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = |n: u64| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state % n) as f64
-        };
+        let mut rng = Rng::new(0x9e37_79b9_7f4a_7c15);
+        let mut next = |n: u64| (rng.next_u64() % n) as f64;
         let (mut simple, mut not, mut scratch) = (0, 0, PolygonScratch::default());
         let mut trials = 0;
         while simple < 1500 || not < 1500 {
