@@ -16,6 +16,7 @@ cargo test -p dvh-runner --quiet
 cargo bench --no-run --quiet
 # The C ABI: C tests under sanitizers and valgrind, install, pkg-config, Python ctypes.
 ctests/run.sh
+scripts/soak.sh --short
 # The cross-check against FCL, judged by CGAL: the short version (every scene kind, small meshes),
 # dvh's threaded runs on one thread, then on every core (each also against dvh on one thread).
 cross_check/run.sh --threads 1 | sed -n "/^Summary/,\$p"

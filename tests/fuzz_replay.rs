@@ -2,7 +2,7 @@
 //! `fuzz/regressions/<target>/`, every input that once broke a promise) through the same drivers
 //! the targets run, so that `cargo test` on stable keeps every finding fixed.
 
-#[path = "../fuzz/drivers.rs"]
+#[path = "../fuzz/drivers/mod.rs"]
 mod drivers;
 
 use std::path::Path;
@@ -48,6 +48,20 @@ fn c_abi_inputs() {
 }
 
 #[test]
+fn scene_inputs() {
+    // Two meshes of one triangle, both kinds of object, a query.
+    let mesh = [
+        2u8, 1, 2, 4, 2, 4, 2, 4, 2, 6, 2, 4, 2, 4, 2, 4, 2, 6, 2, 4, 0, 1, 2, 0, 0, 0, 0, 0,
+    ];
+    let mut input = vec![2u8];
+    input.extend(mesh);
+    input.extend(mesh);
+    input.extend([0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 0, 0, 0, 0]);
+    drivers::scene(&input);
+    replay("scene", drivers::scene);
+}
+
+#[test]
 fn the_oracle_is_right_on_known_cases() {
     let t = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
     let shifted = |d: [f64; 3]| t.map(|p| [p[0] + d[0], p[1] + d[1], p[2] + d[2]]);
@@ -62,4 +76,11 @@ fn the_oracle_is_right_on_known_cases() {
     assert!(drivers::oracle(&t, &needle));
     let beside = [[0.6, 0.6, -1.0], [0.6, 0.6, 1.0], [0.6, 0.6, 1.0]];
     assert!(!drivers::oracle(&t, &beside));
+}
+
+#[test]
+fn self_collision_inputs() {
+    // A sheet folded over itself, then queried.
+    drivers::self_collision(&[0, 4, 1, 0, 0, 0, 8, 16, 0, 0, 0, 0, 0, 0, 0]);
+    replay("self_collision", drivers::self_collision);
 }

@@ -253,45 +253,10 @@ impl<'m> NarrowPhase<'m> for NearPairs<'_, '_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fixtures::oracle::{proximity_brute_force, self_proximity_brute_force};
     use crate::fixtures::{Rng, grid, icosphere, torus};
     use crate::query::testing::nodes_cover;
     use crate::{BuildOptions, PairKind, QueryMode, VolumeKind, collide};
-
-    /// Every pair tested one by one, in the frame the query sees (poses applied as the query
-    /// applies them).
-    fn brute_force(a: &Mesh, pa: Option<&Pose>, b: &Mesh, pb: Option<&Pose>, d: f64) -> Vec<Pair> {
-        let world = |m: &Mesh, p: Option<&Pose>, v: u32| {
-            let x = m.positions[v as usize];
-            p.map_or(x, |p| p.transform_point(&x))
-        };
-        let tri = |m: &Mesh, p: Option<&Pose>, t: [u32; 3]| t.map(|v| world(m, p, v));
-        let mut out = Vec::new();
-        for (i, &ta) in a.shape.triangles.iter().enumerate() {
-            for (j, &tb) in b.shape.triangles.iter().enumerate() {
-                if triangles_within(&tri(a, pa, ta), &tri(b, pb, tb), d) {
-                    out.push(Pair {
-                        a: i as u32,
-                        b: j as u32,
-                    });
-                }
-            }
-        }
-        out
-    }
-
-    /// Pairs `a < b` of one mesh's triangles sharing no vertex, within `d`, one by one.
-    fn brute_force_one(m: &Mesh, d: f64) -> Vec<Pair> {
-        brute_force(m, None, m, None, d)
-            .into_iter()
-            .filter(|p| {
-                let (ta, tb) = (
-                    m.shape.triangles[p.a as usize],
-                    m.shape.triangles[p.b as usize],
-                );
-                p.a < p.b && !ta.iter().any(|v| tb.contains(v))
-            })
-            .collect()
-    }
 
     fn modes() -> [QueryMode; 5] {
         [
@@ -354,7 +319,7 @@ mod tests {
                 )
                 .unwrap();
                 for d in [0.0, 0.01, 0.1, 0.3] {
-                    let expected = brute_force(&a, None, &b, Some(&pose), d);
+                    let expected = proximity_brute_force(&a, None, &b, Some(&pose), d);
                     assert!(d < 0.3 || !expected.is_empty(), "the meshes come near");
                     let q = QueryOptions::default();
                     let stats = proximity(&a, None, &b, Some(&pose), d, &q, &mut pairs).unwrap();
@@ -395,7 +360,7 @@ mod tests {
             };
             let m = Mesh::new(&crumpled, &t.triangles, &options).unwrap();
             for d in [0.0, 0.02, 0.1, 0.25] {
-                let expected = brute_force_one(&m, d);
+                let expected = self_proximity_brute_force(&m, d);
                 assert!(d < 0.1 || !expected.is_empty());
                 let mut pairs = Pairs::new();
                 for threads in [1, 2] {
@@ -423,9 +388,12 @@ mod tests {
         let q = QueryOptions::default();
         self_proximity(&m, 0.25, &q, &mut pairs).unwrap();
         let at = pairs.as_slice().to_vec();
-        assert_eq!(at, brute_force_one(&m, 0.25));
+        assert_eq!(at, self_proximity_brute_force(&m, 0.25));
         self_proximity(&m, 0.25f64.next_down(), &q, &mut pairs).unwrap();
-        assert_eq!(pairs.as_slice(), brute_force_one(&m, 0.25f64.next_down()));
+        assert_eq!(
+            pairs.as_slice(),
+            self_proximity_brute_force(&m, 0.25f64.next_down())
+        );
         assert!(
             pairs.len() < at.len(),
             "{} at 1/4, {} below",
@@ -440,7 +408,10 @@ mod tests {
             .collect();
         let b = Mesh::new(&lifted, &g.triangles, &BuildOptions::default()).unwrap();
         proximity(&m, None, &b, None, 0.25, &q, &mut pairs).unwrap();
-        assert_eq!(pairs.as_slice(), brute_force(&m, None, &b, None, 0.25));
+        assert_eq!(
+            pairs.as_slice(),
+            proximity_brute_force(&m, None, &b, None, 0.25)
+        );
         assert!(pairs.len() >= m.triangle_count());
         proximity(&m, None, &b, None, 0.25f64.next_down(), &q, &mut pairs).unwrap();
         assert!(pairs.is_empty());

@@ -245,30 +245,10 @@ impl<'m> NarrowPhase<'m> for SelfPairs<'_, '_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fixtures::oracle::self_collide_brute_force;
     use crate::fixtures::{Rng, grid, icosphere, torus};
     use crate::query::testing::nodes_cover;
     use crate::{BuildOptions, PairKind, QueryMode, VolumeKind};
-
-    /// Every pair `a < b`, tested one by one.
-    fn brute_force(mesh: &Mesh) -> Vec<Pair> {
-        let tris = &mesh.shape.triangles;
-        let corners = |t: [u32; 3]| t.map(|v| mesh.positions[v as usize]);
-        let mut out = Vec::new();
-        for a in 0..tris.len() {
-            for b in a + 1..tris.len() {
-                let (pa, pb) = (corners(tris[a]), corners(tris[b]));
-                let hit = self_pair_intersects(tris[a], &pa, tris[b], &pb)
-                    .unwrap_or_else(|| triangles_intersect(&pa, &pb));
-                if hit {
-                    out.push(Pair {
-                        a: a as u32,
-                        b: b as u32,
-                    });
-                }
-            }
-        }
-        out
-    }
 
     /// Self-collision of the mesh equals brute force for every volume kind, on 1 and 2 threads;
     /// first hit, the pair limit and the coarse modes keep their promises. Returns the count.
@@ -281,7 +261,7 @@ mod tests {
                 ..BuildOptions::default()
             };
             let mesh = Mesh::new(positions, triangles, &options).unwrap();
-            let expected = brute_force(&mesh);
+            let expected = self_collide_brute_force(&mesh);
             for threads in [1, 2] {
                 let q = |mode| QueryOptions {
                     mode,
@@ -351,7 +331,7 @@ mod tests {
             })
             .collect();
         let mesh = Mesh::new(&rolled, &g.triangles, &BuildOptions::default()).unwrap();
-        let expected = brute_force(&mesh);
+        let expected = self_collide_brute_force(&mesh);
         assert!(expected.len() > 100, "{} crossings", expected.len());
         let mut pairs = Pairs::new();
         for threads in [1, 2, 0] {
