@@ -127,6 +127,15 @@ fn jitter(positions: &mut [f64], rng: &mut Rng, amplitude: f64) {
     }
 }
 
+/// Fails when a query's answer at `frame` is not brute force's.
+fn same<T: PartialEq>(frame: usize, what: &str, got: &[T], expected: &[T]) -> Result<(), Failure> {
+    if got == expected {
+        return Ok(());
+    }
+    let (n, m) = (got.len(), expected.len());
+    Err(format!("frame {frame}: {what} {n} pairs, brute force {m}").into())
+}
+
 /// Memory figures of one phase.
 struct Memory {
     start: u64,
@@ -226,33 +235,12 @@ fn mesh_pair(frames: usize, check_every: usize, rng: &mut Rng) -> Result<(), Fai
                 shadow_a.refit(&pa)?;
                 shadow_b.refit(&pb)?;
                 let expected = brute_force(&shadow_a, None, &shadow_b, Some(&pose));
-                if hits != expected {
-                    return Err(format!(
-                        "frame {frame}: collide {} pairs, brute force {}",
-                        hits.len(),
-                        expected.len()
-                    )
-                    .into());
-                }
+                same(frame, "collide", &hits, &expected)?;
                 let expected_self = self_collide_brute_force(&shadow_a);
-                if self_hits != expected_self {
-                    return Err(format!(
-                        "frame {frame}: self {} pairs, brute force {}",
-                        self_hits.len(),
-                        expected_self.len()
-                    )
-                    .into());
-                }
+                same(frame, "self", &self_hits, &expected_self)?;
                 let expected_near =
                     proximity_brute_force(&shadow_a, None, &shadow_b, Some(&pose), d);
-                if near != expected_near {
-                    return Err(format!(
-                        "frame {frame}: proximity {} pairs, brute force {}",
-                        near.len(),
-                        expected_near.len()
-                    )
-                    .into());
-                }
+                same(frame, "proximity", &near, &expected_near)?;
                 checks += 1;
                 found[0] += hits.len();
                 found[1] += self_hits.len();
@@ -488,14 +476,7 @@ fn scene(frames: usize, count: usize, check_every: usize, rng: &mut Rng) -> Resu
                     );
                 }
             }
-            if got != expected {
-                return Err(format!(
-                    "frame {frame}: scene {} contacts, brute force {}",
-                    got.len(),
-                    expected.len()
-                )
-                .into());
-            }
+            same(frame, "scene", &got, &expected)?;
             checks += 1;
             found += got.len();
         }
