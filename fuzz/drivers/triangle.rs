@@ -94,12 +94,62 @@ fn solve(c: &[&[BigRational; 5]], rhs: &[BigRational; 5]) -> Option<Vec<BigRatio
     Some((0..n).map(|k| m[k][n].clone()).collect())
 }
 
+/// Gives the triangles a shape that free doubles almost never have, as a trailing byte says
+/// (none when the input ends before it, so shorter inputs keep their meaning): both in one plane,
+/// sharing vertices, degenerate. Those are where the exact test takes its rare branches
+/// (coplanar projections, touching at a vertex or an edge, segments and points).
+fn shape(bytes: &mut Bytes, a: &mut [[f64; 3]; 3], b: &mut [[f64; 3]; 3]) {
+    let how = bytes.u8();
+    match how % 4 {
+        // All six in the plane where axis `k` is `c`.
+        1 => {
+            let (k, c) = (usize::from(bytes.u8() % 3), bytes.f64());
+            for p in a.iter_mut().chain(b.iter_mut()) {
+                p[k] = c;
+            }
+        }
+        // All six at `o + x u + y v`, (x, y) their first two coordinates: one plane in general
+        // position (exactly, when the arithmetic is; the oracle judges the doubles given).
+        2 | 3 => {
+            let small = |bytes: &mut Bytes| f64::from(bytes.u8() as i8 % 8);
+            let mut vector = || [small(bytes), small(bytes), small(bytes)];
+            let (o, u, v) = (vector(), vector(), vector());
+            for p in a.iter_mut().chain(b.iter_mut()) {
+                let (x, y) = (p[0], p[1]);
+                *p = [0, 1, 2].map(|k| o[k] + x * u[k] + y * v[k]);
+            }
+        }
+        _ => {}
+    }
+    // Vertices of `b` taken from `a` (a shared vertex, a shared edge, the same triangle).
+    if how & 4 != 0 {
+        let share = bytes.u8();
+        for (j, q) in b.iter_mut().enumerate() {
+            let i = usize::from(share >> (2 * j) & 3);
+            if i < 3 {
+                *q = a[i];
+            }
+        }
+    }
+    // Degenerate: a vertex on the line of the other two (midpoint) or on one of them.
+    for (t, bit) in [(&mut *a, 8), (&mut *b, 16)] {
+        if how & bit != 0 {
+            t[2] = if how & 32 != 0 {
+                t[0]
+            } else {
+                [0, 1, 2].map(|k| t[0][k] / 2.0 + t[1][k] / 2.0)
+            };
+        }
+    }
+}
+
 /// Differential target: dvh's exact triangle test (Rust and C) against [`oracle`].
 pub fn triangle_oracle(data: &[u8]) {
     let mut bytes = Bytes::new(data);
     let corner = |bytes: &mut Bytes| [bytes.f64(), bytes.f64(), bytes.f64()];
     let tri = |bytes: &mut Bytes| [corner(bytes), corner(bytes), corner(bytes)];
-    let (a, b) = (tri(&mut bytes), tri(&mut bytes));
+    let (mut a, mut b) = (tri(&mut bytes), tri(&mut bytes));
+    shape(&mut bytes, &mut a, &mut b);
     let finite = a.iter().chain(&b).flatten().all(|x| x.is_finite());
     let mut result = false;
     // SAFETY: nine readable doubles each, a writable result.
