@@ -1,0 +1,111 @@
+#!/usr/bin/env bash
+# Fuzzing as ROBUSTNESS.md reports it (issue 12): explore fast, check under AddressSanitizer,
+# keep a minimised corpus, and judge a plateau by the source lines of `src/` the inputs reach.
+#
+#   scripts/fuzz.sh run <target> [seconds]     explore for that long (default 3600) with a build
+#                                              without sanitizers on every core (libFuzzer's fork
+#                                              mode), starting from fuzz/corpus/<target>; replay
+#                                              every new input under AddressSanitizer; merge the
+#                                              result back into fuzz/corpus/<target>, minimised
+#   scripts/fuzz.sh coverage <target> [dir...] source lines of src/ reached by the inputs in the
+#                                              directories (default: the kept corpus and the
+#                                              regressions); the lines, as file:line, go to
+#                                              fuzz/coverage/<target>/lines.txt for comparing
+#                                              two runs with `comm`
+#
+# Targets: triangle_oracle, c_abi, scene, self_collision. FUZZ_JOBS sets the processes of `run`
+# (default: one per core). Needs the nightly toolchain; installs cargo-fuzz and nightly's
+# llvm-tools when they are missing. Work files go to fuzz/work/<target>.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+usage() {
+    sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'
+    exit 2
+}
+[ $# -ge 2 ] || usage
+what=$1
+target=$2
+shift 2
+[ -f "fuzz/fuzz_targets/$target.rs" ] || {
+    echo "no fuzz target '$target' (fuzz/fuzz_targets/ has: $(ls fuzz/fuzz_targets | sed 's/\.rs$//' | tr '\n' ' '))" >&2
+    exit 2
+}
+cargo +nightly --version >/dev/null 2>&1 || {
+    echo "the nightly toolchain is needed: rustup toolchain install nightly" >&2
+    exit 2
+}
+cargo +nightly fuzz --version >/dev/null 2>&1 || cargo install --locked cargo-fuzz --version 0.13.2
+host=$(rustc +nightly -vV | sed -n 's/^host: //p')
+corpus=fuzz/corpus/$target
+work=fuzz/work/$target
+
+case "$what" in
+run)
+    seconds=${1:-3600}
+    jobs=${FUZZ_JOBS:-$(nproc)}
+    # The build without sanitizers explores five to seven times faster; what it keeps is then
+    # replayed under AddressSanitizer, which catches what the fast build cannot see.
+    cargo +nightly fuzz build -s none --target-dir fuzz/target/fast "$target"
+    fast=fuzz/target/fast/$host/release/$target
+    rm -rf "$work"
+    mkdir -p "$work/live" "$work/new" "$work/min"
+    cp -r "$corpus/." "$work/live/"
+    ls "$work/live" | sort >"$work/before.txt"
+    echo "exploring $target for $seconds s on $jobs processes from $(wc -l <"$work/before.txt") inputs (log: $work/run.log)"
+    status=0
+    "$fast" "$work/live" -fork="$jobs" -max_len=2048 -max_total_time="$seconds" \
+        -artifact_prefix="$work/" -print_final_stats=1 >"$work/run.log" 2>&1 || status=$?
+    grep -E '^#[0-9]+' "$work/run.log" | tail -1
+    if [ "$status" -ne 0 ]; then
+        echo "the fuzzer stopped with status $status: a finding; its input is in $work/ (see $work/run.log)" >&2
+        exit 1
+    fi
+    ls "$work/live" | sort >"$work/after.txt"
+    comm -13 "$work/before.txt" "$work/after.txt" | while read -r f; do cp "$work/live/$f" "$work/new/"; done
+    echo "replaying $(ls "$work/new" | wc -l) new inputs under AddressSanitizer"
+    cargo +nightly fuzz run "$target" "$work/new" -- -runs=0 >"$work/asan.log" 2>&1 || {
+        echo "an input fails under AddressSanitizer: see $work/asan.log" >&2
+        exit 1
+    }
+    # Minimise: keep the inputs that add coverage features, then replace the kept corpus.
+    "$fast" -merge=1 "$work/min" "$corpus" "$work/live" >"$work/merge.log" 2>&1
+    rm -f "$corpus"/*
+    cp -r "$work/min/." "$corpus/"
+    echo "kept $(ls "$corpus" | wc -l) inputs in $corpus"
+    ;;
+coverage)
+    dirs=("$@")
+    if [ ${#dirs[@]} -eq 0 ]; then
+        dirs=("$corpus")
+        [ -d "fuzz/regressions/$target" ] && dirs+=("fuzz/regressions/$target")
+    fi
+    rustup component list --toolchain nightly --installed | grep -q '^llvm-tools' ||
+        rustup component add llvm-tools --toolchain nightly
+    bin=$(rustc +nightly --print sysroot)/lib/rustlib/$host/bin
+    rm -rf "fuzz/coverage/$target"
+    mkdir -p fuzz/coverage
+    cargo +nightly fuzz coverage --target-dir fuzz/target/coverage "$target" "${dirs[@]}" \
+        >"fuzz/coverage/$target.log" 2>&1 || {
+        echo "the coverage replay failed: see fuzz/coverage/$target.log" >&2
+        exit 1
+    }
+    exe=fuzz/target/coverage/$host/release/$target
+    profile=fuzz/coverage/$target/coverage.profdata
+    # Only dvh's own sources: not the standard library, dependencies or the fuzz drivers.
+    ignore='(/\.cargo/|/rustc/|/fuzz/)'
+    "$bin/llvm-cov" export -format=lcov "$exe" -instr-profile="$profile" \
+        -ignore-filename-regex="$ignore" >"fuzz/coverage/$target/lcov.info"
+    awk -v root="$PWD/" '
+        /^SF:/ { file = substr($0, 4); sub(root, "", file) }
+        /^DA:/ { split(substr($0, 4), f, ","); if (f[2] > 0) print file ":" f[1] }
+    ' "fuzz/coverage/$target/lcov.info" | sort -u >"fuzz/coverage/$target/lines.txt"
+    "$bin/llvm-cov" report "$exe" -instr-profile="$profile" -ignore-filename-regex="$ignore" |
+        awk '!/^-/ { print $1, $8, $9, $10 }' | column -t
+    total=$(grep -c '^DA:' "fuzz/coverage/$target/lcov.info")
+    echo "$(find "${dirs[@]}" -type f | wc -l) inputs reach $(wc -l <"fuzz/coverage/$target/lines.txt") of $total source lines of src/ (the list: fuzz/coverage/$target/lines.txt)"
+    ;;
+*)
+    usage
+    ;;
+esac
