@@ -69,8 +69,9 @@ run)
         echo "an input fails under AddressSanitizer: see $work/asan.log" >&2
         exit 1
     }
-    # Minimise: keep the inputs that add coverage features, then replace the kept corpus.
-    "$fast" -merge=1 "$work/min" "$corpus" "$work/live" >"$work/merge.log" 2>&1
+    # Minimise: keep the inputs that add coverage features, then replace the kept corpus. The
+    # live directory began as a copy of it, so it alone holds every input.
+    "$fast" -merge=1 "$work/min" "$work/live" >"$work/merge.log" 2>&1
     rm -f "$corpus"/*
     cp -r "$work/min/." "$corpus/"
     echo "kept $(ls "$corpus" | wc -l) inputs in $corpus"
@@ -98,7 +99,7 @@ coverage)
     "$bin/llvm-cov" export -format=lcov "$exe" -instr-profile="$profile" \
         -ignore-filename-regex="$ignore" >"fuzz/coverage/$target/lcov.info"
     awk -v root="$PWD/" '
-        /^SF:/ { file = substr($0, 4); sub(root, "", file) }
+        /^SF:/ { file = substr($0, 4); if (index(file, root) == 1) file = substr(file, length(root) + 1) }
         /^DA:/ { split(substr($0, 4), f, ","); if (f[2] > 0) print file ":" f[1] }
     ' "fuzz/coverage/$target/lcov.info" | sort -u >"fuzz/coverage/$target/lines.txt"
     "$bin/llvm-cov" report "$exe" -instr-profile="$profile" -ignore-filename-regex="$ignore" |
