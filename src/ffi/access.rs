@@ -96,12 +96,14 @@ pub(crate) struct Writing<'a>(&'a AtomicU32);
 
 impl Drop for Writing<'_> {
     fn drop(&mut self) {
+        // Clear the writer bit alone, never store: a refused reader may have added its 1 and
+        // not yet taken it back, and a store would make its late subtraction wrap the state.
         let end = if std::thread::panicking() {
-            POISONED
+            WRITER | POISONED
         } else {
-            0
+            WRITER
         };
-        self.0.store(end, Ordering::Release);
+        self.0.fetch_xor(end, Ordering::Release);
     }
 }
 
@@ -336,6 +338,56 @@ mod tests {
         drop(w);
         assert_eq!(a.0.load(Ordering::Relaxed), 0);
         drop(a.read(&mesh, "query").unwrap());
+        assert_eq!(a.0.load(Ordering::Relaxed), 0);
+    }
+
+    #[test]
+    fn a_refused_reader_racing_the_end_of_a_change_leaves_no_trace() {
+        // The interleaving, step by step: a reader adds its 1 while the writer holds the
+        // object, the writer ends, then the reader takes its 1 back.
+        let a = Access::default();
+        let mesh = || "DvhMesh `mesh`".to_string();
+        let w = a.write(&mesh, "dvh_mesh_refit").unwrap();
+        let before = a.0.fetch_add(1, Ordering::Acquire);
+        assert_eq!(before, WRITER);
+        drop(w);
+        a.0.fetch_sub(1, Ordering::Release);
+        assert_eq!(a.0.load(Ordering::Relaxed), 0);
+        drop(a.read(&mesh, "query").unwrap());
+        drop(a.write(&mesh, "dvh_mesh_refit").unwrap());
+        assert_eq!(a.0.load(Ordering::Relaxed), 0);
+    }
+
+    #[test]
+    fn readers_and_writers_on_many_threads_end_free() {
+        const ROUNDS: usize = 200_000;
+        let a = Access::default();
+        let mesh = || "DvhMesh `mesh`".to_string();
+        let (mut wrote, mut refused) = (0, 0);
+        std::thread::scope(|s| {
+            for _ in 0..2 {
+                s.spawn(|| {
+                    for _ in 0..ROUNDS {
+                        if let Ok(r) = a.read(&mesh, "query") {
+                            std::hint::black_box(&r);
+                        }
+                    }
+                });
+            }
+            for _ in 0..ROUNDS {
+                match a.write(&mesh, "dvh_mesh_refit") {
+                    Ok(w) => {
+                        wrote += 1;
+                        drop(w)
+                    }
+                    Err(f) => {
+                        assert_eq!(f.status, DVH_STATUS_BUSY, "{}", f.message);
+                        refused += 1;
+                    }
+                }
+            }
+        });
+        assert_eq!(wrote + refused, ROUNDS);
         assert_eq!(a.0.load(Ordering::Relaxed), 0);
     }
 
