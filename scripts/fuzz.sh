@@ -1,23 +1,49 @@
 #!/usr/bin/env bash
-# Fuzzing as ROBUSTNESS.md reports it (issue 12): explore fast, check under AddressSanitizer,
-# keep a minimised corpus, and judge a plateau by the source lines of `src/` the inputs reach.
+# Fuzzing as ROBUSTNESS.md reports it: explore fast, check under AddressSanitizer, keep a
+# minimised corpus, and judge a plateau by the source lines of `src/` the inputs reach. The
+# corpora live in fuzz/corpus/<target> and are never committed; the repository keeps the seeds
+# (fuzz/seeds/<target>) and every input that once found a fault (fuzz/regressions/<target>).
 #
 #   scripts/fuzz.sh run <target> [seconds]     explore for that long (default 3600) with a build
 #                                              without sanitizers on every core (libFuzzer's fork
-#                                              mode), starting from fuzz/corpus/<target>; replay
-#                                              every new input under AddressSanitizer; merge the
-#                                              result back into fuzz/corpus/<target>, minimised
+#                                              mode), starting from fuzz/corpus/<target> (from
+#                                              the seeds and regressions when there is none);
+#                                              replay every new input under AddressSanitizer;
+#                                              merge the result back into fuzz/corpus/<target>,
+#                                              minimised
+#   scripts/fuzz.sh restore [target...]        unpack the corpora last kept in the repository's
+#                                              history (about 20,000 inputs) into fuzz/corpus;
+#                                              needs no nightly toolchain (seconds)
 #   scripts/fuzz.sh coverage <target> [dir...] source lines of src/ reached by the inputs in the
-#                                              directories (default: the kept corpus and the
-#                                              regressions); the lines, as file:line, go to
+#                                              directories (default: the seeds, the corpus and
+#                                              the regressions); the lines, as file:line, go to
 #                                              fuzz/coverage/<target>/lines.txt for comparing
 #                                              two runs with `comm`
 #
 # Targets: triangle_oracle, c_abi, scene, self_collision. FUZZ_JOBS sets the processes of `run`
-# (default: one per core). Needs the nightly toolchain; installs cargo-fuzz and nightly's
-# llvm-tools when they are missing. Work files go to fuzz/work/<target>.
+# (default: one per core). `run` and `coverage` need the nightly toolchain; they install
+# cargo-fuzz and nightly's llvm-tools when they are missing. Work files go to fuzz/work/<target>.
+# A corpus is replayed under `cargo test` by `DVH_FUZZ_CORPUS=fuzz/corpus cargo test --test
+# fuzz_replay` (what `scripts/test.sh --full` does).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+targets=$(ls fuzz/fuzz_targets | sed 's/\.rs$//')
+
+if [ "${1:-}" = "restore" ]; then
+    shift
+    # The last commit whose tree held the corpora: the parent of the one that removed them.
+    removed=$(git rev-list -1 HEAD -- fuzz/corpus 2>/dev/null || true)
+    if [ -z "$removed" ] || ! git cat-file -e "$removed^:fuzz/corpus" 2>/dev/null; then
+        echo "the repository's history holds no fuzz corpus (a shallow clone?): nothing restored" >&2
+        exit 1
+    fi
+    for target in ${*:-$targets}; do
+        mkdir -p "fuzz/corpus/$target"
+        git archive "$removed^" "fuzz/corpus/$target" | tar -x
+        echo "fuzz/corpus/$target: $(ls "fuzz/corpus/$target" | wc -l) inputs"
+    done
+    exit 0
+fi
 
 usage() {
     # The header comment above, whatever its length.
@@ -51,7 +77,13 @@ run)
     fast=fuzz/target/fast/$host/release/$target
     rm -rf "$work"
     mkdir -p "$work/live" "$work/new" "$work/min"
-    cp -r "$corpus/." "$work/live/"
+    if [ -d "$corpus" ]; then
+        cp -r "$corpus/." "$work/live/"
+    else
+        mkdir -p "$corpus"
+        cp -r "fuzz/seeds/$target/." "$work/live/"
+        [ -d "fuzz/regressions/$target" ] && cp -r "fuzz/regressions/$target/." "$work/live/"
+    fi
     ls "$work/live" | sort >"$work/before.txt"
     echo "exploring $target for $seconds s on $jobs processes from $(wc -l <"$work/before.txt") inputs (log: $work/run.log)"
     status=0
@@ -79,7 +111,8 @@ run)
 coverage)
     dirs=("$@")
     if [ ${#dirs[@]} -eq 0 ]; then
-        dirs=("$corpus")
+        dirs=("fuzz/seeds/$target")
+        [ -d "$corpus" ] && dirs+=("$corpus")
         [ -d "fuzz/regressions/$target" ] && dirs+=("fuzz/regressions/$target")
     fi
     rustup component list --toolchain nightly --installed | grep -q '^llvm-tools' ||

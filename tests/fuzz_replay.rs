@@ -1,21 +1,35 @@
-//! Replays the fuzz targets' kept inputs (`fuzz/corpus/<target>/`, a minimised corpus, and
-//! `fuzz/regressions/<target>/`, every input that once broke a promise) through the same drivers
-//! the targets run, so that `cargo test` on stable keeps every finding fixed.
+//! Replays the fuzz targets' kept inputs through the same drivers the targets run, so that
+//! `cargo test` on stable keeps every finding fixed: `fuzz/regressions/<target>/` (every input
+//! that once broke a promise, named for what it caught) and `fuzz/seeds/<target>/` (a small
+//! seed set). With `DVH_FUZZ_CORPUS` set to a directory (`scripts/test.sh --full` sets it to
+//! `fuzz/corpus`), the full corpora under it (`<dir>/<target>/`, rebuilt by `scripts/fuzz.sh`,
+//! never committed) are replayed too.
 
 #[path = "../fuzz/drivers/mod.rs"]
 mod drivers;
 
 use std::path::Path;
 
-/// Runs `driver` on every file under `fuzz/<kind>/<target>/` for each kind; returns how many.
+/// Runs `driver` on every file of the target's kept inputs (and of the full corpus when
+/// `DVH_FUZZ_CORPUS` names one); returns how many.
 fn replay(target: &str, driver: fn(&[u8])) -> usize {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz");
+    let mut dirs = vec![root.join("regressions"), root.join("seeds")];
+    if let Some(corpus) = std::env::var_os("DVH_FUZZ_CORPUS") {
+        let corpus = root.parent().expect("the repository").join(corpus);
+        assert!(corpus.join(target).is_dir(), "no corpus at {}", corpus.display());
+        dirs.push(corpus);
+    }
     let mut n = 0;
-    for kind in ["corpus", "regressions"] {
-        let Ok(dir) = std::fs::read_dir(root.join(kind).join(target)) else {
+    for dir in dirs {
+        let Ok(entries) = std::fs::read_dir(dir.join(target)) else {
             continue;
         };
-        let mut files: Vec<_> = dir.flatten().map(|e| e.path()).collect();
+        let mut files: Vec<_> = entries
+            .flatten()
+            .map(|e| e.path())
+            .filter(|p| p.is_file() && p.extension().is_none_or(|e| e != "md"))
+            .collect();
         files.sort();
         for f in files {
             let data = std::fs::read(&f).expect("readable input");
@@ -38,13 +52,13 @@ fn triangle_oracle_inputs() {
     ] {
         drivers::triangle_oracle(&grid(v));
     }
-    replay("triangle_oracle", drivers::triangle_oracle);
+    assert!(replay("triangle_oracle", drivers::triangle_oracle) > 0, "no kept inputs for triangle_oracle");
 }
 
 #[test]
 fn c_abi_inputs() {
     drivers::c_abi(&[8, 4, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]);
-    replay("c_abi", drivers::c_abi);
+    assert!(replay("c_abi", drivers::c_abi) > 0, "no kept inputs for c_abi");
 }
 
 #[test]
@@ -58,7 +72,7 @@ fn scene_inputs() {
     input.extend(mesh);
     input.extend([0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 0, 0, 0, 0]);
     drivers::scene(&input);
-    replay("scene", drivers::scene);
+    assert!(replay("scene", drivers::scene) > 0, "no kept inputs for scene");
 }
 
 #[test]
@@ -82,5 +96,5 @@ fn the_oracle_is_right_on_known_cases() {
 fn self_collision_inputs() {
     // A sheet folded over itself, then queried.
     drivers::self_collision(&[0, 4, 1, 0, 0, 0, 8, 16, 0, 0, 0, 0, 0, 0, 0]);
-    replay("self_collision", drivers::self_collision);
+    assert!(replay("self_collision", drivers::self_collision) > 0, "no kept inputs for self_collision");
 }

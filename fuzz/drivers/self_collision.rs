@@ -8,7 +8,7 @@ use dvh::ffi::*;
 /// vertices the bytes move (by sixteenths, so coplanar and touching configurations are common),
 /// fold along a line, or drop onto other vertices, refit through the C ABI frame after frame;
 /// `dvh_self_collide` and `dvh_self_proximity` in every mode after each change, judged against
-/// brute force (see [`judge`]). This is where the patch test (issue 11) decides which node pairs
+/// brute force (see [`judge`]). This is where the patch test decides which node pairs
 /// cannot meet.
 pub fn self_collision(data: &[u8]) {
     use dvh::fixtures::{grid, icosphere, torus};
