@@ -1,4 +1,4 @@
-//! Soak (issue 12): many frames of random deformation through the C ABI, answers compared with
+//! Soak: many frames of random deformation through the C ABI, answers compared with
 //! brute force at sampled frames, resident memory measured after a warm-up and at the end.
 //!
 //! 1. A mesh pair: a torus and a sphere, both deformed every frame (a smooth morph plus random

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The soak (issue 12, ROBUSTNESS.md): examples/soak.rs through the C ABI, then a shorter run of
+# The soak (ROBUSTNESS.md): examples/soak.rs through the C ABI, then a shorter run of
 # it under valgrind memcheck (zero errors, zero definite or indirect leaks).
 #
 #   scripts/soak.sh           10,000 frames of a deforming mesh pair and of a 100-object scene,

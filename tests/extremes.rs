@@ -1,4 +1,4 @@
-//! Issue 12's extremes, on top of `edge_cases.rs`: coordinates scaled by 1e-300 and 1e300 (and
+//! The numerical extremes, on top of `edge_cases.rs`: coordinates scaled by 1e-300 and 1e300 (and
 //! near the largest double, where differences overflow), one-triangle meshes, every vertex at
 //! one point, every triangle degenerate, a mesh collapsed to a point and restored, rotations
 //! orthonormal only within rounding or just within the tolerance, counts and indices at the

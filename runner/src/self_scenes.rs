@@ -1,4 +1,4 @@
-//! `self`: self-collision and self-proximity (issue 11) on two deforming meshes.
+//! `self`: self-collision and self-proximity on two deforming meshes.
 //!
 //! - **sheet**: a cloth-like sheet (100,352 triangles with `--full`, 3,200 without), rippled,
 //!   falling while it folds over a crease line that tilts across it; past 180 degrees the flap
