@@ -1,41 +1,93 @@
 #!/usr/bin/env bash
-# The whole test suite, as CI runs it. Installs the Debian packages it needs when missing.
+# The test suite. Installs the Debian packages it needs when they are missing (as root, or
+# through sudo).
+#
+#   scripts/test.sh          every part once: formatting, clippy, the documentation, every Rust
+#                            test (unit, property, integration, documentation; the fuzz seeds and
+#                            regressions), the C tests under AddressSanitizer and
+#                            UndefinedBehaviorSanitizer, the header as C and C++, the install,
+#                            Python through ctypes, a short cross-check against FCL judged by
+#                            CGAL, and the demo (about 15 minutes on a fresh 2-core machine,
+#                            builds and package installs included; about 6 once built)
+#   scripts/test.sh --full   all of that and the long runs: the C tests under valgrind, the
+#                            soak, the benchmark runner's short runs (every method and knob, its
+#                            scenes checked against the cross-check's), the cross-check on one
+#                            thread and on every core, the criterion benchmarks' build and the
+#                            whole fuzz corpus replayed (about 45 minutes; what CI runs)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+full=false
+case "${1:-}" in
+--full) full=true ;;
+"") ;;
+*)
+    echo "usage: scripts/test.sh [--full]" >&2
+    exit 2
+    ;;
+esac
+started=$SECONDS
+step() { echo "== $1 ($((SECONDS - started)) s)"; }
 
-scripts/ensure-packages.sh libcgal-demo valgrind pkg-config libfcl-dev libccd-dev libeigen3-dev g++
+packages=(pkg-config g++ cmake libfcl-dev libccd-dev libeigen3-dev libcgal-dev libcgal-demo libgmp-dev libmpfr-dev)
+$full && packages+=(valgrind)
+scripts/ensure-packages.sh "${packages[@]}"
 
+step "formatting, clippy, documentation"
 cargo fmt --all -- --check
-cargo clippy --all-targets -- -D warnings
-cargo clippy -p dvh-runner --all-targets -- -D warnings
+cargo clippy --workspace --all-targets --quiet -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --quiet
-# Unit, property, integration and documentation tests; a missing mesh archive is a failure here.
-DVH_REQUIRE_CGAL_DATA=1 cargo test
-cargo test -p dvh-runner --quiet
-# The criterion benchmarks must keep compiling.
-cargo bench --no-run --quiet
-# The C ABI: C tests under sanitizers and valgrind, install, pkg-config, Python ctypes.
-ctests/run.sh
-scripts/soak.sh --short
-# The cross-check against FCL, judged by CGAL: the short version (every scene kind, small meshes),
-# dvh's threaded runs on one thread, then on every core (each also against dvh on one thread).
-cross_check/run.sh --threads 1 | sed -n "/^Summary/,\$p"
+
+step "Rust tests"
+# Unit, property, integration and documentation tests of the library and the runner; a missing
+# mesh archive is a failure here.
+DVH_REQUIRE_CGAL_DATA=1 cargo test --workspace --quiet
+
+step "C ABI"
+# The C tests under sanitizers (and valgrind with --full), install, pkg-config, Python ctypes.
+if $full; then ctests/run.sh --full; else ctests/run.sh; fi
+
+step "cross-check against FCL, judged by CGAL"
+# The short version: every scene kind on small meshes; dvh's threaded run on every core (and
+# against dvh on one thread). --full runs it again with the threaded run on one thread.
 cross_check/run.sh | sed -n "/^Summary/,\$p"
-# The benchmark runner's scenes are the cross-check's, coordinate for coordinate.
-scenes="many|medium|large|coplanar|copy|near-1e-12"
-diff <(runner/run.sh checksums) \
-    <(cross_check/build/cmake/dvh_cross_check --checksums --data "${DVH_CACHE_DIR:-cross_check/build/meshes}" \
-        | grep -E "^($scenes) ")
-# The runner's short run: every method, knob and plot, failing if a dvh method is not exact or a
-# conservative mode misses a pair.
-runner/run.sh all --out target/dvh-runner >/dev/null
-# The profiling command (a frame's refit and query repeated) on one thread and on two.
-runner/run.sh profile --frames 2 --repeat 2 >/dev/null
-runner/run.sh profile --scene copy --frames 2 --repeat 2 --threads 2 >/dev/null
-# Scenes against the same work pair by pair (fails if their contacts differ), on both thread counts.
-runner/run.sh scenes --frames 3 --repeat 1 >/dev/null
-runner/run.sh scenes --frames 3 --repeat 1 --threads 0 >/dev/null
-runner/run.sh self --frames 3 --repeat 1 >/dev/null
-# The main job must keep working.
-cargo run --release --quiet --example demo -- --frames 4 >/dev/null
+$full && cross_check/run.sh --threads 1 | sed -n "/^Summary/,\$p"
+
+step "demo"
+# The build `cargo test` made (the README's command builds it in release: --full runs that).
+"${CARGO_TARGET_DIR:-target}/debug/examples/demo" --frames 4 >/dev/null
+$full && cargo run --release --quiet --example demo -- --frames 4 >/dev/null
+
+if $full; then
+    step "fuzz corpus replay"
+    # The corpora scripts/fuzz.sh keeps in fuzz/corpus, or those last kept in the repository's
+    # history when there are none here.
+    [ -d fuzz/corpus ] || scripts/fuzz.sh restore
+    DVH_FUZZ_CORPUS=fuzz/corpus cargo test --quiet --test fuzz_replay
+
+    step "criterion benchmarks build"
+    cargo bench --no-run --quiet
+
+    step "soak"
+    scripts/soak.sh --short
+
+    step "benchmark runner"
+    # The runner's scenes are the cross-check's, coordinate for coordinate.
+    scenes="many|medium|large|coplanar|copy|near-1e-12"
+    diff <(runner/run.sh checksums) \
+        <(cross_check/build/cmake/dvh_cross_check --checksums --data "${DVH_CACHE_DIR:-cross_check/build/meshes}" \
+            | grep -E "^($scenes) ")
+    # Every method, knob and plot, failing if a dvh method is not exact or a conservative mode
+    # misses a pair.
+    runner/run.sh all --out target/dvh-runner >/dev/null
+    # The profiling command (a frame's refit and query repeated) on one thread and on two.
+    runner/run.sh profile --frames 2 --repeat 2 >/dev/null
+    runner/run.sh profile --scene copy --frames 2 --repeat 2 --threads 2 >/dev/null
+    # Scenes against the same work pair by pair (fails if their contacts differ), on both thread
+    # counts; self-collision against the naive route.
+    runner/run.sh scenes --frames 3 --repeat 1 >/dev/null
+    runner/run.sh scenes --frames 3 --repeat 1 --threads 0 >/dev/null
+    runner/run.sh self --frames 3 --repeat 1 >/dev/null
+fi
+
+step "done"
 echo "all tests passed"
