@@ -1,17 +1,18 @@
 //! The pair query's entry point: checks the options and poses, puts each mesh in the query's
 //! frame, runs the traversal with the narrow phase the mode asks for, and sorts the result.
 
-use super::narrow::{Intersect, NodePairs, Question};
+use super::narrow::{NodePairs, PairTest};
 use super::options::{QueryMode, QueryOptions};
 use super::pairs::{Pair, PairKind, Pairs, QueryStats};
 use super::parallel::{self, Finish, Job};
 use super::side::{Kind, LazyBoxKind, Local, Placement, Posed, View, with_kind};
 use super::sink::{Sink, Stop};
 use super::sort::sort_pairs;
-use super::traverse::best_first;
-use super::workspace::{Worker, Workspace};
+use super::traverse::{OneMesh, best_first};
+use super::workspace::{Prepared, Worker, Workspace};
 use crate::error::{Error, Result, Side};
 use crate::geometry::MAX_POSED_MAGNITUDE;
+use crate::geometry::aabb::Aabb;
 use crate::geometry::pose::Pose;
 use crate::mesh::Mesh;
 use crate::threads;
@@ -64,34 +65,62 @@ pub(crate) fn collide_lazy<'m>(
     query(a, b, Intersect, options, out)
 }
 
-/// A query of two meshes: `question` asks what of their triangles (intersection, nearness).
-pub(super) fn query<'m, Q: Question<'m>>(
-    a: QueryMesh<'m>,
-    b: QueryMesh<'m>,
-    question: Q,
-    options: &QueryOptions,
-    out: &mut Pairs,
-) -> Result<QueryStats> {
-    run_query(a, Some(b), question, options, out)
+/// Which triangles of two meshes intersect.
+#[derive(Clone, Copy)]
+struct Intersect;
+
+impl<'m> PairTest<'m> for Intersect {
+    type SideA<K: Kind<'m>> = K;
+    const CHECKS_DOMAIN: bool = true;
+
+    fn side_a<K: Kind<'m>>(&self, kind: K) -> K {
+        kind
+    }
+
+    #[inline(always)]
+    fn own(&self) -> Option<OneMesh<'m>> {
+        None
+    }
+
+    #[inline(always)]
+    fn widen(&self, b: &Aabb) -> Aabb {
+        *b
+    }
+
+    #[inline]
+    fn test(&self, _mesh: &Mesh, ta: &Prepared, tb: &Prepared) -> bool {
+        ta.intersects(tb)
+    }
 }
 
-/// A query of one mesh against itself (no pose, boxes refit): `question` asks what of its
-/// triangle pairs.
-pub(super) fn query_one<'m, Q: Question<'m>>(
-    mesh: &'m Mesh,
-    question: Q,
+/// A query of two meshes: `test` asks what of their triangle pairs (intersection, nearness).
+pub(super) fn query<'m, T: PairTest<'m>>(
+    a: QueryMesh<'m>,
+    b: QueryMesh<'m>,
+    test: T,
     options: &QueryOptions,
     out: &mut Pairs,
 ) -> Result<QueryStats> {
-    debug_assert!(question.own().is_some());
-    run_query((mesh, None, None), None, question, options, out)
+    run_query(a, Some(b), test, options, out)
+}
+
+/// A query of one mesh against itself (no pose, boxes refit): `test` asks what of its
+/// triangle pairs.
+pub(super) fn query_one<'m, T: PairTest<'m>>(
+    mesh: &'m Mesh,
+    test: T,
+    options: &QueryOptions,
+    out: &mut Pairs,
+) -> Result<QueryStats> {
+    debug_assert!(test.own().is_some());
+    run_query((mesh, None, None), None, test, options, out)
 }
 
 /// A query of `a` and `b`, or of `a` against itself (`b` is `None`).
-fn run_query<'m, Q: Question<'m>>(
+fn run_query<'m, T: PairTest<'m>>(
     (a, pose_a, lazy_a): QueryMesh<'m>,
     b_side: Option<QueryMesh<'m>>,
-    question: Q,
+    test: T,
     options: &QueryOptions,
     out: &mut Pairs,
 ) -> Result<QueryStats> {
@@ -137,7 +166,7 @@ fn run_query<'m, Q: Question<'m>>(
     } else {
         let run = Run {
             mode: options.mode,
-            question,
+            test,
             check_domain: !(a.safe && b.safe) || pose_a.is_some() || pose_b.is_some(),
             limit,
             threads,
@@ -157,11 +186,11 @@ fn run_query<'m, Q: Question<'m>>(
         match (pose_a.zip(place_a), lazy_a) {
             // One mesh: both sides are it, in place, with its own volumes.
             _ if one_mesh => with_kind!(a, |kind| b_side.run.run(
-                (Local { mesh: a }, question.side_a(kind)),
+                (Local { mesh: a }, test.side_a(kind)),
                 (Local { mesh: a }, kind)
             )),
             (None, Some(boxes)) => with_placement_b(
-                (Local { mesh: a }, question.side_a(LazyBoxKind { boxes })),
+                (Local { mesh: a }, test.side_a(LazyBoxKind { boxes })),
                 b_side,
             ),
             (None, None) => with_volumes_a(Local { mesh: a }, b_side),
@@ -223,9 +252,9 @@ pub(super) fn widening(pose: &Pose, mesh: &Mesh, side: Side) -> Result<(f64, f64
 
 /// The query once both sides are typed: the traversal and narrow phase the mode asks for, on
 /// the calling thread or shared out.
-struct Run<'q, Q> {
+struct Run<'q, T> {
     mode: QueryMode,
-    question: Q,
+    test: T,
     check_domain: bool,
     /// Pairs to find before stopping.
     limit: usize,
@@ -245,7 +274,7 @@ struct Run<'q, Q> {
 /// handing work out costs more than it saves.
 const PARALLEL_MIN_TRIANGLES: usize = 4096;
 
-impl<'m, Q: Question<'m>> Run<'_, Q> {
+impl<'m, T: PairTest<'m>> Run<'_, T> {
     /// Runs the query; returns why it stopped early, if it did, and whether the pairs are
     /// sorted already.
     fn run<PA, KA, PB, KB>(self, a: (PA, KA), b: (PB, KB)) -> (Option<Stop>, bool)
@@ -259,7 +288,7 @@ impl<'m, Q: Question<'m>> Run<'_, Q> {
             a,
             b,
             mode: self.mode,
-            question: self.question,
+            test: self.test,
             check_domain: self.check_domain,
             limit: self.limit,
         };
@@ -290,7 +319,7 @@ impl<'m, Q: Question<'m>> Run<'_, Q> {
         if let QueryMode::Budget(budget) = self.mode {
             let mut va = View::new(job.a, &mut w.a.world, &mut w.a.ring_boxes);
             let mut vb = View::new(job.b, &mut w.b.world, &mut w.b.ring_boxes);
-            let own = job.question.own();
+            let own = job.test.own();
             let mut narrow = NodePairs {
                 sink: &mut sink,
                 one_mesh: own.is_some(),
@@ -314,29 +343,29 @@ impl<'m, Q: Question<'m>> Run<'_, Q> {
 }
 
 /// Mesh `b` of the query, not yet typed, and the query to run once it is.
-struct SideB<'m, 'q, Q> {
+struct SideB<'m, 'q, T> {
     mesh: &'m Mesh,
     pose: Option<(&'m Pose, (f64, f64))>,
     lazy: Option<&'m LazyBoxes<'m>>,
-    run: Run<'q, Q>,
+    run: Run<'q, T>,
 }
 
-/// Types side `a` by its volume kind (as the question reads it), then side `b`.
-fn with_volumes_a<'m, P: Placement<'m>, Q: Question<'m>>(
+/// Types side `a` by its volume kind (as the pair test reads it), then side `b`.
+fn with_volumes_a<'m, P: Placement<'m>, T: PairTest<'m>>(
     place: P,
-    b: SideB<'m, '_, Q>,
+    b: SideB<'m, '_, T>,
 ) -> (Option<Stop>, bool) {
-    let question = b.run.question;
+    let test = b.run.test;
     with_kind!(place.mesh(), |kind| with_placement_b(
-        (place, question.side_a(kind)),
+        (place, test.side_a(kind)),
         b
     ))
 }
 
 /// Types side `b` by its placement.
-fn with_placement_b<'m, PA: Placement<'m>, KA: Kind<'m>, Q: Question<'m>>(
+fn with_placement_b<'m, PA: Placement<'m>, KA: Kind<'m>, T: PairTest<'m>>(
     a: (PA, KA),
-    b: SideB<'m, '_, Q>,
+    b: SideB<'m, '_, T>,
 ) -> (Option<Stop>, bool) {
     let SideB {
         mesh,
@@ -361,10 +390,10 @@ fn with_placement_b<'m, PA: Placement<'m>, KA: Kind<'m>, Q: Question<'m>>(
 }
 
 /// Types side `b` by its volume kind and runs the query.
-fn with_volumes_b<'m, PA: Placement<'m>, KA: Kind<'m>, P: Placement<'m>, Q: Question<'m>>(
+fn with_volumes_b<'m, PA: Placement<'m>, KA: Kind<'m>, P: Placement<'m>, T: PairTest<'m>>(
     a: (PA, KA),
     place: P,
-    run: Run<'_, Q>,
+    run: Run<'_, T>,
 ) -> (Option<Stop>, bool) {
     with_kind!(place.mesh(), |kind| run.run(a, (place, kind)))
 }

@@ -1,5 +1,6 @@
 //! What becomes of the terminal node pairs of a traversal: reported as they are (the coarse
-//! modes), or their rings' triangles tested exactly (the exact modes).
+//! modes), or their rings' triangles tested exactly (the exact modes) by the one leaf narrow
+//! phase, [`LeafPairs`], which asks a [`PairTest`] only what differs between queries.
 
 use super::pairs::{Pair, QueryStats};
 use super::side::{Kind, QuerySide};
@@ -8,67 +9,38 @@ use super::traverse::{NarrowPhase, OneMesh};
 use super::workspace::{Prepared, RingCache};
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::is_safe_point;
-use crate::geometry::tri_tri::{
-    PreparedTriangle, prepared_triangles_intersect, triangles_intersect,
-};
+use crate::geometry::tri_tri::PreparedTriangle;
+use crate::mesh::Mesh;
 use std::ops::Range;
 
-/// What a query asks: intersection or nearness, of two meshes or of one. It says how side `a`'s
-/// volumes are read, whether the traversal is of one mesh, and which narrow phase tests the
-/// triangles of terminal pairs in the exact modes ([`crate::QueryMode::Triangles`],
-/// [`crate::QueryMode::FirstHit`]); the coarse modes report node pairs whatever the question.
-pub(crate) trait Question<'m>: Copy + Send + Sync {
-    /// Side `a`'s volume kind, given the mesh's own.
+/// What a query asks of the triangle pairs its traversal brings together (intersection,
+/// nearness; of two meshes or of one), and how its traversal reads side `a`'s volumes. A new
+/// query is a new pair test and an entry point: the traversal, the threads and the leaf narrow
+/// phase are shared. The coarse modes report node pairs whatever the test.
+pub(crate) trait PairTest<'m>: Copy + Send + Sync {
+    /// Side `a`'s volume kind, given the mesh's own (grown by the margin, if there is one).
     type SideA<K: Kind<'m>>: Kind<'m>;
-    /// The narrow phase of the exact modes.
-    type Exact<'s, 'w: 's>: NarrowPhase<'m>;
+    /// Does the test read [`Prepared::safe`]? Then each triangle checks, when the query's
+    /// coordinates may leave that range, whether they suit the fast predicates.
+    const CHECKS_DOMAIN: bool;
 
     /// Side `a`'s volume kind, given the mesh's own.
     fn side_a<K: Kind<'m>>(&self, kind: K) -> Self::SideA<K>;
-    /// `Some` when both sides are one mesh.
+    /// `Some` when both sides are one mesh: a leaf is then paired with itself too, and pairs are
+    /// reported `(lower, higher)`.
     fn own(&self) -> Option<OneMesh<'m>>;
-    /// The narrow phase of the exact modes, writing to `sink` and caching prepared triangles in
-    /// `rings_a` and `rings_b`; `check_domain`: must each triangle check that its coordinates
-    /// suit the fast predicates?
-    fn exact<'s, 'w: 's>(
-        &self,
-        sink: &'s mut Sink<'w>,
-        rings_a: &'s mut RingCache,
-        rings_b: &'s mut RingCache,
-        check_domain: bool,
-    ) -> Self::Exact<'s, 'w>;
-}
-
-/// Which triangles of two meshes intersect ([`crate::collide`]).
-#[derive(Clone, Copy)]
-pub(crate) struct Intersect;
-
-impl<'m> Question<'m> for Intersect {
-    type SideA<K: Kind<'m>> = K;
-    type Exact<'s, 'w: 's> = TrianglePairs<'s, 'w>;
-
-    fn side_a<K: Kind<'m>>(&self, kind: K) -> K {
-        kind
+    /// Box `b` grown by the margin within which pairs are wanted (`b` itself when the test
+    /// asks for intersection: that must cost nothing).
+    fn widen(&self, b: &Aabb) -> Aabb;
+    /// Is the pair of no interest to the test, and not counted as tested (say, two triangles
+    /// of one mesh that share a vertex, for nearness)?
+    #[inline(always)]
+    fn skips(&self, _mesh: &Mesh, _ta: &Prepared, _tb: &Prepared) -> bool {
+        false
     }
-
-    fn own(&self) -> Option<OneMesh<'m>> {
-        None
-    }
-
-    fn exact<'s, 'w: 's>(
-        &self,
-        sink: &'s mut Sink<'w>,
-        rings_a: &'s mut RingCache,
-        rings_b: &'s mut RingCache,
-        check_domain: bool,
-    ) -> TrianglePairs<'s, 'w> {
-        TrianglePairs {
-            sink,
-            rings_a,
-            rings_b,
-            check_domain,
-        }
-    }
+    /// The exact test of two triangles whose boxes come within the margin; `mesh` is side
+    /// `a`'s (for tests of one mesh, both sides').
+    fn test(&self, mesh: &Mesh, ta: &Prepared, tb: &Prepared) -> bool;
 }
 
 /// Reports every terminal node pair; of one mesh, as `(lower, higher)`.
@@ -80,30 +52,83 @@ pub(crate) struct NodePairs<'s, 'w> {
 impl<'m> NarrowPhase<'m> for NodePairs<'_, '_> {
     #[inline]
     fn visit<A, B>(&mut self, _: &mut A, _: &mut B, na: u32, nb: u32, _: &mut QueryStats) -> bool {
-        let pair = if self.one_mesh {
-            Pair {
-                a: na.min(nb),
-                b: na.max(nb),
-            }
-        } else {
-            Pair { a: na, b: nb }
-        };
-        self.sink.report(pair)
+        self.sink.report(ordered(self.one_mesh, na, nb))
     }
 }
 
-/// Tests the triangles of two leaves' rings exactly and reports the intersecting pairs. Boxes of
-/// exact coordinates are an exact filter in front of the test: the rings' boxes first, then
-/// each triangle against the other ring's box, then pair by pair.
-pub(crate) struct TrianglePairs<'s, 'w> {
+/// The pair `(a, b)`; of one mesh, `(lower, higher)`.
+#[inline(always)]
+fn ordered(one_mesh: bool, a: u32, b: u32) -> Pair {
+    if one_mesh {
+        Pair {
+            a: a.min(b),
+            b: a.max(b),
+        }
+    } else {
+        Pair { a, b }
+    }
+}
+
+/// Tests the triangles of two leaves' rings with the pair test `T` and reports the pairs it
+/// accepts. Boxes of exact coordinates, grown by the test's margin, are an exact filter in front
+/// of the test: the rings' boxes first, then each triangle against the other ring's box, then
+/// pair by pair.
+pub(crate) struct LeafPairs<'s, 'w, T> {
+    pub test: T,
     pub sink: &'s mut Sink<'w>,
     pub rings_a: &'s mut RingCache,
     pub rings_b: &'s mut RingCache,
-    /// Must each triangle check that its coordinates suit the fast predicates?
+    /// May the query's coordinates leave the range of the fast predicates?
     pub check_domain: bool,
 }
 
-impl<'m> NarrowPhase<'m> for TrianglePairs<'_, '_> {
+impl<'m, T: PairTest<'m>> LeafPairs<'_, '_, T> {
+    /// Must each prepared triangle check its coordinates?
+    #[inline(always)]
+    fn check_domain(&self) -> bool {
+        T::CHECKS_DOMAIN && self.check_domain
+    }
+
+    /// A leaf of one mesh against itself: each pair of its ring's triangles once.
+    fn own<A: QuerySide<'m>>(&mut self, a: &mut A, n: u32, stats: &mut QueryStats) -> bool {
+        let mesh = a.mesh();
+        let r = mesh.shape.tree.nodes[n as usize].ring_start;
+        let (span, _) = prepare(a, r, self.rings_a, self.check_domain());
+        let count = span.len() as u64;
+        stats.triangle_candidates += count * count.saturating_sub(1) / 2;
+        let tris = &self.rings_a.tris;
+        for i in span.clone() {
+            let grown = self.test.widen(&tris[i].bounds);
+            for tb in &tris[i + 1..span.end] {
+                if try_pair(&self.test, self.sink, mesh, &grown, &tris[i], tb, stats) {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+}
+
+/// Tests `ta` against `tb` (`grown`: `ta`'s box grown by the margin) and reports the pair if
+/// the test accepts it; returns whether the traversal must stop.
+#[inline(always)]
+fn try_pair<'m, T: PairTest<'m>>(
+    test: &T,
+    sink: &mut Sink,
+    mesh: &Mesh,
+    grown: &Aabb,
+    ta: &Prepared,
+    tb: &Prepared,
+    stats: &mut QueryStats,
+) -> bool {
+    if !grown.meets(&tb.bounds) || test.skips(mesh, ta, tb) {
+        return false;
+    }
+    stats.triangle_tests += 1;
+    test.test(mesh, ta, tb) && sink.report(ordered(test.own().is_some(), ta.index, tb.index))
+}
+
+impl<'m, T: PairTest<'m>> NarrowPhase<'m> for LeafPairs<'_, '_, T> {
     fn visit<A: QuerySide<'m>, B: QuerySide<'m>>(
         &mut self,
         a: &mut A,
@@ -112,6 +137,9 @@ impl<'m> NarrowPhase<'m> for TrianglePairs<'_, '_> {
         nb: u32,
         stats: &mut QueryStats,
     ) -> bool {
+        if na == nb && self.test.own().is_some() {
+            return self.own(a, na, stats);
+        }
         let (ma, mb) = (a.mesh(), b.mesh());
         let ra = ma.shape.tree.nodes[na as usize].ring_start;
         let rb = mb.shape.tree.nodes[nb as usize].ring_start;
@@ -121,37 +149,26 @@ impl<'m> NarrowPhase<'m> for TrianglePairs<'_, '_> {
         // Most overlapping leaf volumes hold rings whose boxes are apart (about 70% of the
         // spheres on scanned meshes): ring boxes, computed once per ring and query, settle them
         // before any triangle is prepared.
-        if !a.ring_box(na).meets(&b.ring_box(nb)) {
+        if !self.test.widen(&a.ring_box(na)).meets(&b.ring_box(nb)) {
             return false;
         }
-        let (span_a, bounds_a) = prepare(a, ra, self.rings_a, self.check_domain);
-        let (span_b, bounds_b) = prepare(b, rb, self.rings_b, self.check_domain);
-        if !bounds_a.meets(&bounds_b) {
+        let check_domain = self.check_domain();
+        let (span_a, bounds_a) = prepare(a, ra, self.rings_a, check_domain);
+        let (span_b, bounds_b) = prepare(b, rb, self.rings_b, check_domain);
+        let (near_a, near_b) = (self.test.widen(&bounds_a), self.test.widen(&bounds_b));
+        if !near_a.meets(&bounds_b) {
             return false;
         }
         let (ca, cb) = (&mut *self.rings_a, &mut *self.rings_b);
-        select(&ca.tris[span_a.clone()], &bounds_b, &mut ca.selected);
-        select(&cb.tris[span_b.clone()], &bounds_a, &mut cb.selected);
+        select(&ca.tris[span_a.clone()], &near_b, &mut ca.selected);
+        select(&cb.tris[span_b.clone()], &near_a, &mut cb.selected);
         let (tris_a, tris_b) = (&ca.tris[span_a], &cb.tris[span_b]);
         for &i in &ca.selected {
             let ta = &tris_a[i as usize];
+            let grown = self.test.widen(&ta.bounds);
             for &j in &cb.selected {
                 let tb = &tris_b[j as usize];
-                if !ta.bounds.meets(&tb.bounds) {
-                    continue;
-                }
-                stats.triangle_tests += 1;
-                let hit = if ta.safe && tb.safe {
-                    prepared_triangles_intersect(&ta.tri, &tb.tri)
-                } else {
-                    triangles_intersect(&ta.tri.corners, &tb.tri.corners)
-                };
-                if hit
-                    && self.sink.report(Pair {
-                        a: ta.index,
-                        b: tb.index,
-                    })
-                {
+                if try_pair(&self.test, self.sink, ma, &grown, ta, tb, stats) {
                     return true;
                 }
             }

@@ -5,7 +5,7 @@
 //! single-threaded traversal reports, in its order, so a pair limit cuts them at the same pair
 //! and the sorted answer is identical.
 
-use super::narrow::{NodePairs, Question};
+use super::narrow::{LeafPairs, NodePairs, PairTest};
 use super::options::QueryMode;
 use super::pairs::{Pair, QueryStats};
 use super::side::{Kind, Placement, View};
@@ -22,30 +22,30 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 const ITEMS_PER_THREAD: usize = 128;
 
 /// What every thread of a query shares: both sides, typed, and what to compute.
-pub(crate) struct Job<PA, KA, PB, KB, Q> {
+pub(crate) struct Job<PA, KA, PB, KB, T> {
     pub a: (PA, KA),
     pub b: (PB, KB),
     pub mode: QueryMode,
-    /// Intersection or nearness, of two meshes or of one.
-    pub question: Q,
+    /// What the exact modes ask of each triangle pair.
+    pub test: T,
     pub check_domain: bool,
     /// Pairs to find before stopping.
     pub limit: usize,
 }
 
-impl<'m, PA, KA, PB, KB, Q> Job<PA, KA, PB, KB, Q>
+impl<'m, PA, KA, PB, KB, T> Job<PA, KA, PB, KB, T>
 where
     PA: Placement<'m>,
     KA: Kind<'m>,
     PB: Placement<'m>,
     KB: Kind<'m>,
-    Q: Question<'m>,
+    T: PairTest<'m>,
 {
     /// How the traversal walks.
     pub fn walk(&self) -> Walk<'m> {
         Walk {
             max_depth: self.mode.max_depth(),
-            own: self.question.own(),
+            own: self.test.own(),
         }
     }
 
@@ -85,9 +85,13 @@ where
         let walk = self.walk();
         match self.mode {
             QueryMode::Triangles | QueryMode::FirstHit => {
-                let mut narrow =
-                    self.question
-                        .exact(sink, &mut a.rings, &mut b.rings, self.check_domain);
+                let mut narrow = LeafPairs {
+                    test: self.test,
+                    sink,
+                    rings_a: &mut a.rings,
+                    rings_b: &mut b.rings,
+                    check_domain: self.check_domain,
+                };
                 depth_first_from(&mut va, &mut vb, start, &walk, stack, stats, &mut narrow);
             }
             QueryMode::Leaves | QueryMode::Depth(_) => {
@@ -116,8 +120,8 @@ pub(crate) struct Finish<'o> {
 /// to `stats`, its pairs to `finish.out`: sorted when the query ran to the end (the threads
 /// share the sort too), otherwise in the single-threaded traversal's order, cut at the limit.
 /// Returns why it stopped early, if it did, and whether `out` is sorted.
-pub(crate) fn run<'m, PA, KA, PB, KB, Q>(
-    job: &Job<PA, KA, PB, KB, Q>,
+pub(crate) fn run<'m, PA, KA, PB, KB, T>(
+    job: &Job<PA, KA, PB, KB, T>,
     ws: &mut Workspace,
     threads: usize,
     finish: Finish,
@@ -128,7 +132,7 @@ where
     KA: Kind<'m>,
     PB: Placement<'m>,
     KB: Kind<'m>,
-    Q: Question<'m>,
+    T: PairTest<'m>,
 {
     let Workspace {
         workers,

@@ -5,7 +5,9 @@ use super::sink::Stop;
 use crate::csr::heap_bytes;
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::Point;
-use crate::geometry::tri_tri::PreparedTriangle;
+use crate::geometry::tri_tri::{
+    PreparedTriangle, prepared_triangles_intersect, triangles_intersect,
+};
 use std::collections::BinaryHeap;
 
 /// Values computed when first needed in a query (world positions of a posed mesh's vertices,
@@ -52,6 +54,19 @@ pub(crate) struct Prepared {
     pub index: u32,
     pub safe: bool,
     pub tri: PreparedTriangle,
+}
+
+impl Prepared {
+    /// Do the two closed triangles share a point? Exact: with the fast predicates where both
+    /// are in their range, otherwise from the corners.
+    #[inline]
+    pub fn intersects(&self, other: &Prepared) -> bool {
+        if self.safe && other.safe {
+            prepared_triangles_intersect(&self.tri, &other.tri)
+        } else {
+            triangles_intersect(&self.tri.corners, &other.tri.corners)
+        }
+    }
 }
 
 /// Rings' triangles prepared in the query frame, kept while the traversal is near them: a ring
