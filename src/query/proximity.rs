@@ -5,13 +5,9 @@
 //! `d` is dropped: [`Widened`]), hands leaf pairs to the leaf narrow phase, which filters by ring
 //! and triangle boxes widened by `d` before the exact test ([`Near`]).
 
-use super::collide::{query, query_one};
-use super::narrow::PairTest;
+use super::engine::{Kind, OneMesh, PairTest, Prepared, Widened, query, query_one};
 use super::options::QueryOptions;
 use super::pairs::{Pairs, QueryStats};
-use super::side::{Kind, Widened};
-use super::traverse::OneMesh;
-use super::workspace::Prepared;
 use crate::error::{Error, Result};
 use crate::geometry::aabb::Aabb;
 use crate::geometry::distance::triangles_within;

@@ -1,20 +1,16 @@
 //! Self-collision: the pairs of triangles of one mesh that intersect, where triangles sharing
 //! vertices count only where they meet beyond what they share.
 //!
-//! The one traversal, of the mesh against itself ([`crate::query::traverse`]): every unordered
+//! The one traversal, of the mesh against itself ([`crate::query::engine::traverse`]): every unordered
 //! pair of nodes once, nodes whose patches cannot intersect themselves skipped
 //! ([`Patches`], an exact normal-cone test). The leaf narrow phase tests each unordered pair of
 //! their rings' triangles once (rings partition the triangles), with [`SelfIntersect`]:
 //! [`crate::geometry::adjacent`] for triangles that share vertices.
 
-use super::collide::query_one;
-use super::narrow::PairTest;
+use super::engine::{Kind, OneMesh, PairTest, Prepared, query_one};
 use super::options::QueryOptions;
 use super::pairs::{Pairs, QueryStats};
 use super::patches::Patches;
-use super::side::Kind;
-use super::traverse::OneMesh;
-use super::workspace::Prepared;
 use crate::error::Result;
 use crate::geometry::aabb::Aabb;
 use crate::geometry::adjacent::{meet_beyond_edge, meet_beyond_vertex};

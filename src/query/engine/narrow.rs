@@ -2,7 +2,6 @@
 //! modes), or their rings' triangles tested exactly (the exact modes) by the one leaf narrow
 //! phase, [`LeafPairs`], which asks a [`PairTest`] only what differs between queries.
 
-use super::pairs::{Pair, QueryStats};
 use super::side::{Kind, QuerySide};
 use super::sink::Sink;
 use super::traverse::{NarrowPhase, OneMesh};
@@ -11,6 +10,7 @@ use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::is_safe_point;
 use crate::geometry::tri_tri::PreparedTriangle;
 use crate::mesh::Mesh;
+use crate::query::pairs::{Pair, QueryStats};
 use std::ops::Range;
 
 /// What a query asks of the triangle pairs its traversal brings together (intersection,

@@ -6,13 +6,13 @@
 //! and the sorted answer is identical.
 
 use super::narrow::{LeafPairs, NodePairs, PairTest};
-use super::options::QueryMode;
-use super::pairs::{Pair, QueryStats};
 use super::side::{Kind, Placement, View};
 use super::sink::{Sink, Stop};
 use super::sort;
 use super::traverse::{Walk, depth_first_from, split};
 use super::workspace::{SideSpace, Worker, Workspace};
+use crate::query::options::QueryMode;
+use crate::query::pairs::{Pair, QueryStats};
 use crate::threads;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};

@@ -336,18 +336,18 @@ macro_rules! with_kind {
                 centre_vertex,
                 spheres,
             } => {
-                let $kind = $crate::query::side::VertexSpheres {
+                let $kind = $crate::query::engine::side::VertexSpheres {
                     centre_vertex,
                     spheres,
                 };
                 $then
             }
             $crate::volume::Volumes::Sbv { spheres, .. } => {
-                let $kind = $crate::query::side::FreeSpheres { spheres };
+                let $kind = $crate::query::engine::side::FreeSpheres { spheres };
                 $then
             }
             $crate::volume::Volumes::Aabb { boxes } => {
-                let $kind = $crate::query::side::Boxes { boxes };
+                let $kind = $crate::query::engine::side::Boxes { boxes };
                 $then
             }
         }

@@ -10,11 +10,11 @@
 //! cannot intersect itself, or a pair of patches that cannot meet beyond their shared seam, is
 //! not opened at all.
 
-use super::pairs::QueryStats;
-use super::patches::Patches;
 use super::side::{QuerySide, Volume};
 use super::workspace::Queued;
 use crate::mesh::Mesh;
+use crate::query::pairs::QueryStats;
+use crate::query::patches::Patches;
 use crate::tree::{MAX_CHILDREN, Node};
 use std::collections::BinaryHeap;
 

@@ -1,6 +1,5 @@
 //! Scratch space of a query, kept between queries so that steady state allocates nothing.
 
-use super::pairs::{Pair, QueryStats};
 use super::sink::Stop;
 use crate::csr::heap_bytes;
 use crate::geometry::aabb::Aabb;
@@ -8,6 +7,7 @@ use crate::geometry::predicates::Point;
 use crate::geometry::tri_tri::{
     PreparedTriangle, prepared_triangles_intersect, triangles_intersect,
 };
+use crate::query::pairs::{Pair, QueryStats};
 use std::collections::BinaryHeap;
 
 /// Values computed when first needed in a query (world positions of a posed mesh's vertices,
