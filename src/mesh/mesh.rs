@@ -2,23 +2,14 @@
 //! bounding volumes.
 
 use super::options::BuildOptions;
-use super::ring_table::RingTable;
+use super::patches::{PatchCache, Patches};
 use crate::csr::heap_bytes;
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::Point;
 use crate::geometry::sphere::Sphere;
-use crate::tree::Tree;
-use crate::volume::{Blocks, RefitInput, Volumes};
+use crate::tree::{RingTable, Tree};
+use crate::volume::{Blocks, RefitInput, RefitStats, Volumes};
 use std::sync::Arc;
-
-/// Counters of one refit (the paper's `NU` and the work behind it).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub struct RefitStats {
-    /// Nodes whose volume was recomputed (`NU`).
-    pub nodes_refit: u64,
-    /// Vertex-to-centre distances evaluated (for boxes: vertices folded into leaf boxes).
-    pub distance_evaluations: u64,
-}
 
 /// Shape of a built hierarchy, for comparison with the paper's Tables 1 and 2.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -66,7 +57,7 @@ pub(crate) struct Shape {
     /// How the tree is cut for lazy refit; built on first use (by a scene's deformable object).
     pub blocks: std::sync::OnceLock<Blocks>,
     /// The nodes' patches for self-collision; found on first use.
-    pub patches: std::sync::OnceLock<crate::query::Patches>,
+    pub patches: std::sync::OnceLock<Patches>,
 }
 
 /// A deformable triangle mesh with its bounding-volume hierarchy.
@@ -98,7 +89,7 @@ pub struct Mesh {
     /// What self-collision finds about the nodes at the current positions (which way their
     /// triangles turn, whether their loops project simply); found on first use and forgotten
     /// when the positions change.
-    pub(crate) facts: crate::query::Facts,
+    pub(crate) facts: PatchCache,
     /// Stacks for the wrapped-radius search, one per refit thread, sized at build so refits
     /// never allocate.
     pub(crate) scratch: Vec<Vec<u32>>,
@@ -211,11 +202,7 @@ impl Mesh {
             + heap_bytes(&self.shape.tree.leaf_of_ring)
             + heap_bytes(&self.shape.tree.subtrees)
             + self.shape.blocks.get().map_or(0, Blocks::heap_bytes)
-            + self
-                .shape
-                .patches
-                .get()
-                .map_or(0, crate::query::Patches::heap_bytes);
+            + self.shape.patches.get().map_or(0, Patches::heap_bytes);
         self.state_bytes()
             + heap_bytes(&self.shape.triangles)
             + self.shape.rings.heap_bytes()

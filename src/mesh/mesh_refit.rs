@@ -1,11 +1,11 @@
 //! Refitting a [`Mesh`] to new vertex positions: the volumes only, no allocation.
 
 use super::input::{Extent, store_points, store_positions};
-use super::mesh::{Mesh, RefitStats};
+use super::mesh::Mesh;
 use crate::error::{Error, Result};
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::Point;
-use crate::volume::RefitInput;
+use crate::volume::{RefitInput, RefitStats};
 
 impl Mesh {
     /// Takes new positions for every vertex (`x, y, z` each, same vertex count as at build) and

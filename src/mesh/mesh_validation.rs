@@ -2,9 +2,9 @@
 
 use super::input::scan_positions;
 use super::mesh::Mesh;
-use super::rings::distinct_corners;
 use crate::geometry::aabb::Aabb;
 use crate::geometry::sphere::{Sphere, distance_squared};
+use crate::tree::distinct_corners;
 use crate::volume::Volumes;
 use std::fmt;
 

@@ -7,7 +7,6 @@ mod collide;
 mod engine;
 mod options;
 mod pairs;
-mod patches;
 mod proximity;
 mod self_collide;
 #[cfg(test)]
@@ -18,6 +17,5 @@ pub use collide::collide;
 pub(crate) use collide::collide_lazy;
 pub use options::{QueryMode, QueryOptions};
 pub use pairs::{Pair, PairKind, Pairs, QueryStats};
-pub(crate) use patches::{Facts, Patches};
 pub use proximity::{proximity, self_proximity};
 pub use self_collide::self_collide;

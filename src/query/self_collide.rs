@@ -10,12 +10,12 @@
 use super::engine::{Kind, OneMesh, PairTest, Prepared, query_one};
 use super::options::QueryOptions;
 use super::pairs::{Pairs, QueryStats};
-use super::patches::Patches;
 use crate::error::Result;
 use crate::geometry::aabb::Aabb;
 use crate::geometry::adjacent::{meet_beyond_edge, meet_beyond_vertex};
 use crate::geometry::predicates::Point;
 use crate::mesh::Mesh;
+use crate::mesh::Patches;
 
 /// The pairs `(a, b)`, `a < b`, of triangles of `mesh` that intersect. Two triangles that share
 /// vertices (by index) count only where they meet beyond the vertices and the edge they share

@@ -1,13 +1,13 @@
 //! Refitting sphere volumes: DVH (centres fixed on vertices, radii recomputed) and SBV (centres
 //! and radii recomputed).
 
+use super::RadiusKind;
 use super::RefitInput;
 use super::boxes::children_union;
 use super::fit::{Fit, Part, Window};
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::Point;
 use crate::geometry::sphere::{Sphere, distance_squared, round_up};
-use crate::mesh::RadiusKind;
 
 /// Largest squared distance from `c` to the listed vertices (0 for none).
 #[inline]

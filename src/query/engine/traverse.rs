@@ -13,8 +13,8 @@
 use super::side::{QuerySide, Volume};
 use super::workspace::Queued;
 use crate::mesh::Mesh;
+use crate::mesh::Patches;
 use crate::query::pairs::QueryStats;
-use crate::query::patches::Patches;
 use crate::tree::{MAX_CHILDREN, Node};
 use std::collections::BinaryHeap;
 
