@@ -50,7 +50,7 @@ pub struct NodeView {
 
 /// What a mesh's positions never change: its triangles, 1-rings and tree. Built once; shared.
 #[derive(Debug)]
-pub(crate) struct Shape {
+pub(super) struct Shape {
     pub triangles: Vec<[u32; 3]>,
     pub rings: RingTable,
     pub tree: Tree,
@@ -68,31 +68,31 @@ pub(crate) struct Shape {
 /// once; a refit needs `&mut`.
 #[derive(Clone)]
 pub struct Mesh {
-    pub(crate) positions: Vec<Point>,
+    pub(super) positions: Vec<Point>,
     /// Where a refit writes the new positions while it checks them; swapped with `positions`
     /// once they are all valid.
-    pub(crate) spare: Vec<Point>,
+    pub(super) spare: Vec<Point>,
     /// Topology, rings and the tree's shape: everything positions do not change, shared by the
     /// clones of a mesh (a scene's objects made from one mesh hold one copy).
-    pub(crate) shape: Arc<Shape>,
-    pub(crate) options: BuildOptions,
-    pub(crate) volumes: Volumes,
+    pub(super) shape: Arc<Shape>,
+    pub(super) options: BuildOptions,
+    pub(super) volumes: Volumes,
     /// Largest coordinate magnitude of the current positions.
-    pub(crate) max_abs: f64,
+    pub(super) max_abs: f64,
     /// Are all current coordinates in the range where the fast exact predicates apply?
-    pub(crate) safe: bool,
-    pub(crate) last_refit: RefitStats,
+    pub(super) in_fast_range: bool,
+    pub(super) last_refit: RefitStats,
     /// Names the current positions (and the volumes fitted to them): drawn from a counter shared
     /// by every mesh at build and at every change of positions, copied by a clone. Equal states
     /// mean equal contents, which lets a scene's rigid objects share one copy.
-    pub(crate) state: u64,
+    pub(super) state: u64,
     /// What self-collision finds about the nodes at the current positions (which way their
     /// triangles turn, whether their loops project simply); found on first use and forgotten
     /// when the positions change.
-    pub(crate) facts: PatchCache,
+    pub(super) facts: PatchCache,
     /// Stacks for the wrapped-radius search, one per refit thread, sized at build so refits
     /// never allocate.
-    pub(crate) scratch: Vec<Vec<u32>>,
+    pub(super) scratch: Vec<Vec<u32>>,
 }
 
 /// Everything but the scratch space (the spare positions a refit writes before it knows they are
@@ -107,7 +107,7 @@ impl std::fmt::Debug for Mesh {
             .field("tree", &self.shape.tree)
             .field("volumes", &self.volumes)
             .field("max_abs", &self.max_abs)
-            .field("safe", &self.safe)
+            .field("safe", &self.in_fast_range)
             .field("last_refit", &self.last_refit)
             .finish_non_exhaustive()
     }
@@ -125,11 +125,13 @@ impl Mesh {
     }
 
     /// Current vertex positions.
+    #[inline]
     pub fn positions(&self) -> &[Point] {
         &self.positions
     }
 
     /// The triangles, as vertex index triples.
+    #[inline]
     pub fn triangles(&self) -> &[[u32; 3]] {
         &self.shape.triangles
     }
@@ -249,8 +251,71 @@ impl Mesh {
     }
 
     /// Largest coordinate magnitude of the current positions.
+    #[inline]
     pub fn max_abs_coordinate(&self) -> f64 {
         self.max_abs
+    }
+}
+
+/// What the query and the scene read of a mesh beyond its public API: its shape and volumes,
+/// read in their inner loops, hence inlined.
+impl Mesh {
+    /// The hierarchy's shape.
+    #[inline(always)]
+    pub(crate) fn tree(&self) -> &Tree {
+        &self.shape.tree
+    }
+
+    /// The 1-rings in leaf order.
+    #[inline(always)]
+    pub(crate) fn rings(&self) -> &RingTable {
+        &self.shape.rings
+    }
+
+    /// The volumes after the last refit.
+    #[inline(always)]
+    pub(crate) fn volumes(&self) -> &Volumes {
+        &self.volumes
+    }
+
+    /// The box volumes, to be refit lazily by a scene; `None` for spheres.
+    pub(crate) fn boxes_mut(&mut self) -> Option<&mut [Aabb]> {
+        match &mut self.volumes {
+            Volumes::Aabb { boxes } => Some(boxes),
+            _ => None,
+        }
+    }
+
+    /// Are all current coordinates in the range where the fast adaptive predicates are exact?
+    #[inline(always)]
+    pub(crate) fn in_fast_range(&self) -> bool {
+        self.in_fast_range
+    }
+
+    /// Names the current positions (see the field).
+    pub(crate) fn state(&self) -> u64 {
+        self.state
+    }
+
+    /// How the tree is cut for lazy refit, if a lazy refit has cut it.
+    pub(crate) fn blocks(&self) -> Option<&Blocks> {
+        self.shape.blocks.get()
+    }
+
+    /// The nodes' patches for self-collision, found on first use.
+    pub(crate) fn patches(&self) -> &Patches {
+        self.shape.patches.get_or_init(|| Patches::new(self))
+    }
+
+    /// Do the two meshes share one copy of their triangles, rings and tree?
+    #[cfg(test)]
+    pub(crate) fn shares_shape_with(&self, other: &Mesh) -> bool {
+        Arc::ptr_eq(&self.shape, &other.shape)
+    }
+
+    /// Frees the room for new positions of a mesh that is never refit.
+    pub(crate) fn drop_spare(&mut self) {
+        self.spare = Vec::new();
     }
 }
 

@@ -93,7 +93,7 @@ impl Mesh {
             options: *options,
             volumes,
             max_abs: extent.max_abs,
-            safe: extent.safe,
+            in_fast_range: extent.in_fast_range,
             last_refit: RefitStats::default(),
             state: super::mesh::next_state(),
             facts: Default::default(),

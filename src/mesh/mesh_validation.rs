@@ -45,7 +45,7 @@ impl Mesh {
         let extent = scan_positions(self.positions.as_flattened())
             .map_err(|e| InvariantError(e.to_string()))?;
         ensure!(
-            extent.max_abs == self.max_abs && extent.safe == self.safe,
+            extent.max_abs == self.max_abs && extent.in_fast_range == self.in_fast_range,
             "cached coordinate extent is stale"
         );
         ensure!(

@@ -117,7 +117,7 @@ impl<'m> PairTest<'m> for Near {
         if !self.one_mesh {
             return false;
         }
-        let tris = &mesh.shape.triangles;
+        let tris = mesh.triangles();
         let (va, vb) = (tris[ta.index as usize], tris[tb.index as usize]);
         va.iter().any(|v| vb.contains(v))
     }

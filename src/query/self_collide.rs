@@ -45,7 +45,7 @@ fn self_collide_with(
     patches: bool,
     out: &mut Pairs,
 ) -> Result<QueryStats> {
-    let patches = patches.then(|| mesh.shape.patches.get_or_init(|| Patches::new(mesh)));
+    let patches = patches.then(|| mesh.patches());
     query_one(mesh, SelfIntersect { patches }, options, out)
 }
 

@@ -92,7 +92,7 @@ impl<'m, T: PairTest<'m>> LeafPairs<'_, '_, T> {
     /// A leaf of one mesh against itself: each pair of its ring's triangles once.
     fn own<A: QuerySide<'m>>(&mut self, a: &mut A, n: u32, stats: &mut QueryStats) -> bool {
         let mesh = a.mesh();
-        let r = mesh.shape.tree.nodes[n as usize].ring_start;
+        let r = mesh.tree().nodes[n as usize].ring_start;
         let (span, _) = prepare(a, r, self.rings_a, self.check_domain());
         let count = span.len() as u64;
         stats.triangle_candidates += count * count.saturating_sub(1) / 2;
@@ -141,10 +141,10 @@ impl<'m, T: PairTest<'m>> NarrowPhase<'m> for LeafPairs<'_, '_, T> {
             return self.own(a, na, stats);
         }
         let (ma, mb) = (a.mesh(), b.mesh());
-        let ra = ma.shape.tree.nodes[na as usize].ring_start;
-        let rb = mb.shape.tree.nodes[nb as usize].ring_start;
-        stats.triangle_candidates += (ma.shape.rings.triangles.row_len(ra as usize)
-            * mb.shape.rings.triangles.row_len(rb as usize))
+        let ra = ma.tree().nodes[na as usize].ring_start;
+        let rb = mb.tree().nodes[nb as usize].ring_start;
+        stats.triangle_candidates += (ma.rings().triangles.row_len(ra as usize)
+            * mb.rings().triangles.row_len(rb as usize))
             as u64;
         // Most overlapping leaf volumes hold rings whose boxes are apart (about 70% of the
         // spheres on scanned meshes): ring boxes, computed once per ring and query, settle them
@@ -186,7 +186,7 @@ pub(super) fn prepare<'m, S: QuerySide<'m>>(
     cache: &mut RingCache,
     check_domain: bool,
 ) -> (Range<usize>, Aabb) {
-    let rings = &side.mesh().shape.rings;
+    let rings = &side.mesh().rings();
     let items = rings.triangles.span(r as usize..r as usize + 1);
     if let Some((start, bounds)) = cache.held(r) {
         return (start..start + items.len(), bounds);

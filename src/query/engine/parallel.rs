@@ -53,7 +53,7 @@ where
     pub fn begin(&self, a: &mut SideSpace, b: &mut SideSpace) -> Option<Stop> {
         let (ma, mb) = (self.a.0.mesh(), self.b.0.mesh());
         let triangles = matches!(self.mode, QueryMode::Triangles | QueryMode::FirstHit);
-        let longest = |m: &crate::Mesh| triangles.then_some(m.shape.rings.longest);
+        let longest = |m: &crate::Mesh| triangles.then_some(m.rings().longest);
         a.begin(ma.vertex_count(), ma.ring_count(), longest(ma), !PA::LOCAL)
             .and_then(|()| b.begin(mb.vertex_count(), mb.ring_count(), longest(mb), !PB::LOCAL))
             .err()

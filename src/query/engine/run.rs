@@ -96,7 +96,9 @@ fn run_query<'m, T: PairTest<'m>>(
         let run = Run {
             mode: options.mode,
             test,
-            check_domain: !(a.safe && b.safe) || pose_a.is_some() || pose_b.is_some(),
+            check_domain: !(a.in_fast_range() && b.in_fast_range())
+                || pose_a.is_some()
+                || pose_b.is_some(),
             limit,
             threads,
             workspace,
@@ -158,9 +160,9 @@ fn run_query<'m, T: PairTest<'m>>(
         PairKind::Triangles
     };
     stats.pairs = items.len() as u64;
-    stats.nodes_refit = a.last_refit.nodes_refit;
+    stats.nodes_refit = a.last_refit().nodes_refit;
     if !one_mesh {
-        stats.nodes_refit += b.last_refit.nodes_refit;
+        stats.nodes_refit += b.last_refit().nodes_refit;
     }
     Ok(stats)
 }
@@ -168,7 +170,7 @@ fn run_query<'m, T: PairTest<'m>>(
 /// How much to widen a posed mesh's volumes: the rotation's stretch (spheres), and twice the
 /// rounding bound of the transformation (vertex and volume are each off by at most that much).
 fn widening(pose: &Pose, mesh: &Mesh, side: Side) -> Result<(f64, f64)> {
-    let (error, magnitude) = pose.rounding_bound(mesh.max_abs);
+    let (error, magnitude) = pose.rounding_bound(mesh.max_abs_coordinate());
     let in_range = magnitude <= MAX_POSED_MAGNITUDE;
     if !in_range {
         return Err(Error::PoseOutOfRange {

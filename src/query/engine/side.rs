@@ -121,7 +121,7 @@ impl<'m> Placement<'m> for Local<'m> {
 
     #[inline(always)]
     fn vertex(&self, _world: &mut Stamped<Point>, v: u32) -> Point {
-        self.mesh.positions[v as usize]
+        self.mesh.positions()[v as usize]
     }
 
     #[inline(always)]
@@ -167,7 +167,7 @@ impl<'m> Placement<'m> for Posed<'m> {
 
     #[inline(always)]
     fn vertex(&self, world: &mut Stamped<Point>, v: u32) -> Point {
-        let (pose, positions) = (self.pose, &self.mesh.positions);
+        let (pose, positions) = (self.pose, self.mesh.positions());
         world.get_or(v as usize, || pose.transform_point(&positions[v as usize]))
     }
 
@@ -331,7 +331,7 @@ impl<'m, K: Kind<'m>> Kind<'m> for Widened<K> {
 /// The volume kind of `mesh` as the query reads it, typed, passed to `then`.
 macro_rules! with_kind {
     ($mesh:expr, |$kind:ident| $then:expr) => {
-        match &$mesh.volumes {
+        match $mesh.volumes() {
             $crate::volume::Volumes::Dvh {
                 centre_vertex,
                 spheres,
@@ -405,7 +405,7 @@ impl<'m, P: Placement<'m>, K: Kind<'m>> QuerySide<'m> for View<'_, P, K> {
 
     #[inline(always)]
     fn nodes(&self) -> &'m [Node] {
-        &self.place.mesh().shape.tree.nodes
+        &self.place.mesh().tree().nodes
     }
 
     #[inline(always)]
@@ -426,11 +426,11 @@ impl<'m, P: Placement<'m>, K: Kind<'m>> QuerySide<'m> for View<'_, P, K> {
             return self.kind.leaf_box(n);
         }
         let mesh = self.place.mesh();
-        let r = mesh.shape.tree.nodes[n as usize].ring_start as usize;
+        let r = mesh.tree().nodes[n as usize].ring_start as usize;
         let (place, world) = (&self.place, &mut *self.world);
         self.ring_boxes.get_or(r, || {
-            let mut b = Aabb::point(&place.vertex(world, mesh.shape.rings.centre[r]));
-            for &v in mesh.shape.rings.vertices.row(r) {
+            let mut b = Aabb::point(&place.vertex(world, mesh.rings().centre[r]));
+            for &v in mesh.rings().vertices.row(r) {
                 b.grow(&place.vertex(world, v));
             }
             b
