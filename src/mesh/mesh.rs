@@ -50,7 +50,7 @@ pub struct NodeView {
 
 /// What a mesh's positions never change: its triangles, 1-rings and tree. Built once; shared.
 #[derive(Debug)]
-pub(super) struct Shape {
+pub(super) struct Topology {
     pub triangles: Vec<[u32; 3]>,
     pub rings: RingTable,
     pub tree: Tree,
@@ -72,9 +72,9 @@ pub struct Mesh {
     /// Where a refit writes the new positions while it checks them; swapped with `positions`
     /// once they are all valid.
     pub(super) spare: Vec<Point>,
-    /// Topology, rings and the tree's shape: everything positions do not change, shared by the
+    /// Triangles, rings and the tree: everything positions do not change, shared by the
     /// clones of a mesh (a scene's objects made from one mesh hold one copy).
-    pub(super) shape: Arc<Shape>,
+    pub(super) topology: Arc<Topology>,
     pub(super) options: BuildOptions,
     pub(super) volumes: Volumes,
     /// Largest coordinate magnitude of the current positions.
@@ -89,7 +89,7 @@ pub struct Mesh {
     /// What self-collision finds about the nodes at the current positions (which way their
     /// triangles turn, whether their loops project simply); found on first use and forgotten
     /// when the positions change.
-    pub(super) facts: PatchCache,
+    pub(super) patch_cache: PatchCache,
     /// Stacks for the wrapped-radius search, one per refit thread, sized at build so refits
     /// never allocate.
     pub(super) scratch: Vec<Vec<u32>>,
@@ -101,10 +101,10 @@ impl std::fmt::Debug for Mesh {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Mesh")
             .field("positions", &self.positions)
-            .field("triangles", &self.shape.triangles)
+            .field("triangles", &self.topology.triangles)
             .field("options", &self.options)
-            .field("rings", &self.shape.rings)
-            .field("tree", &self.shape.tree)
+            .field("rings", &self.topology.rings)
+            .field("tree", &self.topology.tree)
             .field("volumes", &self.volumes)
             .field("max_abs", &self.max_abs)
             .field("safe", &self.in_fast_range)
@@ -121,7 +121,7 @@ impl Mesh {
 
     /// Number of triangles.
     pub fn triangle_count(&self) -> usize {
-        self.shape.triangles.len()
+        self.topology.triangles.len()
     }
 
     /// Current vertex positions.
@@ -133,7 +133,7 @@ impl Mesh {
     /// The triangles, as vertex index triples.
     #[inline]
     pub fn triangles(&self) -> &[[u32; 3]] {
-        &self.shape.triangles
+        &self.topology.triangles
     }
 
     /// The options the mesh was built with.
@@ -143,18 +143,18 @@ impl Mesh {
 
     /// Number of 1-rings (leaves).
     pub fn ring_count(&self) -> usize {
-        self.shape.rings.len()
+        self.topology.rings.len()
     }
 
     /// Number of nodes, leaves included. Node 0 is the root.
     pub fn node_count(&self) -> usize {
-        self.shape.tree.len()
+        self.topology.tree.len()
     }
 
     /// One node. Panics if `node >= node_count()`.
     pub fn node(&self, node: u32) -> NodeView {
         let i = node as usize;
-        let n = &self.shape.tree.nodes[i];
+        let n = &self.topology.tree.nodes[i];
         let (volume, centre_vertex) = match &self.volumes {
             Volumes::Dvh {
                 centre_vertex,
@@ -174,8 +174,8 @@ impl Mesh {
     /// The triangles below a node (for a leaf, its ring's triangles). Node pairs reported by the
     /// coarse query modes expand to triangle pairs through this. Panics if `node` is out of range.
     pub fn node_triangles(&self, node: u32) -> &[u32] {
-        let n = &self.shape.tree.nodes[node as usize];
-        self.shape
+        let n = &self.topology.tree.nodes[node as usize];
+        self.topology
             .rings
             .triangles
             .row_range(n.ring_start as usize..n.ring_end as usize)
@@ -184,15 +184,15 @@ impl Mesh {
     /// What a refit of this mesh reads besides the positions.
     pub(crate) fn refit_input(&self) -> RefitInput<'_> {
         RefitInput {
-            tree: &self.shape.tree,
-            rings: &self.shape.rings,
+            tree: &self.topology.tree,
+            rings: &self.topology.rings,
             radius: self.options.radius,
         }
     }
 
     /// The centre vertex of each 1-ring, in leaf order.
     pub fn ring_centres(&self) -> &[u32] {
-        &self.shape.rings.centre
+        &self.topology.rings.centre
     }
 
     /// Bytes of memory the mesh holds beyond the struct itself: its copy of the positions and
@@ -200,14 +200,14 @@ impl Mesh {
     /// shape and the volumes. Reported per triangle in `BENCHMARKS.md`. A clone shares the
     /// triangles, rings and tree with the mesh it was cloned from; both count them.
     pub fn memory_bytes(&self) -> usize {
-        let tree = heap_bytes(&self.shape.tree.nodes)
-            + heap_bytes(&self.shape.tree.leaf_of_ring)
-            + heap_bytes(&self.shape.tree.subtrees)
-            + self.shape.blocks.get().map_or(0, Blocks::heap_bytes)
-            + self.shape.patches.get().map_or(0, Patches::heap_bytes);
+        let tree = heap_bytes(&self.topology.tree.nodes)
+            + heap_bytes(&self.topology.tree.leaf_of_ring)
+            + heap_bytes(&self.topology.tree.subtrees)
+            + self.topology.blocks.get().map_or(0, Blocks::heap_bytes)
+            + self.topology.patches.get().map_or(0, Patches::heap_bytes);
         self.state_bytes()
-            + heap_bytes(&self.shape.triangles)
-            + self.shape.rings.heap_bytes()
+            + heap_bytes(&self.topology.triangles)
+            + self.topology.rings.heap_bytes()
             + tree
     }
 
@@ -227,7 +227,7 @@ impl Mesh {
             + heap_bytes(&self.spare)
             + volumes
             + scratch
-            + self.facts.heap_bytes()
+            + self.patch_cache.heap_bytes()
     }
 
     /// Counters of the last refit (or of the build's initial fit).
@@ -241,10 +241,10 @@ impl Mesh {
         TreeStats {
             triangles: self.triangle_count(),
             rings: leaves,
-            inner_nodes: self.shape.tree.len() - leaves,
-            levels: self.shape.tree.levels(),
+            inner_nodes: self.topology.tree.len() - leaves,
+            levels: self.topology.tree.levels(),
             max_ring_triangles: (0..leaves)
-                .map(|r| self.shape.rings.triangles.row_len(r))
+                .map(|r| self.topology.rings.triangles.row_len(r))
                 .max()
                 .unwrap_or(0),
         }
@@ -263,13 +263,13 @@ impl Mesh {
     /// The hierarchy's shape.
     #[inline(always)]
     pub(crate) fn tree(&self) -> &Tree {
-        &self.shape.tree
+        &self.topology.tree
     }
 
     /// The 1-rings in leaf order.
     #[inline(always)]
     pub(crate) fn rings(&self) -> &RingTable {
-        &self.shape.rings
+        &self.topology.rings
     }
 
     /// The volumes after the last refit.
@@ -299,18 +299,18 @@ impl Mesh {
 
     /// How the tree is cut for lazy refit, if a lazy refit has cut it.
     pub(crate) fn blocks(&self) -> Option<&Blocks> {
-        self.shape.blocks.get()
+        self.topology.blocks.get()
     }
 
     /// The nodes' patches for self-collision, found on first use.
     pub(crate) fn patches(&self) -> &Patches {
-        self.shape.patches.get_or_init(|| Patches::new(self))
+        self.topology.patches.get_or_init(|| Patches::new(self))
     }
 
     /// Do the two meshes share one copy of their triangles, rings and tree?
     #[cfg(test)]
     pub(crate) fn shares_shape_with(&self, other: &Mesh) -> bool {
-        Arc::ptr_eq(&self.shape, &other.shape)
+        Arc::ptr_eq(&self.topology, &other.topology)
     }
 
     /// Frees the room for new positions of a mesh that is never refit.

@@ -1,7 +1,7 @@
 //! Building a [`Mesh`]: input checks, 1-rings, the tree's shape, the volumes, first fit.
 
 use super::input::{check_triangles, scan_positions, to_points};
-use super::mesh::{Mesh, Shape};
+use super::mesh::{Mesh, Topology};
 use super::options::BuildOptions;
 use super::rings::build_rings;
 use crate::error::{Error, Result};
@@ -83,7 +83,7 @@ impl Mesh {
         let mut mesh = Mesh {
             spare: positions.clone(),
             positions,
-            shape: Arc::new(Shape {
+            topology: Arc::new(Topology {
                 triangles: tris,
                 rings,
                 tree,
@@ -96,7 +96,7 @@ impl Mesh {
             in_fast_range: extent.in_fast_range,
             last_refit: RefitStats::default(),
             state: super::mesh::next_state(),
-            facts: Default::default(),
+            patch_cache: Default::default(),
             scratch,
         };
         mesh.last_refit = mesh.update_volumes();

@@ -94,14 +94,14 @@ impl Mesh {
         self.max_abs = extent.max_abs;
         self.in_fast_range = extent.in_fast_range;
         self.state = super::mesh::next_state();
-        self.facts.clear();
+        self.patch_cache.clear();
     }
 
     /// Recomputes every volume from the current positions.
     pub(crate) fn update_volumes(&mut self) -> RefitStats {
         let input = RefitInput {
-            tree: &self.shape.tree,
-            rings: &self.shape.rings,
+            tree: &self.topology.tree,
+            rings: &self.topology.rings,
             radius: self.options.radius,
         };
         self.volumes
@@ -122,12 +122,12 @@ impl Mesh {
             return false;
         };
         let input = RefitInput {
-            tree: &self.shape.tree,
-            rings: &self.shape.rings,
+            tree: &self.topology.tree,
+            rings: &self.topology.rings,
             radius: self.options.radius,
         };
         let blocks = self
-            .shape
+            .topology
             .blocks
             .get_or_init(|| Blocks::new(&input, self.positions.len()));
         fresh.fit_top(blocks, &input, &self.positions, boxes);

@@ -55,9 +55,9 @@ pub(crate) struct Patches {
 impl Patches {
     /// The loops of `mesh`'s nodes.
     pub fn new(mesh: &Mesh) -> Patches {
-        let tree = &mesh.shape.tree;
-        let rings = &mesh.shape.rings.triangles;
-        let tris = &mesh.shape.triangles;
+        let tree = &mesh.topology.tree;
+        let rings = &mesh.topology.rings.triangles;
+        let tris = &mesh.topology.triangles;
         // How many triangles use each vertex.
         let mut uses = vec![0u32; mesh.positions.len()];
         for t in tris {
@@ -117,20 +117,20 @@ impl Patches {
     /// [`Patches::cannot_intersect_each_other`]: is it a sealed disk whose triangles all turn one
     /// way along some axis?
     pub fn may_join(&self, mesh: &Mesh, n: u32) -> bool {
-        self.sealed[n as usize] != 0 && one_way_axes(mesh.facts.turns(mesh, n)) != 0
+        self.sealed[n as usize] != 0 && one_way_axes(mesh.patch_cache.turns(mesh, n)) != 0
     }
 
     /// Can node `n`'s patch, at the mesh's positions, have no self-intersection? (`true` only
     /// when sure.)
     pub fn cannot_self_intersect(&self, mesh: &Mesh, n: u32) -> bool {
-        let axes = one_way_axes(mesh.facts.turns(mesh, n));
+        let axes = one_way_axes(mesh.patch_cache.turns(mesh, n));
         (0..3).any(|k| axes & 1 << k != 0 && self.projects_simply(mesh, n, k))
     }
 
     /// Does node `n`'s loop (three corners or more) project to a simple polygon along axis `k`?
     /// Decided once per positions ([`PatchCache`]).
     fn projects_simply(&self, mesh: &Mesh, n: u32, k: usize) -> bool {
-        mesh.facts.simple(mesh, n, k, || {
+        mesh.patch_cache.simple(mesh, n, k, || {
             let boundary = self.loops.row(n as usize);
             boundary.len() >= 3
                 && SCRATCH.with_borrow_mut(|scratch| {
@@ -164,7 +164,7 @@ impl Patches {
         if self.sealed[i] & self.sealed[j] == 0 {
             return false;
         }
-        let turns = mesh.facts.turns(mesh, x) | mesh.facts.turns(mesh, y);
+        let turns = mesh.patch_cache.turns(mesh, x) | mesh.patch_cache.turns(mesh, y);
         let axes = one_way_axes(turns);
         if axes == 0 {
             return false;
@@ -416,7 +416,7 @@ impl PatchCache {
 
     fn bits(&self, mesh: &Mesh) -> &[AtomicU16] {
         self.bits.get_or_init(|| {
-            (0..mesh.shape.tree.len())
+            (0..mesh.topology.tree.len())
                 .map(|_| AtomicU16::new(0))
                 .collect()
         })
@@ -445,10 +445,10 @@ impl PatchCache {
         if known & TURNS_FOUND != 0 {
             return known as u8 & 0x3f;
         }
-        let node = &mesh.shape.tree.nodes[n as usize];
+        let node = &mesh.topology.tree.nodes[n as usize];
         let found = if node.is_leaf() {
             // The ring-ordered corners: one contiguous run, not a jump per triangle.
-            let rings = &mesh.shape.rings;
+            let rings = &mesh.topology.rings;
             let own = &rings.corners[rings
                 .triangles
                 .span(node.ring_start as usize..node.ring_end as usize)];

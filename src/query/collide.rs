@@ -1,6 +1,6 @@
 //! Intersection of two meshes: the entry point and its pair test.
 
-use super::engine::{Kind, OneMesh, PairTest, Prepared, QueryMesh, query};
+use super::engine::{NodeVolumes, OneMesh, PairTest, Prepared, QueryMesh, query};
 use super::options::QueryOptions;
 use super::pairs::{Pairs, QueryStats};
 use crate::error::Result;
@@ -57,10 +57,10 @@ pub(crate) fn collide_lazy<'m>(
 struct Intersect;
 
 impl<'m> PairTest<'m> for Intersect {
-    type SideA<K: Kind<'m>> = K;
+    type SideA<K: NodeVolumes<'m>> = K;
     const CHECKS_DOMAIN: bool = true;
 
-    fn side_a<K: Kind<'m>>(&self, kind: K) -> K {
+    fn side_a<K: NodeVolumes<'m>>(&self, kind: K) -> K {
         kind
     }
 

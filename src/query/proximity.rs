@@ -5,7 +5,7 @@
 //! `d` is dropped: [`Widened`]), hands leaf pairs to the leaf narrow phase, which filters by ring
 //! and triangle boxes widened by `d` before the exact test ([`Near`]).
 
-use super::engine::{Kind, OneMesh, PairTest, Prepared, Widened, query, query_one};
+use super::engine::{NodeVolumes, OneMesh, PairTest, Prepared, Widened, query, query_one};
 use super::options::QueryOptions;
 use super::pairs::{Pairs, QueryStats};
 use crate::error::{Error, Result};
@@ -94,11 +94,11 @@ struct Near {
 }
 
 impl<'m> PairTest<'m> for Near {
-    type SideA<K: Kind<'m>> = Widened<K>;
+    type SideA<K: NodeVolumes<'m>> = Widened<K>;
     // The exact distance test works for any finite coordinates.
     const CHECKS_DOMAIN: bool = false;
 
-    fn side_a<K: Kind<'m>>(&self, kind: K) -> Widened<K> {
+    fn side_a<K: NodeVolumes<'m>>(&self, kind: K) -> Widened<K> {
         Widened { kind, d: self.d }
     }
 

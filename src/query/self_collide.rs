@@ -7,7 +7,7 @@
 //! their rings' triangles once (rings partition the triangles), with [`SelfIntersect`]:
 //! [`crate::geometry::adjacent`] for triangles that share vertices.
 
-use super::engine::{Kind, OneMesh, PairTest, Prepared, query_one};
+use super::engine::{NodeVolumes, OneMesh, PairTest, Prepared, query_one};
 use super::options::QueryOptions;
 use super::pairs::{Pairs, QueryStats};
 use crate::error::Result;
@@ -56,10 +56,10 @@ struct SelfIntersect<'m> {
 }
 
 impl<'m> PairTest<'m> for SelfIntersect<'m> {
-    type SideA<K: Kind<'m>> = K;
+    type SideA<K: NodeVolumes<'m>> = K;
     const CHECKS_DOMAIN: bool = true;
 
-    fn side_a<K: Kind<'m>>(&self, kind: K) -> K {
+    fn side_a<K: NodeVolumes<'m>>(&self, kind: K) -> K {
         kind
     }
 

@@ -16,7 +16,7 @@ use crate::tree::Tree;
 use boxes::FitBoxes;
 pub(crate) use dvh_centres::assign_centres;
 pub(crate) use fit::REFIT_PARALLEL_MIN_RINGS;
-use fit::{Part, Window};
+use fit::{NodeSlice, VolumeSlices};
 pub(crate) use lazy::{Blocks, Freshness, LazyBoxes};
 use spheres::{FitDvh, FitSbv};
 
@@ -126,23 +126,23 @@ impl Volumes {
                 centre_vertex,
                 spheres,
             } => {
-                let w = Window {
-                    spheres: Part::whole(spheres),
-                    boxes: Part::whole(&mut []),
+                let w = VolumeSlices {
+                    spheres: NodeSlice::whole(spheres),
+                    boxes: NodeSlice::whole(&mut []),
                 };
                 fit::refit(&FitDvh { centre_vertex }, w, input, positions, stacks)
             }
             Volumes::Sbv { spheres, boxes } => {
-                let w = Window {
-                    spheres: Part::whole(spheres),
-                    boxes: Part::whole(boxes),
+                let w = VolumeSlices {
+                    spheres: NodeSlice::whole(spheres),
+                    boxes: NodeSlice::whole(boxes),
                 };
                 fit::refit(&FitSbv, w, input, positions, stacks)
             }
             Volumes::Aabb { boxes } => {
-                let w = Window {
-                    spheres: Part::whole(&mut []),
-                    boxes: Part::whole(boxes),
+                let w = VolumeSlices {
+                    spheres: NodeSlice::whole(&mut []),
+                    boxes: NodeSlice::whole(boxes),
                 };
                 fit::refit(&FitBoxes, w, input, positions, stacks)
             }

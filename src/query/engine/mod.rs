@@ -13,6 +13,6 @@ mod workspace;
 
 pub(crate) use narrow::PairTest;
 pub(crate) use run::{QueryMesh, query, query_one};
-pub(crate) use side::{Kind, Widened};
+pub(crate) use side::{NodeVolumes, Widened};
 pub(crate) use traverse::OneMesh;
 pub(crate) use workspace::{Prepared, Workspace};

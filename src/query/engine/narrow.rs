@@ -2,7 +2,7 @@
 //! modes), or their rings' triangles tested exactly (the exact modes) by the one leaf narrow
 //! phase, [`LeafPairs`], which asks a [`PairTest`] only what differs between queries.
 
-use super::side::{Kind, QuerySide};
+use super::side::{NodeVolumes, QuerySide};
 use super::sink::Sink;
 use super::traverse::{NarrowPhase, OneMesh};
 use super::workspace::{Prepared, RingCache};
@@ -19,13 +19,13 @@ use std::ops::Range;
 /// phase are shared. The coarse modes report node pairs whatever the test.
 pub(crate) trait PairTest<'m>: Copy + Send + Sync {
     /// Side `a`'s volume kind, given the mesh's own (grown by the margin, if there is one).
-    type SideA<K: Kind<'m>>: Kind<'m>;
-    /// Does the test read [`Prepared::safe`]? Then each triangle checks, when the query's
+    type SideA<K: NodeVolumes<'m>>: NodeVolumes<'m>;
+    /// Does the test read [`Prepared::in_fast_range`]? Then each triangle checks, when the query's
     /// coordinates may leave that range, whether they suit the fast predicates.
     const CHECKS_DOMAIN: bool;
 
     /// Side `a`'s volume kind, given the mesh's own.
-    fn side_a<K: Kind<'m>>(&self, kind: K) -> Self::SideA<K>;
+    fn side_a<K: NodeVolumes<'m>>(&self, kind: K) -> Self::SideA<K>;
     /// `Some` when both sides are one mesh: a leaf is then paired with itself too, and pairs are
     /// reported `(lower, higher)`.
     fn own(&self) -> Option<OneMesh<'m>>;
@@ -205,7 +205,7 @@ pub(super) fn prepare<'m, S: QuerySide<'m>>(
         *into = Prepared {
             bounds: b,
             index: t,
-            safe: !check_domain || corners.iter().all(is_safe_point),
+            in_fast_range: !check_domain || corners.iter().all(is_safe_point),
             tri: PreparedTriangle::new(corners),
         };
     }

@@ -6,7 +6,7 @@
 //! and the sorted answer is identical.
 
 use super::narrow::{LeafPairs, NodePairs, PairTest};
-use super::side::{Kind, Placement, View};
+use super::side::{NodeVolumes, Placement, View};
 use super::sink::{Sink, Stop};
 use super::sort;
 use super::traverse::{Walk, depth_first_from, split};
@@ -36,9 +36,9 @@ pub(crate) struct Job<PA, KA, PB, KB, T> {
 impl<'m, PA, KA, PB, KB, T> Job<PA, KA, PB, KB, T>
 where
     PA: Placement<'m>,
-    KA: Kind<'m>,
+    KA: NodeVolumes<'m>,
     PB: Placement<'m>,
-    KB: Kind<'m>,
+    KB: NodeVolumes<'m>,
     T: PairTest<'m>,
 {
     /// How the traversal walks.
@@ -129,9 +129,9 @@ pub(crate) fn run<'m, PA, KA, PB, KB, T>(
 ) -> (Option<Stop>, bool)
 where
     PA: Placement<'m>,
-    KA: Kind<'m>,
+    KA: NodeVolumes<'m>,
     PB: Placement<'m>,
-    KB: Kind<'m>,
+    KB: NodeVolumes<'m>,
     T: PairTest<'m>,
 {
     let Workspace {

@@ -4,7 +4,7 @@
 
 use super::narrow::{NodePairs, PairTest};
 use super::parallel::{self, Finish, Job};
-use super::side::{Kind, LazyBoxKind, Local, Placement, Posed, View, with_kind};
+use super::side::{LazyBoxVolumes, Local, NodeVolumes, Placement, Posed, View, with_node_volumes};
 use super::sink::{Sink, Stop};
 use super::sort::sort_pairs;
 use super::traverse::best_first;
@@ -116,12 +116,12 @@ fn run_query<'m, T: PairTest<'m>>(
         };
         match (pose_a.zip(place_a), lazy_a) {
             // One mesh: both sides are it, in place, with its own volumes.
-            _ if one_mesh => with_kind!(a, |kind| b_side.run.run(
+            _ if one_mesh => with_node_volumes!(a, |kind| b_side.run.run(
                 (Local { mesh: a }, test.side_a(kind)),
                 (Local { mesh: a }, kind)
             )),
             (None, Some(boxes)) => with_placement_b(
-                (Local { mesh: a }, test.side_a(LazyBoxKind { boxes })),
+                (Local { mesh: a }, test.side_a(LazyBoxVolumes { boxes })),
                 b_side,
             ),
             (None, None) => with_volumes_a(Local { mesh: a }, b_side),
@@ -211,9 +211,9 @@ impl<'m, T: PairTest<'m>> Run<'_, T> {
     fn run<PA, KA, PB, KB>(self, a: (PA, KA), b: (PB, KB)) -> (Option<Stop>, bool)
     where
         PA: Placement<'m>,
-        KA: Kind<'m>,
+        KA: NodeVolumes<'m>,
         PB: Placement<'m>,
-        KB: Kind<'m>,
+        KB: NodeVolumes<'m>,
     {
         let job = Job {
             a,
@@ -287,14 +287,14 @@ fn with_volumes_a<'m, P: Placement<'m>, T: PairTest<'m>>(
     b: SideB<'m, '_, T>,
 ) -> (Option<Stop>, bool) {
     let test = b.run.test;
-    with_kind!(place.mesh(), |kind| with_placement_b(
+    with_node_volumes!(place.mesh(), |kind| with_placement_b(
         (place, test.side_a(kind)),
         b
     ))
 }
 
 /// Types side `b` by its placement.
-fn with_placement_b<'m, PA: Placement<'m>, KA: Kind<'m>, T: PairTest<'m>>(
+fn with_placement_b<'m, PA: Placement<'m>, KA: NodeVolumes<'m>, T: PairTest<'m>>(
     a: (PA, KA),
     b: SideB<'m, '_, T>,
 ) -> (Option<Stop>, bool) {
@@ -305,7 +305,7 @@ fn with_placement_b<'m, PA: Placement<'m>, KA: Kind<'m>, T: PairTest<'m>>(
         run,
     } = b;
     match (pose, lazy) {
-        (None, Some(boxes)) => run.run(a, (Local { mesh }, LazyBoxKind { boxes })),
+        (None, Some(boxes)) => run.run(a, (Local { mesh }, LazyBoxVolumes { boxes })),
         (None, None) => with_volumes_b(a, Local { mesh }, run),
         (Some((pose, (stretch, pad))), _) => with_volumes_b(
             a,
@@ -321,10 +321,10 @@ fn with_placement_b<'m, PA: Placement<'m>, KA: Kind<'m>, T: PairTest<'m>>(
 }
 
 /// Types side `b` by its volume kind and runs the query.
-fn with_volumes_b<'m, PA: Placement<'m>, KA: Kind<'m>, P: Placement<'m>, T: PairTest<'m>>(
+fn with_volumes_b<'m, PA: Placement<'m>, KA: NodeVolumes<'m>, P: Placement<'m>, T: PairTest<'m>>(
     a: (PA, KA),
     place: P,
     run: Run<'_, T>,
 ) -> (Option<Stop>, bool) {
-    with_kind!(place.mesh(), |kind| run.run(a, (place, kind)))
+    with_node_volumes!(place.mesh(), |kind| run.run(a, (place, kind)))
 }

@@ -47,12 +47,12 @@ impl<T: Copy + Default> Stamped<T> {
 }
 
 /// A triangle of a ring prepared in the query frame: its index, its box, and what the exact test
-/// keeps of it (used only when its coordinates are `safe` for the fast predicates).
+/// keeps of it (used only when its coordinates are `in_fast_range` of the fast predicates).
 #[derive(Debug, Default)]
 pub(crate) struct Prepared {
     pub bounds: Aabb,
     pub index: u32,
-    pub safe: bool,
+    pub in_fast_range: bool,
     pub tri: PreparedTriangle,
 }
 
@@ -61,7 +61,7 @@ impl Prepared {
     /// are in their range, otherwise from the corners.
     #[inline]
     pub fn intersects(&self, other: &Prepared) -> bool {
-        if self.safe && other.safe {
+        if self.in_fast_range && other.in_fast_range {
             prepared_triangles_intersect(&self.tri, &other.tri)
         } else {
             triangles_intersect(&self.tri.corners, &other.tri.corners)
