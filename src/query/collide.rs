@@ -4,7 +4,6 @@ use super::engine::{NodeVolumes, OneMesh, PairTest, Prepared, QueryMesh, query};
 use super::options::QueryOptions;
 use super::pairs::{Pairs, QueryStats};
 use crate::error::Result;
-use crate::geometry::aabb::Aabb;
 use crate::geometry::pose::Pose;
 use crate::mesh::Mesh;
 
@@ -67,11 +66,6 @@ impl<'m> PairTest<'m> for Intersect {
     #[inline(always)]
     fn own(&self) -> Option<OneMesh<'m>> {
         None
-    }
-
-    #[inline(always)]
-    fn widen(&self, b: &Aabb) -> Aabb {
-        *b
     }
 
     #[inline]

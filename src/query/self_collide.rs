@@ -11,7 +11,6 @@ use super::engine::{NodeVolumes, OneMesh, PairTest, Prepared, query_one};
 use super::options::QueryOptions;
 use super::pairs::{Pairs, QueryStats};
 use crate::error::Result;
-use crate::geometry::aabb::Aabb;
 use crate::geometry::adjacent::{meet_beyond_edge, meet_beyond_vertex};
 use crate::geometry::predicates::Point;
 use crate::mesh::Mesh;
@@ -68,11 +67,6 @@ impl<'m> PairTest<'m> for SelfIntersect<'m> {
         Some(OneMesh {
             patches: self.patches,
         })
-    }
-
-    #[inline(always)]
-    fn widen(&self, b: &Aabb) -> Aabb {
-        *b
     }
 
     #[inline]

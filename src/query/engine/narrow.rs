@@ -29,9 +29,12 @@ pub(crate) trait PairTest<'m>: Copy + Send + Sync {
     /// `Some` when both sides are one mesh: a leaf is then paired with itself too, and pairs are
     /// reported `(lower, higher)`.
     fn own(&self) -> Option<OneMesh<'m>>;
-    /// Box `b` grown by the margin within which pairs are wanted (`b` itself when the test
-    /// asks for intersection: that must cost nothing).
-    fn widen(&self, b: &Aabb) -> Aabb;
+    /// Box `b` grown by the margin within which pairs are wanted; by default `b` itself, as
+    /// intersection asks (and then it costs nothing).
+    #[inline(always)]
+    fn widen(&self, b: &Aabb) -> Aabb {
+        *b
+    }
     /// Is the pair of no interest to the test, and not counted as tested (say, two triangles
     /// of one mesh that share a vertex, for nearness)?
     #[inline(always)]

@@ -3,7 +3,7 @@
 //! asks for (on the calling thread or shared out), and sorts the result.
 
 use super::narrow::{NodePairs, PairTest};
-use super::parallel::{self, Finish, Job};
+use super::parallel::{Finish, Job};
 use super::side::{LazyBoxVolumes, Local, NodeVolumes, Placement, Posed, View, with_node_volumes};
 use super::sink::{Sink, Stop};
 use super::sort::sort_pairs;
@@ -235,7 +235,7 @@ impl<'m, T: PairTest<'m>> Run<'_, T> {
                 a_count: self.a_count,
                 b_count: self.b_count,
             };
-            return parallel::run(&job, ws, threads, finish, self.stats);
+            return job.share_out(ws, threads, finish, self.stats);
         }
         let w = &mut ws.workers[0];
         self.out.clear();
