@@ -25,7 +25,7 @@ use std::ops::{Add, Mul, Sub};
 pub fn triangles_within(t1: &Triangle, t2: &Triangle, d: f64) -> bool {
     debug_assert!(d >= 0.0 && d.is_finite());
     if d > 0.0
-        && let Some(answer) = quick(t1, t2, d)
+        && let Some(answer) = decide_by_filter(t1, t2, d)
     {
         return answer;
     }
@@ -62,7 +62,7 @@ const TINY: f64 = 1e-290;
 /// vertex of one close to a vertex of the other. `None` when these cannot tell (then the exact
 /// decision runs).
 #[inline]
-fn quick(t1: &Triangle, t2: &Triangle, d: f64) -> Option<bool> {
+fn decide_by_filter(t1: &Triangle, t2: &Triangle, d: f64) -> Option<bool> {
     let m = t1
         .iter()
         .chain(t2)

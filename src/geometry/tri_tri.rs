@@ -100,7 +100,7 @@ pub(crate) fn prepared_triangles_intersect(t1: &PreparedTriangle, t2: &PreparedT
 
 /// What the test asks of one triangle besides its corners: computed on demand for a bare
 /// triangle, or kept by a [`PreparedTriangle`].
-trait Facts<O: Orient> {
+trait TriangleSigns<O: Orient> {
     fn corners(&self) -> &Triangle;
     /// The sides of `points` relative to the triangle's plane (all zero when it has none).
     fn plane_sides(&self, points: &Triangle) -> [Sign; 3];
@@ -122,7 +122,7 @@ fn orientation_in<O: Orient>(t: &Triangle, k: usize) -> Sign {
 /// A triangle whose facts are computed when asked.
 struct Bare<'t, O>(&'t Triangle, PhantomData<O>);
 
-impl<O: Orient> Facts<O> for Bare<'_, O> {
+impl<O: Orient> TriangleSigns<O> for Bare<'_, O> {
     #[inline(always)]
     fn corners(&self) -> &Triangle {
         self.0
@@ -139,7 +139,7 @@ impl<O: Orient> Facts<O> for Bare<'_, O> {
     }
 }
 
-impl Facts<Adaptive> for PreparedTriangle {
+impl TriangleSigns<Adaptive> for PreparedTriangle {
     #[inline(always)]
     fn corners(&self) -> &Triangle {
         &self.corners
@@ -196,9 +196,9 @@ pub(crate) fn intersect<O: Orient>(t1: &Triangle, t2: &Triangle) -> bool {
     meet::<O, _, _>(&Bare(t1, PhantomData), &Bare(t2, PhantomData))
 }
 
-/// The test itself, on triangles given with their [`Facts`].
+/// The test itself, on triangles given with their [`TriangleSigns`].
 #[inline]
-fn meet<O: Orient, F1: Facts<O>, F2: Facts<O>>(f1: &F1, f2: &F2) -> bool {
+fn meet<O: Orient, F1: TriangleSigns<O>, F2: TriangleSigns<O>>(f1: &F1, f2: &F2) -> bool {
     let (t1, t2) = (f1.corners(), f2.corners());
     // A shared corner is a shared point, settled before any arithmetic: meshes touching copies of
     // themselves, or stitched along seams, meet this way in most of their tested pairs, and the
@@ -323,7 +323,7 @@ fn crossing_intervals_meet<O: Orient>(
 /// edge of one has the whole other polygon strictly on its outer side (the separating-axis
 /// theorem in the plane: the separating direction can be taken normal to an edge, and the
 /// edge's own line then separates).
-fn coplanar_meet<O: Orient, F2: Facts<O>>(
+fn coplanar_meet<O: Orient, F2: TriangleSigns<O>>(
     t1: &Triangle,
     (k, inside1): (usize, Sign),
     f2: &F2,
@@ -544,9 +544,9 @@ mod tests {
                 [corner(), corner(), corner()],
                 [corner(), corner(), corner()],
             );
-            let (hit, quick) = settled_by_filter(&a, &b);
+            let (hit, by_filter) = settled_by_filter(&a, &b);
             assert_eq!(hit, triangles_intersect(&a, &b), "{a:?} {b:?}");
-            settled += usize::from(quick);
+            settled += usize::from(by_filter);
         }
         // Small integer grids are full of exact contacts; many, not all, are settled cheaply.
         assert!((500..5000).contains(&settled), "{settled}");

@@ -10,7 +10,7 @@ pub(crate) struct Extent {
     /// Largest coordinate magnitude.
     pub max_abs: f64,
     /// Is every coordinate inside the range where the adaptive predicates are exact?
-    pub safe: bool,
+    pub in_fast_range: bool,
     /// The box of the points (a scene's broad phase reads it; the scan has every coordinate
     /// at hand, where a second pass would read the positions again).
     pub bounds: Aabb,
@@ -116,7 +116,7 @@ impl Scan {
         let smallest = self.smallest.into_iter().fold(f64::INFINITY, f64::min);
         Extent {
             max_abs: largest,
-            safe: largest <= SAFE_MAX && smallest >= SAFE_MIN,
+            in_fast_range: largest <= SAFE_MAX && smallest >= SAFE_MIN,
             bounds: Aabb {
                 lo: [0, 1, 2].map(|k| self.lo[k].min(self.lo[k + 3])),
                 hi: [0, 1, 2].map(|k| self.hi[k].max(self.hi[k + 3])),
@@ -292,14 +292,14 @@ mod tests {
             e,
             Extent {
                 max_abs: 2.0,
-                safe: true,
+                in_fast_range: true,
                 bounds: Aabb {
                     lo: [1.0, -2.0, 0.0],
                     hi: [1.0, -2.0, 0.0]
                 }
             }
         );
-        assert!(!scan_positions(&[1e-300, 0.0, 0.0]).unwrap().safe);
-        assert!(!scan_positions(&[1e100, 0.0, 0.0]).unwrap().safe);
+        assert!(!scan_positions(&[1e-300, 0.0, 0.0]).unwrap().in_fast_range);
+        assert!(!scan_positions(&[1e100, 0.0, 0.0]).unwrap().in_fast_range);
     }
 }

@@ -2,23 +2,14 @@
 //! bounding volumes.
 
 use super::options::BuildOptions;
-use super::ring_table::RingTable;
+use super::patches::{PatchCache, Patches};
 use crate::csr::heap_bytes;
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::Point;
 use crate::geometry::sphere::Sphere;
-use crate::tree::Tree;
-use crate::volume::{Blocks, RefitInput, Volumes};
+use crate::tree::{RingTable, Tree};
+use crate::volume::{Blocks, RefitInput, RefitStats, Volumes};
 use std::sync::Arc;
-
-/// Counters of one refit (the paper's `NU` and the work behind it).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub struct RefitStats {
-    /// Nodes whose volume was recomputed (`NU`).
-    pub nodes_refit: u64,
-    /// Vertex-to-centre distances evaluated (for boxes: vertices folded into leaf boxes).
-    pub distance_evaluations: u64,
-}
 
 /// Shape of a built hierarchy, for comparison with the paper's Tables 1 and 2.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -59,14 +50,14 @@ pub struct NodeView {
 
 /// What a mesh's positions never change: its triangles, 1-rings and tree. Built once; shared.
 #[derive(Debug)]
-pub(crate) struct Shape {
+pub(super) struct Topology {
     pub triangles: Vec<[u32; 3]>,
     pub rings: RingTable,
     pub tree: Tree,
     /// How the tree is cut for lazy refit; built on first use (by a scene's deformable object).
     pub blocks: std::sync::OnceLock<Blocks>,
     /// The nodes' patches for self-collision; found on first use.
-    pub patches: std::sync::OnceLock<crate::query::Patches>,
+    pub patches: std::sync::OnceLock<Patches>,
 }
 
 /// A deformable triangle mesh with its bounding-volume hierarchy.
@@ -77,31 +68,31 @@ pub(crate) struct Shape {
 /// once; a refit needs `&mut`.
 #[derive(Clone)]
 pub struct Mesh {
-    pub(crate) positions: Vec<Point>,
+    pub(super) positions: Vec<Point>,
     /// Where a refit writes the new positions while it checks them; swapped with `positions`
     /// once they are all valid.
-    pub(crate) spare: Vec<Point>,
-    /// Topology, rings and the tree's shape: everything positions do not change, shared by the
+    pub(super) spare: Vec<Point>,
+    /// Triangles, rings and the tree: everything positions do not change, shared by the
     /// clones of a mesh (a scene's objects made from one mesh hold one copy).
-    pub(crate) shape: Arc<Shape>,
-    pub(crate) options: BuildOptions,
-    pub(crate) volumes: Volumes,
+    pub(super) topology: Arc<Topology>,
+    pub(super) options: BuildOptions,
+    pub(super) volumes: Volumes,
     /// Largest coordinate magnitude of the current positions.
-    pub(crate) max_abs: f64,
+    pub(super) max_abs: f64,
     /// Are all current coordinates in the range where the fast exact predicates apply?
-    pub(crate) safe: bool,
-    pub(crate) last_refit: RefitStats,
+    pub(super) in_fast_range: bool,
+    pub(super) last_refit: RefitStats,
     /// Names the current positions (and the volumes fitted to them): drawn from a counter shared
     /// by every mesh at build and at every change of positions, copied by a clone. Equal states
     /// mean equal contents, which lets a scene's rigid objects share one copy.
-    pub(crate) state: u64,
+    pub(super) state: u64,
     /// What self-collision finds about the nodes at the current positions (which way their
     /// triangles turn, whether their loops project simply); found on first use and forgotten
     /// when the positions change.
-    pub(crate) facts: crate::query::Facts,
+    pub(super) patch_cache: PatchCache,
     /// Stacks for the wrapped-radius search, one per refit thread, sized at build so refits
     /// never allocate.
-    pub(crate) scratch: Vec<Vec<u32>>,
+    pub(super) scratch: Vec<Vec<u32>>,
 }
 
 /// Everything but the scratch space (the spare positions a refit writes before it knows they are
@@ -110,13 +101,13 @@ impl std::fmt::Debug for Mesh {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Mesh")
             .field("positions", &self.positions)
-            .field("triangles", &self.shape.triangles)
+            .field("triangles", &self.topology.triangles)
             .field("options", &self.options)
-            .field("rings", &self.shape.rings)
-            .field("tree", &self.shape.tree)
+            .field("rings", &self.topology.rings)
+            .field("tree", &self.topology.tree)
             .field("volumes", &self.volumes)
             .field("max_abs", &self.max_abs)
-            .field("safe", &self.safe)
+            .field("safe", &self.in_fast_range)
             .field("last_refit", &self.last_refit)
             .finish_non_exhaustive()
     }
@@ -130,17 +121,19 @@ impl Mesh {
 
     /// Number of triangles.
     pub fn triangle_count(&self) -> usize {
-        self.shape.triangles.len()
+        self.topology.triangles.len()
     }
 
     /// Current vertex positions.
+    #[inline]
     pub fn positions(&self) -> &[Point] {
         &self.positions
     }
 
     /// The triangles, as vertex index triples.
+    #[inline]
     pub fn triangles(&self) -> &[[u32; 3]] {
-        &self.shape.triangles
+        &self.topology.triangles
     }
 
     /// The options the mesh was built with.
@@ -150,18 +143,18 @@ impl Mesh {
 
     /// Number of 1-rings (leaves).
     pub fn ring_count(&self) -> usize {
-        self.shape.rings.len()
+        self.topology.rings.len()
     }
 
     /// Number of nodes, leaves included. Node 0 is the root.
     pub fn node_count(&self) -> usize {
-        self.shape.tree.len()
+        self.topology.tree.len()
     }
 
     /// One node. Panics if `node >= node_count()`.
     pub fn node(&self, node: u32) -> NodeView {
         let i = node as usize;
-        let n = &self.shape.tree.nodes[i];
+        let n = &self.topology.tree.nodes[i];
         let (volume, centre_vertex) = match &self.volumes {
             Volumes::Dvh {
                 centre_vertex,
@@ -181,8 +174,8 @@ impl Mesh {
     /// The triangles below a node (for a leaf, its ring's triangles). Node pairs reported by the
     /// coarse query modes expand to triangle pairs through this. Panics if `node` is out of range.
     pub fn node_triangles(&self, node: u32) -> &[u32] {
-        let n = &self.shape.tree.nodes[node as usize];
-        self.shape
+        let n = &self.topology.tree.nodes[node as usize];
+        self.topology
             .rings
             .triangles
             .row_range(n.ring_start as usize..n.ring_end as usize)
@@ -191,15 +184,15 @@ impl Mesh {
     /// What a refit of this mesh reads besides the positions.
     pub(crate) fn refit_input(&self) -> RefitInput<'_> {
         RefitInput {
-            tree: &self.shape.tree,
-            rings: &self.shape.rings,
+            tree: &self.topology.tree,
+            rings: &self.topology.rings,
             radius: self.options.radius,
         }
     }
 
     /// The centre vertex of each 1-ring, in leaf order.
     pub fn ring_centres(&self) -> &[u32] {
-        &self.shape.rings.centre
+        &self.topology.rings.centre
     }
 
     /// Bytes of memory the mesh holds beyond the struct itself: its copy of the positions and
@@ -207,18 +200,14 @@ impl Mesh {
     /// shape and the volumes. Reported per triangle in `BENCHMARKS.md`. A clone shares the
     /// triangles, rings and tree with the mesh it was cloned from; both count them.
     pub fn memory_bytes(&self) -> usize {
-        let tree = heap_bytes(&self.shape.tree.nodes)
-            + heap_bytes(&self.shape.tree.leaf_of_ring)
-            + heap_bytes(&self.shape.tree.subtrees)
-            + self.shape.blocks.get().map_or(0, Blocks::heap_bytes)
-            + self
-                .shape
-                .patches
-                .get()
-                .map_or(0, crate::query::Patches::heap_bytes);
+        let tree = heap_bytes(&self.topology.tree.nodes)
+            + heap_bytes(&self.topology.tree.leaf_of_ring)
+            + heap_bytes(&self.topology.tree.subtrees)
+            + self.topology.blocks.get().map_or(0, Blocks::heap_bytes)
+            + self.topology.patches.get().map_or(0, Patches::heap_bytes);
         self.state_bytes()
-            + heap_bytes(&self.shape.triangles)
-            + self.shape.rings.heap_bytes()
+            + heap_bytes(&self.topology.triangles)
+            + self.topology.rings.heap_bytes()
             + tree
     }
 
@@ -238,7 +227,7 @@ impl Mesh {
             + heap_bytes(&self.spare)
             + volumes
             + scratch
-            + self.facts.heap_bytes()
+            + self.patch_cache.heap_bytes()
     }
 
     /// Counters of the last refit (or of the build's initial fit).
@@ -252,18 +241,81 @@ impl Mesh {
         TreeStats {
             triangles: self.triangle_count(),
             rings: leaves,
-            inner_nodes: self.shape.tree.len() - leaves,
-            levels: self.shape.tree.levels(),
+            inner_nodes: self.topology.tree.len() - leaves,
+            levels: self.topology.tree.levels(),
             max_ring_triangles: (0..leaves)
-                .map(|r| self.shape.rings.triangles.row_len(r))
+                .map(|r| self.topology.rings.triangles.row_len(r))
                 .max()
                 .unwrap_or(0),
         }
     }
 
     /// Largest coordinate magnitude of the current positions.
+    #[inline]
     pub fn max_abs_coordinate(&self) -> f64 {
         self.max_abs
+    }
+}
+
+/// What the query and the scene read of a mesh beyond its public API: its shape and volumes,
+/// read in their inner loops, hence inlined.
+impl Mesh {
+    /// The hierarchy's shape.
+    #[inline(always)]
+    pub(crate) fn tree(&self) -> &Tree {
+        &self.topology.tree
+    }
+
+    /// The 1-rings in leaf order.
+    #[inline(always)]
+    pub(crate) fn rings(&self) -> &RingTable {
+        &self.topology.rings
+    }
+
+    /// The volumes after the last refit.
+    #[inline(always)]
+    pub(crate) fn volumes(&self) -> &Volumes {
+        &self.volumes
+    }
+
+    /// The box volumes, to be refit lazily by a scene; `None` for spheres.
+    pub(crate) fn boxes_mut(&mut self) -> Option<&mut [Aabb]> {
+        match &mut self.volumes {
+            Volumes::Aabb { boxes } => Some(boxes),
+            _ => None,
+        }
+    }
+
+    /// Are all current coordinates in the range where the fast adaptive predicates are exact?
+    #[inline(always)]
+    pub(crate) fn in_fast_range(&self) -> bool {
+        self.in_fast_range
+    }
+
+    /// Names the current positions (see the field).
+    pub(crate) fn state(&self) -> u64 {
+        self.state
+    }
+
+    /// How the tree is cut for lazy refit, if a lazy refit has cut it.
+    pub(crate) fn blocks(&self) -> Option<&Blocks> {
+        self.topology.blocks.get()
+    }
+
+    /// The nodes' patches for self-collision, found on first use.
+    pub(crate) fn patches(&self) -> &Patches {
+        self.topology.patches.get_or_init(|| Patches::new(self))
+    }
+
+    /// Do the two meshes share one copy of their triangles, rings and tree?
+    #[cfg(test)]
+    pub(crate) fn shares_shape_with(&self, other: &Mesh) -> bool {
+        Arc::ptr_eq(&self.topology, &other.topology)
+    }
+
+    /// Frees the room for new positions of a mesh that is never refit.
+    pub(crate) fn drop_spare(&mut self) {
+        self.spare = Vec::new();
     }
 }
 

@@ -1,16 +1,15 @@
 //! Building a [`Mesh`]: input checks, 1-rings, the tree's shape, the volumes, first fit.
 
 use super::input::{check_triangles, scan_positions, to_points};
-use super::mesh::{Mesh, RefitStats, Shape};
+use super::mesh::{Mesh, Topology};
 use super::options::BuildOptions;
-use super::ring_table::RingTable;
 use super::rings::build_rings;
 use crate::error::{Error, Result};
 use crate::geometry::predicates::Point;
 use crate::threads;
-use crate::tree::Tree;
+use crate::tree::{RingTable, Tree};
 use crate::volume::REFIT_PARALLEL_MIN_RINGS;
-use crate::volume::{VolumeKind, Volumes, assign_centres};
+use crate::volume::{RefitStats, VolumeKind, Volumes, assign_centres};
 use std::sync::Arc;
 
 impl Mesh {
@@ -61,7 +60,12 @@ impl Mesh {
         let rings = build_rings(vertex_count, &tris, &points, options.leftovers);
         let centres: Vec<Point> = rings.centre.iter().map(|&v| points[v as usize]).collect();
         let (tree, order) = Tree::build(&centres, options.tree);
-        let rings = RingTable::new(&rings, &order, &tris, vertex_count);
+        let rings = RingTable::new(
+            (&rings.centre, &rings.triangles),
+            &order,
+            &tris,
+            vertex_count,
+        );
         let positions = points;
         let centre_vertex = match options.volume {
             VolumeKind::Dvh => assign_centres(&tree, &rings, &positions),
@@ -79,7 +83,7 @@ impl Mesh {
         let mut mesh = Mesh {
             spare: positions.clone(),
             positions,
-            shape: Arc::new(Shape {
+            topology: Arc::new(Topology {
                 triangles: tris,
                 rings,
                 tree,
@@ -89,10 +93,10 @@ impl Mesh {
             options: *options,
             volumes,
             max_abs: extent.max_abs,
-            safe: extent.safe,
+            in_fast_range: extent.in_fast_range,
             last_refit: RefitStats::default(),
             state: super::mesh::next_state(),
-            facts: Default::default(),
+            patch_cache: Default::default(),
             scratch,
         };
         mesh.last_refit = mesh.update_volumes();

@@ -1,11 +1,11 @@
 //! Refitting a [`Mesh`] to new vertex positions: the volumes only, no allocation.
 
 use super::input::{Extent, store_points, store_positions};
-use super::mesh::{Mesh, RefitStats};
+use super::mesh::Mesh;
 use crate::error::{Error, Result};
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::Point;
-use crate::volume::RefitInput;
+use crate::volume::{Blocks, Freshness, RefitInput, RefitStats, Volumes};
 
 impl Mesh {
     /// Takes new positions for every vertex (`x, y, z` each, same vertex count as at build) and
@@ -92,19 +92,45 @@ impl Mesh {
     fn install(&mut self, extent: Extent) {
         std::mem::swap(&mut self.positions, &mut self.spare);
         self.max_abs = extent.max_abs;
-        self.safe = extent.safe;
+        self.in_fast_range = extent.in_fast_range;
         self.state = super::mesh::next_state();
-        self.facts.clear();
+        self.patch_cache.clear();
     }
 
     /// Recomputes every volume from the current positions.
     pub(crate) fn update_volumes(&mut self) -> RefitStats {
         let input = RefitInput {
-            tree: &self.shape.tree,
-            rings: &self.shape.rings,
+            tree: &self.topology.tree,
+            rings: &self.topology.rings,
             radius: self.options.radius,
         };
         self.volumes
             .refit(&input, &self.positions, &mut self.scratch)
+    }
+
+    /// Recomputes every volume from the current positions and records the counters.
+    pub(crate) fn refit_volumes(&mut self) -> RefitStats {
+        let stats = self.update_volumes();
+        self.last_refit = stats;
+        stats
+    }
+
+    /// With box volumes, refits only the top of the tree, the blocks below it refit as a query
+    /// first reads them (`fresh` says which are current); `false`, and nothing done, for spheres.
+    pub(crate) fn refit_top(&mut self, fresh: &mut Freshness) -> bool {
+        let Volumes::Aabb { boxes } = &mut self.volumes else {
+            return false;
+        };
+        let input = RefitInput {
+            tree: &self.topology.tree,
+            rings: &self.topology.rings,
+            radius: self.options.radius,
+        };
+        let blocks = self
+            .topology
+            .blocks
+            .get_or_init(|| Blocks::new(&input, self.positions.len()));
+        fresh.fit_top(blocks, &input, &self.positions, boxes);
+        true
     }
 }

@@ -2,9 +2,9 @@
 
 use super::input::scan_positions;
 use super::mesh::Mesh;
-use super::rings::distinct_corners;
 use crate::geometry::aabb::Aabb;
 use crate::geometry::sphere::{Sphere, distance_squared};
+use crate::tree::distinct_corners;
 use crate::volume::Volumes;
 use std::fmt;
 
@@ -45,7 +45,7 @@ impl Mesh {
         let extent = scan_positions(self.positions.as_flattened())
             .map_err(|e| InvariantError(e.to_string()))?;
         ensure!(
-            extent.max_abs == self.max_abs && extent.safe == self.safe,
+            extent.max_abs == self.max_abs && extent.in_fast_range == self.in_fast_range,
             "cached coordinate extent is stale"
         );
         ensure!(
@@ -57,7 +57,7 @@ impl Mesh {
         ensure!(
             !self.scratch.is_empty()
                 && self.scratch.iter().all(|s| {
-                    s.capacity() >= self.options.tree.max_children() * self.shape.tree.levels()
+                    s.capacity() >= self.options.tree.max_children() * self.topology.tree.levels()
                 }),
             "refit stack not preallocated"
         );
@@ -67,8 +67,8 @@ impl Mesh {
     /// Offsets monotone, every triangle in exactly one ring, vertex lists exact.
     fn validate_rings(&self) -> Result<(), InvariantError> {
         let nv = self.positions.len();
-        let nt = self.shape.triangles.len();
-        let rings = &self.shape.rings;
+        let nt = self.topology.triangles.len();
+        let rings = &self.topology.rings;
         let nr = rings.len();
         ensure!(nr >= 1, "no rings");
         for (name, table) in [("triangle", &rings.triangles), ("vertex", &rings.vertices)] {
@@ -93,13 +93,13 @@ impl Mesh {
             rings.corners.len(),
             rings.triangles.items().len()
         );
-        for (t, tri) in self.shape.triangles.iter().enumerate() {
+        for (t, tri) in self.topology.triangles.iter().enumerate() {
             ensure!(
                 tri.iter().all(|&v| (v as usize) < nv),
                 "triangle {t} = {tri:?} out of range ({nv} vertices)"
             );
         }
-        let corners_of = |t: u32| self.shape.triangles[t as usize];
+        let corners_of = |t: u32| self.topology.triangles[t as usize];
         let mut covered = vec![0u32; nt];
         let mut in_ring = vec![u32::MAX; nv];
         let mut corner_of = vec![u32::MAX; nv];
@@ -152,8 +152,8 @@ impl Mesh {
     /// Children contiguous and after their parent, ring ranges partitioned among children,
     /// depths, one ring per leaf, one parent per node.
     fn validate_tree(&self) -> Result<(), InvariantError> {
-        let nr = self.shape.rings.len();
-        let nodes = &self.shape.tree.nodes;
+        let nr = self.topology.rings.len();
+        let nodes = &self.topology.tree.nodes;
         let nn = nodes.len();
         ensure!(nn >= 1, "empty hierarchy");
         let root = &nodes[0];
@@ -226,7 +226,7 @@ impl Mesh {
     /// vertices below their node (a leaf's on its ring's centre); SBV centres are the midpoints
     /// of the exact boxes of the vertices below.
     fn validate_volumes(&self) -> Result<(), InvariantError> {
-        let nn = self.shape.tree.len();
+        let nn = self.topology.tree.len();
         let sizes = match &self.volumes {
             Volumes::Dvh {
                 centre_vertex,
@@ -240,10 +240,10 @@ impl Mesh {
             "{:?} volumes sized {sizes:?} for {nn} nodes",
             self.volumes.kind()
         );
-        for (i, n) in self.shape.tree.nodes.iter().enumerate() {
+        for (i, n) in self.topology.tree.nodes.iter().enumerate() {
             let below = || {
                 (n.ring_start as usize..n.ring_end as usize)
-                    .flat_map(|r| self.shape.rings.all_vertices(r))
+                    .flat_map(|r| self.topology.rings.all_vertices(r))
             };
             let exact_box = Aabb::of_points(below().map(|v| &self.positions[v as usize]));
             match &self.volumes {
@@ -266,7 +266,7 @@ impl Mesh {
                     );
                     if n.is_leaf() {
                         ensure!(
-                            cv == self.shape.rings.centre[n.ring_start as usize],
+                            cv == self.topology.rings.centre[n.ring_start as usize],
                             "leaf {i} not centred on its ring's centre"
                         );
                     }

@@ -7,11 +7,12 @@ mod mesh_build;
 mod mesh_refit;
 mod mesh_validation;
 mod options;
-mod ring_table;
+mod patches;
 pub(crate) mod rings;
 
-pub use mesh::{BoundingVolume, Mesh, NodeView, RefitStats, TreeStats};
+pub use crate::volume::{RadiusKind, RefitStats};
+pub use mesh::{BoundingVolume, Mesh, NodeView, TreeStats};
 pub use mesh_validation::InvariantError;
-pub use options::{BuildOptions, RadiusKind};
-pub(crate) use ring_table::RingTable;
+pub use options::BuildOptions;
+pub(crate) use patches::Patches;
 pub use rings::LeftoverPolicy;

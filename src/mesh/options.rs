@@ -2,23 +2,7 @@
 
 use super::rings::LeftoverPolicy;
 use crate::tree::TreeKind;
-use crate::volume::VolumeKind;
-
-/// How a sphere's radius is computed at each refit ([`VolumeKind::Dvh`] and [`VolumeKind::Sbv`];
-/// boxes are always the exact union of their children).
-///
-/// Measured on the paper's scenes (`BENCHMARKS.md`): with a refit every frame, layered radii
-/// give the lower time per frame (the refit about half as dear, the query 10-20% dearer);
-/// wrapped radii win when there is no refit to pay for, as for rigid meshes placed by poses.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum RadiusKind {
-    /// The largest distance from the node's centre to any vertex below it: the tightest sphere
-    /// with that centre (the paper's choice).
-    Wrapped,
-    /// `max(|c - c_child| + r_child)` over the children: cheaper to refit, looser.
-    #[default]
-    Layered,
-}
+use crate::volume::{RadiusKind, VolumeKind};
 
 /// Options for [`crate::Mesh::new`]. The defaults (octree, boxes) are the fastest measured for
 /// meshes that deform; [`BuildOptions::rigid`] for meshes that only move.

@@ -14,6 +14,7 @@
 use crate::csr::Csr;
 use crate::geometry::predicates::Point;
 use crate::geometry::sphere::distance_squared;
+use crate::tree::distinct_corners;
 use std::collections::VecDeque;
 
 /// How triangles that touch no ring centre are put into leaves.
@@ -36,15 +37,6 @@ const NONE: u32 = u32::MAX;
 pub(crate) struct Rings {
     pub centre: Vec<u32>,
     pub triangles: Csr<u32>,
-}
-
-/// The distinct corners of a triangle (repeated indices are legal input).
-#[inline]
-pub(crate) fn distinct_corners(t: &[u32; 3]) -> impl Iterator<Item = u32> + '_ {
-    t.iter()
-        .enumerate()
-        .filter(|&(i, v)| !t[..i].contains(v))
-        .map(|(_, &v)| v)
 }
 
 /// Vertex to incident triangles: row `v` lists the triangles with `v` as a corner.

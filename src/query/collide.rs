@@ -1,21 +1,11 @@
-//! The pair query's entry point: checks the options and poses, puts each mesh in the query's
-//! frame, runs the traversal with the narrow phase the mode asks for, and sorts the result.
+//! Intersection of two meshes: the entry point and its pair test.
 
-use super::narrow::{Intersect, NodePairs, Question};
-use super::options::{QueryMode, QueryOptions};
-use super::pairs::{Pair, PairKind, Pairs, QueryStats};
-use super::parallel::{self, Finish, Job};
-use super::side::{Kind, LazyBoxKind, Local, Placement, Posed, View, with_kind};
-use super::sink::{Sink, Stop};
-use super::sort::sort_pairs;
-use super::traverse::best_first;
-use super::workspace::{Worker, Workspace};
-use crate::error::{Error, Result, Side};
-use crate::geometry::MAX_POSED_MAGNITUDE;
+use super::engine::{NodeVolumes, OneMesh, PairTest, Prepared, QueryMesh, query};
+use super::options::QueryOptions;
+use super::pairs::{Pairs, QueryStats};
+use crate::error::Result;
 use crate::geometry::pose::Pose;
 use crate::mesh::Mesh;
-use crate::threads;
-use crate::volume::LazyBoxes;
 
 /// Finds what intersects between mesh `a` placed by `pose_a` and mesh `b` placed by `pose_b`
 /// (`None`: the mesh's coordinates are world coordinates), as [`QueryOptions::mode`] asks.
@@ -30,10 +20,11 @@ use crate::volume::LazyBoxes;
 /// force over those coordinates; volumes are widened by a bound on the rounding of the
 /// transformation so that none is dropped.
 ///
-/// Errors: [`Error::ZeroBudget`] for [`QueryMode::Budget`]`(0)`; [`Error::PoseOutOfRange`] when
-/// a pose could move coordinates beyond [`MAX_POSED_MAGNITUDE`]; [`Error::OutOfMemory`] when the
-/// result cannot grow (set [`QueryOptions::max_pairs`] to bound it). On error `out` still holds
-/// the previous result.
+/// Errors: [`crate::Error::ZeroBudget`] for [`crate::QueryMode::Budget`]`(0)`;
+/// [`crate::Error::PoseOutOfRange`] when a pose could move coordinates beyond
+/// [`crate::geometry::MAX_POSED_MAGNITUDE`]; [`crate::Error::OutOfMemory`] when the result
+/// cannot grow (set [`QueryOptions::max_pairs`] to bound it). On error `out` still holds the
+/// previous result.
 ///
 /// Cost: proportional to the volume pairs visited plus the triangle pairs tested, shared among
 /// [`QueryOptions::threads`] threads when the meshes are large enough; on one thread, allocates
@@ -50,10 +41,6 @@ pub fn collide(
     collide_lazy((a, pose_a, None), (b, pose_b, None), options, out)
 }
 
-/// A mesh of a query: where it is, and its boxes when they are refit lazily (then the mesh's
-/// own volumes are not read, and there is no pose: only deformable scene objects are lazy).
-pub(crate) type QueryMesh<'m> = (&'m Mesh, Option<&'m Pose>, Option<&'m LazyBoxes<'m>>);
-
 /// [`collide`], with either mesh's boxes refit lazily.
 pub(crate) fn collide_lazy<'m>(
     a: QueryMesh<'m>,
@@ -64,307 +51,25 @@ pub(crate) fn collide_lazy<'m>(
     query(a, b, Intersect, options, out)
 }
 
-/// A query of two meshes: `question` asks what of their triangles (intersection, nearness).
-pub(super) fn query<'m, Q: Question<'m>>(
-    a: QueryMesh<'m>,
-    b: QueryMesh<'m>,
-    question: Q,
-    options: &QueryOptions,
-    out: &mut Pairs,
-) -> Result<QueryStats> {
-    run_query(a, Some(b), question, options, out)
-}
+/// Which triangles of two meshes intersect.
+#[derive(Clone, Copy)]
+struct Intersect;
 
-/// A query of one mesh against itself (no pose, boxes refit): `question` asks what of its
-/// triangle pairs.
-pub(super) fn query_one<'m, Q: Question<'m>>(
-    mesh: &'m Mesh,
-    question: Q,
-    options: &QueryOptions,
-    out: &mut Pairs,
-) -> Result<QueryStats> {
-    debug_assert!(question.own().is_some());
-    run_query((mesh, None, None), None, question, options, out)
-}
+impl<'m> PairTest<'m> for Intersect {
+    type SideA<K: NodeVolumes<'m>> = K;
+    const CHECKS_DOMAIN: bool = true;
 
-/// A query of `a` and `b`, or of `a` against itself (`b` is `None`).
-fn run_query<'m, Q: Question<'m>>(
-    (a, pose_a, lazy_a): QueryMesh<'m>,
-    b_side: Option<QueryMesh<'m>>,
-    question: Q,
-    options: &QueryOptions,
-    out: &mut Pairs,
-) -> Result<QueryStats> {
-    let one_mesh = b_side.is_none();
-    let (b, pose_b, lazy_b) = b_side.unwrap_or((a, None, None));
-    debug_assert!(lazy_a.is_none() || pose_a.is_none());
-    debug_assert!(lazy_b.is_none() || pose_b.is_none());
-    if options.mode == QueryMode::Budget(0) {
-        return Err(Error::ZeroBudget);
+    fn side_a<K: NodeVolumes<'m>>(&self, kind: K) -> K {
+        kind
     }
-    let pose_a = pose_a.filter(|p| !p.is_identity());
-    let pose_b = pose_b.filter(|p| !p.is_identity());
-    let place_a = pose_a.map(|p| widening(p, a, Side::A)).transpose()?;
-    let place_b = pose_b.map(|p| widening(p, b, Side::B)).transpose()?;
 
-    let Pairs {
-        items,
-        spare,
-        kind,
-        workspace,
-    } = out;
-    let limit = match options.mode {
-        QueryMode::FirstHit => 1,
-        _ => usize::MAX,
-    };
-    let limit = options.max_pairs.map_or(limit, |m| m.min(limit));
-    let mut stats = QueryStats::default();
-    let small = a.triangle_count() + b.triangle_count() < PARALLEL_MIN_TRIANGLES;
-    let threads = if small || matches!(options.mode, QueryMode::Budget(_)) {
-        1
-    } else {
-        threads::resolve(options.threads)
-    };
-    let nodes = options.mode.reports_nodes();
-    let (a_count, b_count) = if nodes {
-        (a.node_count() as u64, b.node_count() as u64)
-    } else {
-        (a.triangle_count() as u64, b.triangle_count() as u64)
-    };
-    let (stop, sorted) = if limit == 0 {
-        spare.clear();
-        (Some(Stop::Limit), false)
-    } else {
-        let run = Run {
-            mode: options.mode,
-            question,
-            check_domain: !(a.safe && b.safe) || pose_a.is_some() || pose_b.is_some(),
-            limit,
-            threads,
-            workspace,
-            out: spare,
-            scratch: items,
-            a_count,
-            b_count,
-            stats: &mut stats,
-        };
-        let b_side = SideB {
-            mesh: b,
-            pose: pose_b.zip(place_b),
-            lazy: lazy_b,
-            run,
-        };
-        match (pose_a.zip(place_a), lazy_a) {
-            // One mesh: both sides are it, in place, with its own volumes.
-            _ if one_mesh => with_kind!(a, |kind| b_side.run.run(
-                (Local { mesh: a }, question.side_a(kind)),
-                (Local { mesh: a }, kind)
-            )),
-            (None, Some(boxes)) => with_placement_b(
-                (Local { mesh: a }, question.side_a(LazyBoxKind { boxes })),
-                b_side,
-            ),
-            (None, None) => with_volumes_a(Local { mesh: a }, b_side),
-            (Some((pose, (stretch, pad))), _) => with_volumes_a(
-                Posed {
-                    mesh: a,
-                    pose,
-                    stretch,
-                    pad,
-                },
-                b_side,
-            ),
-        }
-    };
-    match stop {
-        Some(Stop::OutOfMemory { bytes }) => return Err(Error::OutOfMemory { bytes }),
-        Some(Stop::Limit) => stats.truncated = options.mode != QueryMode::FirstHit,
-        None => {}
+    #[inline(always)]
+    fn own(&self) -> Option<OneMesh<'m>> {
+        None
     }
-    if !sorted {
-        // The previous result is no longer needed: it serves as the sort's scratch space.
-        sort_pairs(
-            spare,
-            items,
-            &mut workspace.sort_counts,
-            a_count,
-            b_count,
-            threads,
-        );
+
+    #[inline]
+    fn test(&self, _mesh: &Mesh, ta: &Prepared, tb: &Prepared) -> bool {
+        ta.intersects(tb)
     }
-    spare.dedup();
-    std::mem::swap(items, spare);
-    *kind = if nodes {
-        PairKind::Nodes
-    } else {
-        PairKind::Triangles
-    };
-    stats.pairs = items.len() as u64;
-    stats.nodes_refit = a.last_refit.nodes_refit;
-    if !one_mesh {
-        stats.nodes_refit += b.last_refit.nodes_refit;
-    }
-    Ok(stats)
-}
-
-/// How much to widen a posed mesh's volumes: the rotation's stretch (spheres), and twice the
-/// rounding bound of the transformation (vertex and volume are each off by at most that much).
-pub(super) fn widening(pose: &Pose, mesh: &Mesh, side: Side) -> Result<(f64, f64)> {
-    let (error, magnitude) = pose.rounding_bound(mesh.max_abs);
-    let in_range = magnitude <= MAX_POSED_MAGNITUDE;
-    if !in_range {
-        return Err(Error::PoseOutOfRange {
-            side,
-            bound: magnitude,
-        });
-    }
-    Ok((pose.stretch(), 2.0 * error))
-}
-
-/// The query once both sides are typed: the traversal and narrow phase the mode asks for, on
-/// the calling thread or shared out.
-struct Run<'q, Q> {
-    mode: QueryMode,
-    question: Q,
-    check_domain: bool,
-    /// Pairs to find before stopping.
-    limit: usize,
-    /// Threads to use: 1, or more for meshes large enough to share out.
-    threads: usize,
-    workspace: &'q mut Workspace,
-    out: &'q mut Vec<Pair>,
-    /// The previous result, scratch for a sort once the query is sure to succeed.
-    scratch: &'q mut Vec<Pair>,
-    /// Bounds on the pairs' first and second indices.
-    a_count: u64,
-    b_count: u64,
-    stats: &'q mut QueryStats,
-}
-
-/// Below this many triangles in the two meshes together, a query runs on the calling thread:
-/// handing work out costs more than it saves.
-const PARALLEL_MIN_TRIANGLES: usize = 4096;
-
-impl<'m, Q: Question<'m>> Run<'_, Q> {
-    /// Runs the query; returns why it stopped early, if it did, and whether the pairs are
-    /// sorted already.
-    fn run<PA, KA, PB, KB>(self, a: (PA, KA), b: (PB, KB)) -> (Option<Stop>, bool)
-    where
-        PA: Placement<'m>,
-        KA: Kind<'m>,
-        PB: Placement<'m>,
-        KB: Kind<'m>,
-    {
-        let job = Job {
-            a,
-            b,
-            mode: self.mode,
-            question: self.question,
-            check_domain: self.check_domain,
-            limit: self.limit,
-        };
-        let threads = self.threads;
-        let ws = self.workspace;
-        if ws.workers.len() < threads {
-            ws.workers.resize_with(threads, Worker::default);
-        }
-        if threads > 1 {
-            let finish = Finish {
-                out: self.out,
-                scratch: self.scratch,
-                a_count: self.a_count,
-                b_count: self.b_count,
-            };
-            return parallel::run(&job, ws, threads, finish, self.stats);
-        }
-        let w = &mut ws.workers[0];
-        self.out.clear();
-        let mut sink = Sink {
-            out: self.out,
-            limit: self.limit,
-            stop: None,
-        };
-        if let Some(stop) = job.begin(&mut w.a, &mut w.b) {
-            return (Some(stop), false);
-        }
-        if let QueryMode::Budget(budget) = self.mode {
-            let mut va = View::new(job.a, &mut w.a.world, &mut w.a.ring_boxes);
-            let mut vb = View::new(job.b, &mut w.b.world, &mut w.b.ring_boxes);
-            let own = job.question.own();
-            let mut narrow = NodePairs {
-                sink: &mut sink,
-                one_mesh: own.is_some(),
-            };
-            best_first(
-                &mut va,
-                &mut vb,
-                budget,
-                own,
-                &mut ws.queue,
-                self.stats,
-                &mut narrow,
-            );
-        } else {
-            w.stats = QueryStats::default();
-            job.traverse(w, None, &mut sink);
-            self.stats.add(&w.stats);
-        }
-        (sink.stop, false)
-    }
-}
-
-/// Mesh `b` of the query, not yet typed, and the query to run once it is.
-struct SideB<'m, 'q, Q> {
-    mesh: &'m Mesh,
-    pose: Option<(&'m Pose, (f64, f64))>,
-    lazy: Option<&'m LazyBoxes<'m>>,
-    run: Run<'q, Q>,
-}
-
-/// Types side `a` by its volume kind (as the question reads it), then side `b`.
-fn with_volumes_a<'m, P: Placement<'m>, Q: Question<'m>>(
-    place: P,
-    b: SideB<'m, '_, Q>,
-) -> (Option<Stop>, bool) {
-    let question = b.run.question;
-    with_kind!(place.mesh(), |kind| with_placement_b(
-        (place, question.side_a(kind)),
-        b
-    ))
-}
-
-/// Types side `b` by its placement.
-fn with_placement_b<'m, PA: Placement<'m>, KA: Kind<'m>, Q: Question<'m>>(
-    a: (PA, KA),
-    b: SideB<'m, '_, Q>,
-) -> (Option<Stop>, bool) {
-    let SideB {
-        mesh,
-        pose,
-        lazy,
-        run,
-    } = b;
-    match (pose, lazy) {
-        (None, Some(boxes)) => run.run(a, (Local { mesh }, LazyBoxKind { boxes })),
-        (None, None) => with_volumes_b(a, Local { mesh }, run),
-        (Some((pose, (stretch, pad))), _) => with_volumes_b(
-            a,
-            Posed {
-                mesh,
-                pose,
-                stretch,
-                pad,
-            },
-            run,
-        ),
-    }
-}
-
-/// Types side `b` by its volume kind and runs the query.
-fn with_volumes_b<'m, PA: Placement<'m>, KA: Kind<'m>, P: Placement<'m>, Q: Question<'m>>(
-    a: (PA, KA),
-    place: P,
-    run: Run<'_, Q>,
-) -> (Option<Stop>, bool) {
-    with_kind!(place.mesh(), |kind| run.run(a, (place, kind)))
 }

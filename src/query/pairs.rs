@@ -1,6 +1,6 @@
 //! Query results: pairs, the reusable result buffer, counters.
 
-use super::workspace::Workspace;
+use super::engine::Workspace;
 use crate::csr::heap_bytes;
 
 /// A pair of indices, one from each mesh: triangles, or nodes for the coarse modes.

@@ -2,18 +2,14 @@
 //! mesh's triangles that share no vertex, decided exactly by [`triangles_within`].
 //!
 //! The one traversal, with side `a`'s volumes widened by `d` (rounded outwards, so no pair within
-//! `d` is dropped: [`Widened`]), hands leaf pairs to [`NearPairs`], which filters by widened ring
-//! and triangle boxes before the exact test.
+//! `d` is dropped: [`Widened`]), hands leaf pairs to the leaf narrow phase, which filters by ring
+//! and triangle boxes widened by `d` before the exact test ([`Near`]).
 
-use super::collide::{query, query_one};
-use super::narrow::{Question, prepare, select};
+use super::engine::{NodeVolumes, OneMesh, PairTest, Prepared, Widened, query, query_one};
 use super::options::QueryOptions;
-use super::pairs::{Pair, Pairs, QueryStats};
-use super::side::{Kind, QuerySide, Widened};
-use super::sink::Sink;
-use super::traverse::{NarrowPhase, OneMesh};
-use super::workspace::{Prepared, RingCache};
+use super::pairs::{Pairs, QueryStats};
 use crate::error::{Error, Result};
+use crate::geometry::aabb::Aabb;
 use crate::geometry::distance::triangles_within;
 use crate::geometry::pose::Pose;
 use crate::mesh::Mesh;
@@ -97,156 +93,38 @@ struct Near {
     one_mesh: bool,
 }
 
-impl<'m> Question<'m> for Near {
-    type SideA<K: Kind<'m>> = Widened<K>;
-    type Exact<'s, 'w: 's> = NearPairs<'s, 'w>;
+impl<'m> PairTest<'m> for Near {
+    type SideA<K: NodeVolumes<'m>> = Widened<K>;
+    // The exact distance test works for any finite coordinates.
+    const CHECKS_DOMAIN: bool = false;
 
-    fn side_a<K: Kind<'m>>(&self, kind: K) -> Widened<K> {
+    fn side_a<K: NodeVolumes<'m>>(&self, kind: K) -> Widened<K> {
         Widened { kind, d: self.d }
     }
 
+    #[inline(always)]
     fn own(&self) -> Option<OneMesh<'m>> {
         self.one_mesh.then_some(OneMesh { patches: None })
     }
 
-    fn exact<'s, 'w: 's>(
-        &self,
-        sink: &'s mut Sink<'w>,
-        rings_a: &'s mut RingCache,
-        rings_b: &'s mut RingCache,
-        _check_domain: bool,
-    ) -> NearPairs<'s, 'w> {
-        NearPairs {
-            sink,
-            rings_a,
-            rings_b,
-            d: self.d,
-            one_mesh: self.one_mesh,
-        }
+    #[inline(always)]
+    fn widen(&self, b: &Aabb) -> Aabb {
+        b.widened(self.d)
     }
-}
 
-/// Tests the triangles of two leaves' rings for distance at most `d`; of one mesh, only pairs
-/// sharing no vertex, reported `(lower, higher)`.
-pub(crate) struct NearPairs<'s, 'w> {
-    sink: &'s mut Sink<'w>,
-    rings_a: &'s mut RingCache,
-    rings_b: &'s mut RingCache,
-    d: f64,
-    one_mesh: bool,
-}
-
-impl NearPairs<'_, '_> {
-    /// Tests one pair of prepared triangles (boxes already known to come within `d`); returns
-    /// whether the traversal must stop.
     #[inline]
-    fn test(&mut self, mesh: &Mesh, ta: &Prepared, tb: &Prepared, stats: &mut QueryStats) -> bool {
-        let (ia, ib) = (ta.index, tb.index);
-        if self.one_mesh {
-            let tris = &mesh.shape.triangles;
-            let (va, vb) = (tris[ia as usize], tris[ib as usize]);
-            if va.iter().any(|v| vb.contains(v)) {
-                return false;
-            }
-        }
-        stats.triangle_tests += 1;
-        if !triangles_within(&ta.tri.corners, &tb.tri.corners, self.d) {
+    fn skips(&self, mesh: &Mesh, ta: &Prepared, tb: &Prepared) -> bool {
+        if !self.one_mesh {
             return false;
         }
-        let pair = if self.one_mesh {
-            Pair {
-                a: ia.min(ib),
-                b: ia.max(ib),
-            }
-        } else {
-            Pair { a: ia, b: ib }
-        };
-        self.sink.report(pair)
+        let tris = mesh.triangles();
+        let (va, vb) = (tris[ta.index as usize], tris[tb.index as usize]);
+        va.iter().any(|v| vb.contains(v))
     }
 
-    /// A node of one mesh against itself: each pair of its ring's triangles once.
-    fn own<'m, A: QuerySide<'m>>(&mut self, a: &mut A, n: u32, stats: &mut QueryStats) -> bool {
-        let mesh = a.mesh();
-        let r = mesh.shape.tree.nodes[n as usize].ring_start;
-        let (span, _) = prepare(a, r, self.rings_a, false);
-        let tris = std::mem::take(&mut self.rings_a.tris);
-        let mut stop = false;
-        'all: for i in span.clone() {
-            let grown = tris[i].bounds.widened(self.d);
-            for j in i + 1..span.end {
-                if grown.meets(&tris[j].bounds) && self.test(mesh, &tris[i], &tris[j], stats) {
-                    stop = true;
-                    break 'all;
-                }
-            }
-        }
-        self.rings_a.tris = tris;
-        stop
-    }
-}
-
-impl<'m> NarrowPhase<'m> for NearPairs<'_, '_> {
-    fn visit<A: QuerySide<'m>, B: QuerySide<'m>>(
-        &mut self,
-        a: &mut A,
-        b: &mut B,
-        na: u32,
-        nb: u32,
-        stats: &mut QueryStats,
-    ) -> bool {
-        if self.one_mesh && na == nb {
-            return self.own(a, na, stats);
-        }
-        let (ma, mb) = (a.mesh(), b.mesh());
-        let ra = ma.shape.tree.nodes[na as usize].ring_start;
-        let rb = mb.shape.tree.nodes[nb as usize].ring_start;
-        stats.triangle_candidates += (ma.shape.rings.triangles.row_len(ra as usize)
-            * mb.shape.rings.triangles.row_len(rb as usize))
-            as u64;
-        if !a.ring_box(na).widened(self.d).meets(&b.ring_box(nb)) {
-            return false;
-        }
-        // The triangles are prepared without domain checks: the exact test works for any finite
-        // coordinates.
-        let (span_a, bounds_a) = prepare(a, ra, self.rings_a, false);
-        let (span_b, bounds_b) = prepare(b, rb, self.rings_b, false);
-        let (near_a, near_b) = (bounds_a.widened(self.d), bounds_b.widened(self.d));
-        if !near_a.meets(&bounds_b) {
-            return false;
-        }
-        select(
-            &self.rings_a.tris[span_a.clone()],
-            &near_b,
-            &mut self.rings_a.selected,
-        );
-        select(
-            &self.rings_b.tris[span_b.clone()],
-            &near_a,
-            &mut self.rings_b.selected,
-        );
-        let (tris_a, sel_a) = (
-            std::mem::take(&mut self.rings_a.tris),
-            std::mem::take(&mut self.rings_a.selected),
-        );
-        let (tris_b, sel_b) = (
-            std::mem::take(&mut self.rings_b.tris),
-            std::mem::take(&mut self.rings_b.selected),
-        );
-        let mut stop = false;
-        'all: for &i in &sel_a {
-            let ta = &tris_a[span_a.start + i as usize];
-            let grown = ta.bounds.widened(self.d);
-            for &j in &sel_b {
-                let tb = &tris_b[span_b.start + j as usize];
-                if grown.meets(&tb.bounds) && self.test(ma, ta, tb, stats) {
-                    stop = true;
-                    break 'all;
-                }
-            }
-        }
-        (self.rings_a.tris, self.rings_a.selected) = (tris_a, sel_a);
-        (self.rings_b.tris, self.rings_b.selected) = (tris_b, sel_b);
-        stop
+    #[inline]
+    fn test(&self, _mesh: &Mesh, ta: &Prepared, tb: &Prepared) -> bool {
+        triangles_within(&ta.tri.corners, &tb.tri.corners, self.d)
     }
 }
 
@@ -256,7 +134,7 @@ mod tests {
     use crate::fixtures::oracle::{proximity_brute_force, self_proximity_brute_force};
     use crate::fixtures::{Rng, grid, icosphere, torus};
     use crate::query::testing::nodes_cover;
-    use crate::{BuildOptions, PairKind, QueryMode, VolumeKind, collide};
+    use crate::{BuildOptions, Pair, PairKind, QueryMode, VolumeKind, collide};
 
     fn modes() -> [QueryMode; 5] {
         [

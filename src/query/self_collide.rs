@@ -1,26 +1,20 @@
 //! Self-collision: the pairs of triangles of one mesh that intersect, where triangles sharing
 //! vertices count only where they meet beyond what they share.
 //!
-//! The one traversal, of the mesh against itself ([`crate::query::traverse`]): every unordered
+//! The one traversal, of the mesh against itself ([`crate::query::engine::traverse`]): every unordered
 //! pair of nodes once, nodes whose patches cannot intersect themselves skipped
-//! ([`Patches`], an exact normal-cone test). Leaf pairs come to [`SelfPairs`], which tests each
-//! unordered pair of their rings' triangles once (rings partition the triangles), with
+//! ([`Patches`], an exact normal-cone test). The leaf narrow phase tests each unordered pair of
+//! their rings' triangles once (rings partition the triangles), with [`SelfIntersect`]:
 //! [`crate::geometry::adjacent`] for triangles that share vertices.
 
-use super::collide::query_one;
-use super::narrow::{Question, prepare, select};
+use super::engine::{NodeVolumes, OneMesh, PairTest, Prepared, query_one};
 use super::options::QueryOptions;
-use super::pairs::{Pair, Pairs, QueryStats};
-use super::patches::Patches;
-use super::side::{Kind, QuerySide};
-use super::sink::Sink;
-use super::traverse::{NarrowPhase, OneMesh};
-use super::workspace::{Prepared, RingCache};
+use super::pairs::{Pairs, QueryStats};
 use crate::error::Result;
 use crate::geometry::adjacent::{meet_beyond_edge, meet_beyond_vertex};
 use crate::geometry::predicates::Point;
-use crate::geometry::tri_tri::{prepared_triangles_intersect, triangles_intersect};
 use crate::mesh::Mesh;
+use crate::mesh::Patches;
 
 /// The pairs `(a, b)`, `a < b`, of triangles of `mesh` that intersect. Two triangles that share
 /// vertices (by index) count only where they meet beyond the vertices and the edge they share
@@ -50,7 +44,7 @@ fn self_collide_with(
     patches: bool,
     out: &mut Pairs,
 ) -> Result<QueryStats> {
-    let patches = patches.then(|| mesh.shape.patches.get_or_init(|| Patches::new(mesh)));
+    let patches = patches.then(|| mesh.patches());
     query_one(mesh, SelfIntersect { patches }, options, out)
 }
 
@@ -60,33 +54,27 @@ struct SelfIntersect<'m> {
     patches: Option<&'m Patches>,
 }
 
-impl<'m> Question<'m> for SelfIntersect<'m> {
-    type SideA<K: Kind<'m>> = K;
-    type Exact<'s, 'w: 's> = SelfPairs<'s, 'w>;
+impl<'m> PairTest<'m> for SelfIntersect<'m> {
+    type SideA<K: NodeVolumes<'m>> = K;
+    const CHECKS_DOMAIN: bool = true;
 
-    fn side_a<K: Kind<'m>>(&self, kind: K) -> K {
+    fn side_a<K: NodeVolumes<'m>>(&self, kind: K) -> K {
         kind
     }
 
+    #[inline(always)]
     fn own(&self) -> Option<OneMesh<'m>> {
         Some(OneMesh {
             patches: self.patches,
         })
     }
 
-    fn exact<'s, 'w: 's>(
-        &self,
-        sink: &'s mut Sink<'w>,
-        rings_a: &'s mut RingCache,
-        rings_b: &'s mut RingCache,
-        check_domain: bool,
-    ) -> SelfPairs<'s, 'w> {
-        SelfPairs {
-            sink,
-            rings_a,
-            rings_b,
-            check_domain,
-        }
+    #[inline]
+    fn test(&self, mesh: &Mesh, ta: &Prepared, tb: &Prepared) -> bool {
+        let tris = mesh.triangles();
+        let (ti, tj) = (tris[ta.index as usize], tris[tb.index as usize]);
+        self_pair_intersects(ti, &ta.tri.corners, tj, &tb.tri.corners)
+            .unwrap_or_else(|| ta.intersects(tb))
     }
 }
 
@@ -134,121 +122,13 @@ pub(crate) fn self_pair_intersects(
     }
 }
 
-/// Tests the triangles of a pair of leaves of one mesh (or of one leaf with itself) and reports
-/// the intersecting pairs, `(lower, higher)` triangle index.
-pub(crate) struct SelfPairs<'s, 'w> {
-    sink: &'s mut Sink<'w>,
-    rings_a: &'s mut RingCache,
-    rings_b: &'s mut RingCache,
-    check_domain: bool,
-}
-
-impl SelfPairs<'_, '_> {
-    /// Tests one pair of prepared triangles; returns whether the traversal must stop.
-    fn test(&mut self, mesh: &Mesh, ta: &Prepared, tb: &Prepared, stats: &mut QueryStats) -> bool {
-        if !ta.bounds.meets(&tb.bounds) {
-            return false;
-        }
-        stats.triangle_tests += 1;
-        let (ia, ib) = (ta.index, tb.index);
-        let tris = &mesh.shape.triangles;
-        let (ca, cb) = (&ta.tri.corners, &tb.tri.corners);
-        let hit = match self_pair_intersects(tris[ia as usize], ca, tris[ib as usize], cb) {
-            Some(hit) => hit,
-            None if ta.safe && tb.safe => prepared_triangles_intersect(&ta.tri, &tb.tri),
-            None => triangles_intersect(ca, cb),
-        };
-        hit && self.sink.report(Pair {
-            a: ia.min(ib),
-            b: ia.max(ib),
-        })
-    }
-}
-
-impl<'m> NarrowPhase<'m> for SelfPairs<'_, '_> {
-    fn visit<A: QuerySide<'m>, B: QuerySide<'m>>(
-        &mut self,
-        a: &mut A,
-        b: &mut B,
-        na: u32,
-        nb: u32,
-        stats: &mut QueryStats,
-    ) -> bool {
-        let mesh = a.mesh();
-        let nodes = &mesh.shape.tree.nodes;
-        let (ra, rb) = (nodes[na as usize].ring_start, nodes[nb as usize].ring_start);
-        if na == nb {
-            let (span, _) = prepare(a, ra, self.rings_a, self.check_domain);
-            let n = span.len() as u64;
-            stats.triangle_candidates += n * n.saturating_sub(1) / 2;
-            let tris = std::mem::take(&mut self.rings_a.tris);
-            let mut stop = false;
-            'all: for i in span.clone() {
-                for j in i + 1..span.end {
-                    if self.test(mesh, &tris[i], &tris[j], stats) {
-                        stop = true;
-                        break 'all;
-                    }
-                }
-            }
-            self.rings_a.tris = tris;
-            return stop;
-        }
-        let rings = &mesh.shape.rings.triangles;
-        stats.triangle_candidates +=
-            (rings.row_len(ra as usize) * rings.row_len(rb as usize)) as u64;
-        if !a.ring_box(na).meets(&b.ring_box(nb)) {
-            return false;
-        }
-        let (span_a, bounds_a) = prepare(a, ra, self.rings_a, self.check_domain);
-        let (span_b, bounds_b) = prepare(b, rb, self.rings_b, self.check_domain);
-        if !bounds_a.meets(&bounds_b) {
-            return false;
-        }
-        select(
-            &self.rings_a.tris[span_a.clone()],
-            &bounds_b,
-            &mut self.rings_a.selected,
-        );
-        select(
-            &self.rings_b.tris[span_b.clone()],
-            &bounds_a,
-            &mut self.rings_b.selected,
-        );
-        let (tris_a, sel_a) = (
-            std::mem::take(&mut self.rings_a.tris),
-            std::mem::take(&mut self.rings_a.selected),
-        );
-        let (tris_b, sel_b) = (
-            std::mem::take(&mut self.rings_b.tris),
-            std::mem::take(&mut self.rings_b.selected),
-        );
-        let mut stop = false;
-        'all: for &i in &sel_a {
-            for &j in &sel_b {
-                let (ta, tb) = (
-                    &tris_a[span_a.start + i as usize],
-                    &tris_b[span_b.start + j as usize],
-                );
-                if self.test(mesh, ta, tb, stats) {
-                    stop = true;
-                    break 'all;
-                }
-            }
-        }
-        (self.rings_a.tris, self.rings_a.selected) = (tris_a, sel_a);
-        (self.rings_b.tris, self.rings_b.selected) = (tris_b, sel_b);
-        stop
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::fixtures::oracle::self_collide_brute_force;
     use crate::fixtures::{Rng, grid, icosphere, torus};
     use crate::query::testing::nodes_cover;
-    use crate::{BuildOptions, PairKind, QueryMode, VolumeKind};
+    use crate::{BuildOptions, Pair, PairKind, QueryMode, VolumeKind};
 
     /// Self-collision of the mesh equals brute force for every volume kind, on 1 and 2 threads;
     /// first hit, the pair limit and the coarse modes keep their promises. Returns the count.

@@ -8,7 +8,7 @@ use crate::geometry::aabb::Aabb;
 use crate::mesh::Mesh;
 use crate::query::{PairKind, Pairs, QueryMode, QueryOptions, collide_lazy};
 use crate::threads;
-use crate::volume::{Blocks, LazyBoxes, RefitInput, Volumes};
+use crate::volume::LazyBoxes;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -340,20 +340,8 @@ impl Scene {
                     unreachable!("only deformable objects are refit");
                 };
                 let mesh = Arc::make_mut(&mut o.mesh);
-                if let (true, Volumes::Aabb { boxes }) = (lazy, &mut mesh.volumes) {
-                    let shape = Arc::clone(&mesh.shape);
-                    let input = RefitInput {
-                        tree: &shape.tree,
-                        rings: &shape.rings,
-                        radius: mesh.options.radius,
-                    };
-                    let blocks = shape
-                        .blocks
-                        .get_or_init(|| Blocks::new(&input, mesh.positions.len()));
-                    fresh.fit_top(blocks, &input, &mesh.positions, boxes);
-                } else {
-                    let s = mesh.update_volumes();
-                    mesh.last_refit = s;
+                if !(lazy && mesh.refit_top(fresh)) {
+                    let s = mesh.refit_volumes();
                     fresh.refit();
                     share.nodes += s.nodes_refit;
                 }
@@ -374,10 +362,9 @@ impl Scene {
                     Motion::Deformable { fresh } if fresh.is_partial() => {}
                     _ => return None,
                 }
-                match &mut Arc::make_mut(&mut o.mesh).volumes {
-                    Volumes::Aabb { boxes } => Some(boxes.as_mut_slice() as *mut [Aabb]),
-                    _ => None,
-                }
+                Arc::make_mut(&mut o.mesh)
+                    .boxes_mut()
+                    .map(|boxes| boxes as *mut [Aabb])
             })
             .collect()
     }
@@ -399,11 +386,11 @@ impl Scene {
                     return None;
                 };
                 let mesh: &Mesh = &o.mesh;
-                let blocks = mesh.shape.blocks.get()?;
+                let blocks = mesh.blocks()?;
                 // SAFETY: `b` is this mesh's boxes (made unique by `lazy_boxes`, so no other
                 // object reads them), and the query reads them only through the view.
                 Some(unsafe {
-                    LazyBoxes::new(b, blocks, fresh, mesh.refit_input(), &mesh.positions)
+                    LazyBoxes::new(b, blocks, fresh, mesh.refit_input(), mesh.positions())
                 })
             })
             .collect()

@@ -146,7 +146,7 @@ impl Scene {
         let pose = pose.copied().unwrap_or_default();
         let shared = self
             .snapshots
-            .get(&mesh.state)
+            .get(&mesh.state())
             .and_then(|(copy, local)| Some((copy.upgrade()?, *local)));
         self.make_room(if shared.is_some() {
             0
@@ -155,17 +155,17 @@ impl Scene {
         })?;
         let local = shared
             .as_ref()
-            .map_or_else(|| LocalBounds::of(&mesh.positions), |s| s.1);
-        let world = local.posed(&pose, mesh.max_abs)?;
+            .map_or_else(|| LocalBounds::of(mesh.positions()), |s| s.1);
+        let world = local.posed(&pose, mesh.max_abs_coordinate())?;
         let mesh = match shared {
             Some((copy, _)) => copy,
             None => {
                 let mut copy = mesh.clone();
                 // A rigid object is never refit: no room for new positions.
-                copy.spare = Vec::new();
+                copy.drop_spare();
                 let copy = Arc::new(copy);
                 self.snapshots
-                    .insert(mesh.state, (Arc::downgrade(&copy), local));
+                    .insert(mesh.state(), (Arc::downgrade(&copy), local));
                 copy
             }
         };
@@ -189,7 +189,7 @@ impl Scene {
     /// Errors: [`Error::OutOfMemory`] when the object's copy cannot be allocated.
     pub fn add_deformable(&mut self, mesh: &Mesh, group: u32, mask: u32) -> Result<u32> {
         self.make_room(mesh.state_bytes())?;
-        let world = Aabb::of_points(&mesh.positions);
+        let world = Aabb::of_points(mesh.positions());
         Ok(self.insert(
             Object {
                 mesh: Arc::new(mesh.clone()),
@@ -281,7 +281,7 @@ impl Scene {
         let new = pose.copied().unwrap_or_default();
         let stamp = self.stamps + 1;
         let object = self.object_mut(id)?;
-        let max_abs = object.mesh.max_abs;
+        let max_abs = object.mesh.max_abs_coordinate();
         let Motion::Rigid { pose, local } = &mut object.motion else {
             return Err(Error::WrongObjectKind {
                 object: id,
@@ -476,12 +476,12 @@ fn posed_box(pose: &Pose, local: &Aabb, max_abs: f64) -> Result<Aabb> {
 fn volume_box(o: &Object) -> Aabb {
     let mesh = &o.mesh;
     let pose = o.pose().filter(|p| !p.is_identity());
-    let sphere = match &mesh.volumes {
+    let sphere = match mesh.volumes() {
         Volumes::Dvh { spheres, .. } | Volumes::Sbv { spheres, .. } => spheres[0],
         Volumes::Aabb { boxes } => {
             return match pose {
                 None => boxes[0],
-                Some(p) => posed_box(p, &boxes[0], mesh.max_abs).unwrap_or(Aabb {
+                Some(p) => posed_box(p, &boxes[0], mesh.max_abs_coordinate()).unwrap_or(Aabb {
                     lo: [f64::NEG_INFINITY; 3],
                     hi: [f64::INFINITY; 3],
                 }),
@@ -491,7 +491,7 @@ fn volume_box(o: &Object) -> Aabb {
     let (centre, radius) = match pose {
         None => (sphere.centre, sphere.radius),
         Some(p) => {
-            let (error, _) = p.rounding_bound(mesh.max_abs);
+            let (error, _) = p.rounding_bound(mesh.max_abs_coordinate());
             (
                 p.transform_point(&sphere.centre),
                 sphere.radius * p.stretch() + 2.0 * error,

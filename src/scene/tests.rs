@@ -211,11 +211,7 @@ fn scene_equals_pairwise_queries() {
             // Objects that share a mesh share its topology.
             for id in &live {
                 let object = scene.object(*id).unwrap();
-                assert!(
-                    sources
-                        .iter()
-                        .any(|s| Arc::ptr_eq(&s.0.shape, &object.mesh.shape))
-                );
+                assert!(sources.iter().any(|s| s.0.shares_shape_with(&object.mesh)));
             }
         }
     }
@@ -591,13 +587,13 @@ fn check_current_boxes(scene: &Scene, id: u32, eager: &Mesh) -> usize {
         panic!("object {id} is rigid");
     };
     let (Volumes::Aabb { boxes }, Volumes::Aabb { boxes: want }) =
-        (&o.mesh.volumes, &eager.volumes)
+        (o.mesh.volumes(), eager.volumes())
     else {
         panic!("box volumes expected");
     };
     let mut current = 0;
     for n in 0..boxes.len() {
-        let is_current = match o.mesh.shape.blocks.get() {
+        let is_current = match o.mesh.blocks() {
             Some(blocks) => fresh.node_is_current(blocks, n),
             None => fresh.is_current(),
         };

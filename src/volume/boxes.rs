@@ -1,7 +1,7 @@
 //! Refitting box volumes: exact, bottom-up.
 
 use super::RefitInput;
-use super::fit::{Fit, Part, Window};
+use super::fit::{Fit, NodeSlice, VolumeSlices};
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::Point;
 use crate::tree::Node;
@@ -14,7 +14,7 @@ impl Fit for FitBoxes {
     #[inline]
     fn leaf(
         &self,
-        w: &mut Window,
+        w: &mut VolumeSlices,
         input: &RefitInput,
         positions: &[Point],
         r: usize,
@@ -28,7 +28,7 @@ impl Fit for FitBoxes {
     #[inline]
     fn inner(
         &self,
-        w: &mut Window,
+        w: &mut VolumeSlices,
         input: &RefitInput,
         _: &[Point],
         i: usize,
@@ -41,7 +41,7 @@ impl Fit for FitBoxes {
 
 /// The union of the boxes of `node`'s children (children are refit before their parent).
 #[inline]
-pub(super) fn children_union(node: &Node, boxes: &Part<Aabb>) -> Aabb {
+pub(super) fn children_union(node: &Node, boxes: &NodeSlice<Aabb>) -> Aabb {
     let mut b = Aabb::EMPTY;
     for ch in node.children() {
         b.merge(&boxes[ch as usize]);

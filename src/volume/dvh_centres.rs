@@ -2,7 +2,7 @@
 
 use crate::geometry::predicates::Point;
 use crate::geometry::sphere::distance_squared;
-use crate::mesh::RingTable;
+use crate::tree::RingTable;
 use crate::tree::Tree;
 
 /// Leaves are centred on their ring's centre; an inner node on the vertex below it nearest to

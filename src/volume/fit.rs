@@ -15,32 +15,32 @@ use crate::tree::Subtree;
 use std::ops::{Index, IndexMut};
 
 /// A contiguous run of a per-node array, indexed by node as the whole array is.
-pub(super) struct Part<'a, T> {
+pub(super) struct NodeSlice<'a, T> {
     base: usize,
     items: &'a mut [T],
 }
 
-impl<'a, T> Part<'a, T> {
+impl<'a, T> NodeSlice<'a, T> {
     /// The whole array.
     pub fn whole(items: &'a mut [T]) -> Self {
-        Part { base: 0, items }
+        NodeSlice { base: 0, items }
     }
 
     /// Nodes `base..base + items.len()`.
     pub fn at(base: usize, items: &'a mut [T]) -> Self {
-        Part { base, items }
+        NodeSlice { base, items }
     }
 
     /// Nodes before `at`, and from `at` on (an empty array stays empty on both sides).
-    fn split_at(self, at: usize) -> (Part<'a, T>, Part<'a, T>) {
+    fn split_at(self, at: usize) -> (NodeSlice<'a, T>, NodeSlice<'a, T>) {
         let from = (at - self.base).min(self.items.len());
         let (lo, hi) = self.items.split_at_mut(from);
         (
-            Part {
+            NodeSlice {
                 base: self.base,
                 items: lo,
             },
-            Part {
+            NodeSlice {
                 base: at,
                 items: hi,
             },
@@ -48,16 +48,16 @@ impl<'a, T> Part<'a, T> {
     }
 
     /// The nodes from `at` on, borrowed (an empty array stays empty).
-    fn rest(&mut self, at: usize) -> Part<'_, T> {
+    fn rest(&mut self, at: usize) -> NodeSlice<'_, T> {
         let from = (at - self.base).min(self.items.len());
-        Part {
+        NodeSlice {
             base: at,
             items: &mut self.items[from..],
         }
     }
 }
 
-impl<T> Index<usize> for Part<'_, T> {
+impl<T> Index<usize> for NodeSlice<'_, T> {
     type Output = T;
     #[inline(always)]
     fn index(&self, i: usize) -> &T {
@@ -65,7 +65,7 @@ impl<T> Index<usize> for Part<'_, T> {
     }
 }
 
-impl<T> IndexMut<usize> for Part<'_, T> {
+impl<T> IndexMut<usize> for NodeSlice<'_, T> {
     #[inline(always)]
     fn index_mut(&mut self, i: usize) -> &mut T {
         &mut self.items[i - self.base]
@@ -74,15 +74,15 @@ impl<T> IndexMut<usize> for Part<'_, T> {
 
 /// The arrays a refit writes, over a run of nodes: spheres, boxes, or both (an unused one is
 /// empty).
-pub(super) struct Window<'a> {
-    pub spheres: Part<'a, Sphere>,
-    pub boxes: Part<'a, Aabb>,
+pub(super) struct VolumeSlices<'a> {
+    pub spheres: NodeSlice<'a, Sphere>,
+    pub boxes: NodeSlice<'a, Aabb>,
 }
 
-impl Window<'_> {
+impl VolumeSlices<'_> {
     /// The nodes from `at` on, borrowed.
-    fn rest(&mut self, at: usize) -> Window<'_> {
-        Window {
+    fn rest(&mut self, at: usize) -> VolumeSlices<'_> {
+        VolumeSlices {
             spheres: self.spheres.rest(at),
             boxes: self.boxes.rest(at),
         }
@@ -93,11 +93,11 @@ impl Window<'_> {
         let (s0, s1) = self.spheres.split_at(at);
         let (b0, b1) = self.boxes.split_at(at);
         (
-            Window {
+            VolumeSlices {
                 spheres: s0,
                 boxes: b0,
             },
-            Window {
+            VolumeSlices {
                 spheres: s1,
                 boxes: b1,
             },
@@ -110,7 +110,7 @@ pub(super) trait Fit: Sync {
     /// Leaf `leaf`, of ring `r`.
     fn leaf(
         &self,
-        w: &mut Window,
+        w: &mut VolumeSlices,
         input: &RefitInput,
         positions: &[Point],
         r: usize,
@@ -119,7 +119,7 @@ pub(super) trait Fit: Sync {
     /// Inner node `i`, whose children are current. `stack` is scratch for searches below it.
     fn inner(
         &self,
-        w: &mut Window,
+        w: &mut VolumeSlices,
         input: &RefitInput,
         positions: &[Point],
         i: usize,
@@ -138,7 +138,7 @@ pub(crate) const REFIT_PARALLEL_MIN_RINGS: usize = 2 * RINGS_PER_THREAD;
 /// distance evaluations.
 pub(super) fn refit<F: Fit>(
     fit: &F,
-    mut w: Window,
+    mut w: VolumeSlices,
     input: &RefitInput,
     positions: &[Point],
     stacks: &mut [Vec<u32>],
@@ -187,7 +187,7 @@ pub(super) fn refit<F: Fit>(
 /// `stacks.len()` threads, each taking a run of subtrees with about its share of the rings.
 fn fit_subtrees<F: Fit>(
     fit: &F,
-    mut w: Window,
+    mut w: VolumeSlices,
     input: &RefitInput,
     positions: &[Point],
     subtrees: &[Subtree],
@@ -228,7 +228,7 @@ const PREFETCH_RINGS: usize = 8;
 /// asked for [`PREFETCH_RINGS`] rings ahead), then its inner nodes, children before parents.
 pub(super) fn fit_below<F: Fit>(
     fit: &F,
-    w: &mut Window,
+    w: &mut VolumeSlices,
     input: &RefitInput,
     positions: &[Point],
     s: &Subtree,
@@ -261,7 +261,7 @@ pub(super) fn fit_below<F: Fit>(
 /// Refits node `i`, leaf or inner.
 fn fit_node<F: Fit>(
     fit: &F,
-    w: &mut Window,
+    w: &mut VolumeSlices,
     input: &RefitInput,
     positions: &[Point],
     i: usize,

@@ -20,7 +20,7 @@
 
 use super::RefitInput;
 use super::boxes::FitBoxes;
-use super::fit::{Fit, Part, Window, fit_below};
+use super::fit::{Fit, NodeSlice, VolumeSlices, fit_below};
 use crate::csr::Csr;
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::Point;
@@ -239,9 +239,9 @@ impl Freshness {
             }
             boxes[b.root as usize] = *root;
         }
-        let mut w = Window {
-            spheres: Part::whole(&mut []),
-            boxes: Part::whole(boxes),
+        let mut w = VolumeSlices {
+            spheres: NodeSlice::whole(&mut []),
+            boxes: NodeSlice::whole(boxes),
         };
         for &n in &blocks.top {
             let node = &input.tree.nodes[n as usize];
@@ -334,9 +334,9 @@ impl<'m> LazyBoxes<'m> {
         // SAFETY: the block's nodes are in range; no thread reads them until the flag is set
         // below, and no other writes them (the lock is held and the flag was clear).
         let items = unsafe { std::slice::from_raw_parts_mut(self.boxes.add(start), end - start) };
-        let mut w = Window {
-            spheres: Part::whole(&mut []),
-            boxes: Part::at(start, items),
+        let mut w = VolumeSlices {
+            spheres: NodeSlice::whole(&mut []),
+            boxes: NodeSlice::at(start, items),
         };
         fit_below(
             &FitBoxes,

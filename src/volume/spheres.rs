@@ -1,13 +1,13 @@
 //! Refitting sphere volumes: DVH (centres fixed on vertices, radii recomputed) and SBV (centres
 //! and radii recomputed).
 
+use super::RadiusKind;
 use super::RefitInput;
 use super::boxes::children_union;
-use super::fit::{Fit, Part, Window};
+use super::fit::{Fit, NodeSlice, VolumeSlices};
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::Point;
 use crate::geometry::sphere::{Sphere, distance_squared, round_up};
-use crate::mesh::RadiusKind;
 
 /// Largest squared distance from `c` to the listed vertices (0 for none).
 #[inline]
@@ -30,7 +30,7 @@ impl Fit for FitDvh<'_> {
     #[inline]
     fn leaf(
         &self,
-        w: &mut Window,
+        w: &mut VolumeSlices,
         input: &RefitInput,
         positions: &[Point],
         r: usize,
@@ -50,7 +50,7 @@ impl Fit for FitDvh<'_> {
     #[inline]
     fn inner(
         &self,
-        w: &mut Window,
+        w: &mut VolumeSlices,
         input: &RefitInput,
         positions: &[Point],
         i: usize,
@@ -68,7 +68,7 @@ impl Fit for FitSbv {
     #[inline]
     fn leaf(
         &self,
-        w: &mut Window,
+        w: &mut VolumeSlices,
         input: &RefitInput,
         positions: &[Point],
         r: usize,
@@ -91,7 +91,7 @@ impl Fit for FitSbv {
     #[inline]
     fn inner(
         &self,
-        w: &mut Window,
+        w: &mut VolumeSlices,
         input: &RefitInput,
         positions: &[Point],
         i: usize,
@@ -108,7 +108,7 @@ impl Fit for FitSbv {
 /// [`wrapped`]). Returns the distance evaluations.
 fn radius<const SEEDED: bool>(
     i: usize,
-    spheres: &mut Part<Sphere>,
+    spheres: &mut NodeSlice<Sphere>,
     input: &RefitInput,
     positions: &[Point],
     stack: &mut Vec<u32>,
@@ -124,7 +124,12 @@ fn radius<const SEEDED: bool>(
 }
 
 /// `max(|c - c_child| + r_child)` over the children of node `i`, rounded up.
-fn layered(i: usize, spheres: &Part<Sphere>, input: &RefitInput, evaluations: &mut u64) -> f64 {
+fn layered(
+    i: usize,
+    spheres: &NodeSlice<Sphere>,
+    input: &RefitInput,
+    evaluations: &mut u64,
+) -> f64 {
     let node = &input.tree.nodes[i];
     let c = spheres[i].centre;
     *evaluations += u64::from(node.child_count);
@@ -148,7 +153,7 @@ fn layered(i: usize, spheres: &Part<Sphere>, input: &RefitInput, evaluations: &m
 /// true farthest distance is within a few ulps of the result, which [`round_up`] covers.
 fn wrapped<const SEEDED: bool>(
     i: usize,
-    spheres: &Part<Sphere>,
+    spheres: &NodeSlice<Sphere>,
     input: &RefitInput,
     positions: &[Point],
     stack: &mut Vec<u32>,

@@ -9,7 +9,7 @@
 //! share them. When the first indices
 //! are too sparse for buckets, a least-significant-digit radix sort on the whole key.
 
-use super::pairs::Pair;
+use crate::query::pairs::Pair;
 
 /// Bits per digit of the radix sort: 2048 counters, 8 KiB, stay in the first-level cache.
 const DIGIT_BITS: u32 = 11;

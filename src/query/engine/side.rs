@@ -121,7 +121,7 @@ impl<'m> Placement<'m> for Local<'m> {
 
     #[inline(always)]
     fn vertex(&self, _world: &mut Stamped<Point>, v: u32) -> Point {
-        self.mesh.positions[v as usize]
+        self.mesh.positions()[v as usize]
     }
 
     #[inline(always)]
@@ -167,7 +167,7 @@ impl<'m> Placement<'m> for Posed<'m> {
 
     #[inline(always)]
     fn vertex(&self, world: &mut Stamped<Point>, v: u32) -> Point {
-        let (pose, positions) = (self.pose, &self.mesh.positions);
+        let (pose, positions) = (self.pose, self.mesh.positions());
         world.get_or(v as usize, || pose.transform_point(&positions[v as usize]))
     }
 
@@ -213,7 +213,7 @@ impl<'m> Placement<'m> for Posed<'m> {
 }
 
 /// A volume kind as the query reads it: the per-node arrays of one mesh.
-pub(crate) trait Kind<'m>: Copy + Send + Sync {
+pub(crate) trait NodeVolumes<'m>: Copy + Send + Sync {
     type Volume: Volume;
     /// Is a leaf's volume, in the mesh's own coordinates, exactly the box of its ring?
     const LEAF_IS_RING_BOX: bool;
@@ -224,7 +224,7 @@ pub(crate) trait Kind<'m>: Copy + Send + Sync {
         world: &mut Stamped<Point>,
         n: u32,
     ) -> Self::Volume;
-    /// Node `n`'s box (only called when [`Kind::LEAF_IS_RING_BOX`]).
+    /// Node `n`'s box (only called when [`NodeVolumes::LEAF_IS_RING_BOX`]).
     fn leaf_box(&self, _n: u32) -> Aabb {
         unreachable!("only box volumes are ring boxes")
     }
@@ -237,7 +237,7 @@ pub(crate) struct VertexSpheres<'m> {
     pub spheres: &'m [Sphere],
 }
 
-impl<'m> Kind<'m> for VertexSpheres<'m> {
+impl<'m> NodeVolumes<'m> for VertexSpheres<'m> {
     type Volume = Sphere;
     const LEAF_IS_RING_BOX: bool = false;
 
@@ -257,7 +257,7 @@ pub(crate) struct FreeSpheres<'m> {
     pub spheres: &'m [Sphere],
 }
 
-impl<'m> Kind<'m> for FreeSpheres<'m> {
+impl<'m> NodeVolumes<'m> for FreeSpheres<'m> {
     type Volume = Sphere;
     const LEAF_IS_RING_BOX: bool = false;
 
@@ -273,7 +273,7 @@ pub(crate) struct Boxes<'m> {
     pub boxes: &'m [Aabb],
 }
 
-impl<'m> Kind<'m> for Boxes<'m> {
+impl<'m> NodeVolumes<'m> for Boxes<'m> {
     type Volume = Aabb;
     const LEAF_IS_RING_BOX: bool = true;
 
@@ -290,11 +290,11 @@ impl<'m> Kind<'m> for Boxes<'m> {
 
 /// Boxes refit block by block as the traversal first reads them (a deformable scene object's).
 #[derive(Clone, Copy)]
-pub(crate) struct LazyBoxKind<'m> {
+pub(crate) struct LazyBoxVolumes<'m> {
     pub boxes: &'m LazyBoxes<'m>,
 }
 
-impl<'m> Kind<'m> for LazyBoxKind<'m> {
+impl<'m> NodeVolumes<'m> for LazyBoxVolumes<'m> {
     type Volume = Aabb;
     const LEAF_IS_RING_BOX: bool = true;
 
@@ -317,7 +317,7 @@ pub(crate) struct Widened<K> {
     pub d: f64,
 }
 
-impl<'m, K: Kind<'m>> Kind<'m> for Widened<K> {
+impl<'m, K: NodeVolumes<'m>> NodeVolumes<'m> for Widened<K> {
     type Volume = K::Volume;
     // Leaves are widened too, so they are not the ring boxes.
     const LEAF_IS_RING_BOX: bool = false;
@@ -329,31 +329,31 @@ impl<'m, K: Kind<'m>> Kind<'m> for Widened<K> {
 }
 
 /// The volume kind of `mesh` as the query reads it, typed, passed to `then`.
-macro_rules! with_kind {
+macro_rules! with_node_volumes {
     ($mesh:expr, |$kind:ident| $then:expr) => {
-        match &$mesh.volumes {
+        match $mesh.volumes() {
             $crate::volume::Volumes::Dvh {
                 centre_vertex,
                 spheres,
             } => {
-                let $kind = $crate::query::side::VertexSpheres {
+                let $kind = $crate::query::engine::side::VertexSpheres {
                     centre_vertex,
                     spheres,
                 };
                 $then
             }
             $crate::volume::Volumes::Sbv { spheres, .. } => {
-                let $kind = $crate::query::side::FreeSpheres { spheres };
+                let $kind = $crate::query::engine::side::FreeSpheres { spheres };
                 $then
             }
             $crate::volume::Volumes::Aabb { boxes } => {
-                let $kind = $crate::query::side::Boxes { boxes };
+                let $kind = $crate::query::engine::side::Boxes { boxes };
                 $then
             }
         }
     };
 }
-pub(crate) use with_kind;
+pub(crate) use with_node_volumes;
 
 /// One mesh of a query, as the traversal and the narrow phase use it.
 pub(crate) trait QuerySide<'m> {
@@ -395,7 +395,7 @@ impl<'w, P, K> View<'w, P, K> {
     }
 }
 
-impl<'m, P: Placement<'m>, K: Kind<'m>> QuerySide<'m> for View<'_, P, K> {
+impl<'m, P: Placement<'m>, K: NodeVolumes<'m>> QuerySide<'m> for View<'_, P, K> {
     type Volume = K::Volume;
 
     #[inline(always)]
@@ -405,7 +405,7 @@ impl<'m, P: Placement<'m>, K: Kind<'m>> QuerySide<'m> for View<'_, P, K> {
 
     #[inline(always)]
     fn nodes(&self) -> &'m [Node] {
-        &self.place.mesh().shape.tree.nodes
+        &self.place.mesh().tree().nodes
     }
 
     #[inline(always)]
@@ -426,11 +426,11 @@ impl<'m, P: Placement<'m>, K: Kind<'m>> QuerySide<'m> for View<'_, P, K> {
             return self.kind.leaf_box(n);
         }
         let mesh = self.place.mesh();
-        let r = mesh.shape.tree.nodes[n as usize].ring_start as usize;
+        let r = mesh.tree().nodes[n as usize].ring_start as usize;
         let (place, world) = (&self.place, &mut *self.world);
         self.ring_boxes.get_or(r, || {
-            let mut b = Aabb::point(&place.vertex(world, mesh.shape.rings.centre[r]));
-            for &v in mesh.shape.rings.vertices.row(r) {
+            let mut b = Aabb::point(&place.vertex(world, mesh.rings().centre[r]));
+            for &v in mesh.rings().vertices.row(r) {
                 b.grow(&place.vertex(world, v));
             }
             b

@@ -1,6 +1,5 @@
 //! [`RingTable`]: the 1-rings in leaf order, as the refit and the query read them.
 
-use super::rings::{Rings, distinct_corners};
 use crate::csr::{Csr, heap_bytes};
 
 /// The rings renumbered in leaf order (the rings below any node are a contiguous range), with
@@ -31,22 +30,23 @@ impl RingTable {
 }
 
 impl RingTable {
-    /// The rings of `rings`, in the order `order` (a permutation of their indices).
+    /// The rings centred on `centre` with triangles `ring_triangles` (rows of indices into
+    /// `triangles`), in the order `order` (a permutation of their indices).
     pub fn new(
-        rings: &Rings,
+        (centres, ring_triangles): (&[u32], &Csr<u32>),
         order: &[u32],
         triangles: &[[u32; 3]],
         vertex_count: usize,
     ) -> RingTable {
         let mut centre = Vec::with_capacity(order.len());
-        let mut tris = Csr::with_capacity(order.len(), rings.triangles.items().len());
+        let mut tris = Csr::with_capacity(order.len(), ring_triangles.items().len());
         let mut verts = Csr::with_capacity(order.len(), 0);
         let mut seen = vec![u32::MAX; vertex_count];
         for (new, &old) in order.iter().enumerate() {
-            let c = rings.centre[old as usize];
+            let c = centres[old as usize];
             centre.push(c);
             seen[c as usize] = new as u32;
-            for &t in rings.triangles.row(old as usize) {
+            for &t in ring_triangles.row(old as usize) {
                 tris.push(t);
                 for v in distinct_corners(&triangles[t as usize]) {
                     if seen[v as usize] != new as u32 {
@@ -90,4 +90,13 @@ impl RingTable {
     pub fn vertices_of(&self, r: usize, end: usize) -> Option<impl Iterator<Item = u32> + '_> {
         (r < end).then(|| self.all_vertices(r))
     }
+}
+
+/// The distinct corners of a triangle (repeated indices are legal input).
+#[inline]
+pub(crate) fn distinct_corners(t: &[u32; 3]) -> impl Iterator<Item = u32> + '_ {
+    t.iter()
+        .enumerate()
+        .filter(|&(i, v)| !t[..i].contains(v))
+        .map(|(_, &v)| v)
 }

@@ -21,15 +21,15 @@
 //! positions and shared by all its seams.
 //!
 //! What depends on the shape (which nodes are disks, their loops, which seams glue) is found once
-//! per shape; which way the triangles turn and whether each loop projects simply ([`Facts`], kept
+//! per shape; which way the triangles turn and whether each loop projects simply ([`PatchCache`], kept
 //! with the mesh until its positions change) are decided from the positions.
 
+use super::Mesh;
 use crate::csr::Csr;
 use crate::geometry::polygon::{
     PolygonScratch, chains_apart, corner_apart, is_simple, turns_before,
 };
 use crate::geometry::predicates::{Point, projected_orientations};
-use crate::mesh::Mesh;
 use std::collections::HashMap;
 use std::sync::OnceLock;
 use std::sync::atomic::{AtomicU16, Ordering::Relaxed};
@@ -55,9 +55,9 @@ pub(crate) struct Patches {
 impl Patches {
     /// The loops of `mesh`'s nodes.
     pub fn new(mesh: &Mesh) -> Patches {
-        let tree = &mesh.shape.tree;
-        let rings = &mesh.shape.rings.triangles;
-        let tris = &mesh.shape.triangles;
+        let tree = &mesh.topology.tree;
+        let rings = &mesh.topology.rings.triangles;
+        let tris = &mesh.topology.triangles;
         // How many triangles use each vertex.
         let mut uses = vec![0u32; mesh.positions.len()];
         for t in tris {
@@ -117,20 +117,20 @@ impl Patches {
     /// [`Patches::cannot_intersect_each_other`]: is it a sealed disk whose triangles all turn one
     /// way along some axis?
     pub fn may_join(&self, mesh: &Mesh, n: u32) -> bool {
-        self.sealed[n as usize] != 0 && one_way_axes(mesh.facts.turns(mesh, n)) != 0
+        self.sealed[n as usize] != 0 && one_way_axes(mesh.patch_cache.turns(mesh, n)) != 0
     }
 
     /// Can node `n`'s patch, at the mesh's positions, have no self-intersection? (`true` only
     /// when sure.)
     pub fn cannot_self_intersect(&self, mesh: &Mesh, n: u32) -> bool {
-        let axes = one_way_axes(mesh.facts.turns(mesh, n));
+        let axes = one_way_axes(mesh.patch_cache.turns(mesh, n));
         (0..3).any(|k| axes & 1 << k != 0 && self.projects_simply(mesh, n, k))
     }
 
     /// Does node `n`'s loop (three corners or more) project to a simple polygon along axis `k`?
-    /// Decided once per positions ([`Facts`]).
+    /// Decided once per positions ([`PatchCache`]).
     fn projects_simply(&self, mesh: &Mesh, n: u32, k: usize) -> bool {
-        mesh.facts.simple(mesh, n, k, || {
+        mesh.patch_cache.simple(mesh, n, k, || {
             let boundary = self.loops.row(n as usize);
             boundary.len() >= 3
                 && SCRATCH.with_borrow_mut(|scratch| {
@@ -164,7 +164,7 @@ impl Patches {
         if self.sealed[i] & self.sealed[j] == 0 {
             return false;
         }
-        let turns = mesh.facts.turns(mesh, x) | mesh.facts.turns(mesh, y);
+        let turns = mesh.patch_cache.turns(mesh, x) | mesh.patch_cache.turns(mesh, y);
         let axes = one_way_axes(turns);
         if axes == 0 {
             return false;
@@ -354,7 +354,7 @@ thread_local! {
 }
 
 /// The axes (bit `k` for coordinate `k` left out) along which triangles whose turns are
-/// `turns` (as in [`Facts`]) all turn one strict way.
+/// `turns` (as in [`PatchCache`]) all turn one strict way.
 #[inline]
 fn one_way_axes(turns: u8) -> u8 {
     (0..3)
@@ -372,23 +372,23 @@ fn one_way_axes(turns: u8) -> u8 {
 /// of theirs. Bit [`TURNS_FOUND`] marks them found. Bits `8 + k` mark the node's loop tested
 /// along axis `k`, and bits `12 + k` record that it projects simply there.
 #[derive(Debug, Default)]
-pub(crate) struct Facts {
+pub(crate) struct PatchCache {
     /// Atomic so that queries on several threads share what they find; every thread finds the
     /// same value, so relaxed order is enough.
     bits: OnceLock<Box<[AtomicU16]>>,
 }
 
-/// [`Facts`]' turns of triangles that differ along every axis: no more can change them.
+/// [`PatchCache`]' turns of triangles that differ along every axis: no more can change them.
 const MIXED: u8 = 0x3f;
 
-/// [`Facts`]' mark of a node's turns found.
+/// [`PatchCache`]' mark of a node's turns found.
 const TURNS_FOUND: u16 = 1 << 7;
 
-/// [`Facts`]' first bit of "tested along axis `k`"; the result is four bits up.
+/// [`PatchCache`]' first bit of "tested along axis `k`"; the result is four bits up.
 const TESTED: u16 = 1 << 8;
 
-impl Clone for Facts {
-    fn clone(&self) -> Facts {
+impl Clone for PatchCache {
+    fn clone(&self) -> PatchCache {
         let copy = OnceLock::new();
         if let Some(bits) = self.bits.get() {
             let _ = copy.set(
@@ -397,11 +397,11 @@ impl Clone for Facts {
                     .collect(),
             );
         }
-        Facts { bits: copy }
+        PatchCache { bits: copy }
     }
 }
 
-impl Facts {
+impl PatchCache {
     /// Forgets everything found (the positions changed).
     pub fn clear(&mut self) {
         if let Some(bits) = self.bits.get_mut() {
@@ -416,13 +416,13 @@ impl Facts {
 
     fn bits(&self, mesh: &Mesh) -> &[AtomicU16] {
         self.bits.get_or_init(|| {
-            (0..mesh.shape.tree.len())
+            (0..mesh.topology.tree.len())
                 .map(|_| AtomicU16::new(0))
                 .collect()
         })
     }
 
-    /// Node `n`'s turns (see [`Facts`]).
+    /// Node `n`'s turns (see [`PatchCache`]).
     pub fn turns(&self, mesh: &Mesh, n: u32) -> u8 {
         self.find_turns(self.bits(mesh), mesh, n)
     }
@@ -445,10 +445,10 @@ impl Facts {
         if known & TURNS_FOUND != 0 {
             return known as u8 & 0x3f;
         }
-        let node = &mesh.shape.tree.nodes[n as usize];
+        let node = &mesh.topology.tree.nodes[n as usize];
         let found = if node.is_leaf() {
             // The ring-ordered corners: one contiguous run, not a jump per triangle.
-            let rings = &mesh.shape.rings;
+            let rings = &mesh.topology.rings;
             let own = &rings.corners[rings
                 .triangles
                 .span(node.ring_start as usize..node.ring_end as usize)];

@@ -10,11 +10,11 @@
 //! cannot intersect itself, or a pair of patches that cannot meet beyond their shared seam, is
 //! not opened at all.
 
-use super::pairs::QueryStats;
-use super::patches::Patches;
 use super::side::{QuerySide, Volume};
 use super::workspace::Queued;
 use crate::mesh::Mesh;
+use crate::mesh::Patches;
+use crate::query::pairs::QueryStats;
 use crate::tree::{MAX_CHILDREN, Node};
 use std::collections::BinaryHeap;
 
@@ -223,30 +223,11 @@ fn open_pair<'m, A: QuerySide<'m>, B: QuerySide<'m>>(
     }
 }
 
-/// Every overlapping terminal pair, depth first: nodes are terminal when they are leaves or at
-/// depth `max_depth`. A child pair is tested before it is pushed. Returns whether the narrow
-/// phase stopped the traversal.
+/// Every overlapping terminal pair, depth first, from the roots (`start` is `None`) or below
+/// the overlapping pair `start` (then in the order the traversal from the roots reaches them):
+/// nodes are terminal when they are leaves or at depth `max_depth`. A child pair is tested
+/// before it is pushed. Returns whether the narrow phase stopped the traversal.
 pub(crate) fn depth_first<'m, A, B, N>(
-    a: &mut A,
-    b: &mut B,
-    walk: &Walk<'m>,
-    stack: &mut Vec<(u32, u32)>,
-    stats: &mut QueryStats,
-    narrow: &mut N,
-) -> bool
-where
-    A: QuerySide<'m>,
-    B: QuerySide<'m>,
-    N: NarrowPhase<'m>,
-{
-    if !roots_overlap(a, b, walk, stats) {
-        return false;
-    }
-    descend(a, b, (0, 0), walk, stack, stats, narrow)
-}
-
-/// [`depth_first`] from the roots (`None`), or [`descend`] below the overlapping pair `start`.
-pub(crate) fn depth_first_from<'m, A, B, N>(
     a: &mut A,
     b: &mut B,
     start: Option<(u32, u32)>,
@@ -260,28 +241,11 @@ where
     B: QuerySide<'m>,
     N: NarrowPhase<'m>,
 {
-    match start {
-        None => depth_first(a, b, walk, stack, stats, narrow),
-        Some(start) => descend(a, b, start, walk, stack, stats, narrow),
-    }
-}
-
-/// [`depth_first`] below the overlapping pair `start`: every terminal pair under it, in the
-/// order [`depth_first`] reaches them. Returns whether the narrow phase stopped the traversal.
-pub(crate) fn descend<'m, A, B, N>(
-    a: &mut A,
-    b: &mut B,
-    start: (u32, u32),
-    walk: &Walk<'m>,
-    stack: &mut Vec<(u32, u32)>,
-    stats: &mut QueryStats,
-    narrow: &mut N,
-) -> bool
-where
-    A: QuerySide<'m>,
-    B: QuerySide<'m>,
-    N: NarrowPhase<'m>,
-{
+    let start = match start {
+        Some(start) => start,
+        None if roots_overlap(a, b, walk, stats) => (0, 0),
+        None => return false,
+    };
     stack.clear();
     stack.push(start);
     while let Some((na, nb)) = stack.pop() {
@@ -313,8 +277,8 @@ const SPLIT_LEVELS: usize = 10;
 /// Work for several threads: the overlapping node pairs `depth_first` meets, opened level by
 /// level until there are at least `target` of them, all are terminal, or [`SPLIT_LEVELS`]
 /// levels are open. `items` ends in the order
-/// in which [`depth_first`] reaches them, so running [`descend`] on each in turn visits exactly
-/// the terminal pairs of [`depth_first`], in its order; the volume tests made here are counted.
+/// in which [`depth_first`] reaches them, so running [`depth_first`] below each in turn visits
+/// exactly the terminal pairs of [`depth_first`] from the roots, in its order; the volume tests made here are counted.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn split<'m, A: QuerySide<'m>, B: QuerySide<'m>>(
     a: &mut A,

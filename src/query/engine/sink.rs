@@ -1,6 +1,6 @@
 //! Where a query's pairs go: a result that grows fallibly and stops at a limit.
 
-use super::pairs::Pair;
+use crate::query::pairs::Pair;
 
 /// Why a traversal stopped early.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

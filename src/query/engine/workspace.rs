@@ -1,11 +1,13 @@
 //! Scratch space of a query, kept between queries so that steady state allocates nothing.
 
-use super::pairs::{Pair, QueryStats};
 use super::sink::Stop;
 use crate::csr::heap_bytes;
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::Point;
-use crate::geometry::tri_tri::PreparedTriangle;
+use crate::geometry::tri_tri::{
+    PreparedTriangle, prepared_triangles_intersect, triangles_intersect,
+};
+use crate::query::pairs::{Pair, QueryStats};
 use std::collections::BinaryHeap;
 
 /// Values computed when first needed in a query (world positions of a posed mesh's vertices,
@@ -45,13 +47,26 @@ impl<T: Copy + Default> Stamped<T> {
 }
 
 /// A triangle of a ring prepared in the query frame: its index, its box, and what the exact test
-/// keeps of it (used only when its coordinates are `safe` for the fast predicates).
+/// keeps of it (used only when its coordinates are `in_fast_range` of the fast predicates).
 #[derive(Debug, Default)]
 pub(crate) struct Prepared {
     pub bounds: Aabb,
     pub index: u32,
-    pub safe: bool,
+    pub in_fast_range: bool,
     pub tri: PreparedTriangle,
+}
+
+impl Prepared {
+    /// Do the two closed triangles share a point? Exact: with the fast predicates where both
+    /// are in their range, otherwise from the corners.
+    #[inline]
+    pub fn intersects(&self, other: &Prepared) -> bool {
+        if self.in_fast_range && other.in_fast_range {
+            prepared_triangles_intersect(&self.tri, &other.tri)
+        } else {
+            triangles_intersect(&self.tri.corners, &other.tri.corners)
+        }
+    }
 }
 
 /// Rings' triangles prepared in the query frame, kept while the traversal is near them: a ring

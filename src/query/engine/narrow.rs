@@ -1,0 +1,228 @@
+//! What becomes of the terminal node pairs of a traversal: reported as they are (the coarse
+//! modes), or their rings' triangles tested exactly (the exact modes) by the one leaf narrow
+//! phase, [`LeafPairs`], which asks a [`PairTest`] only what differs between queries.
+
+use super::side::{NodeVolumes, QuerySide};
+use super::sink::Sink;
+use super::traverse::{NarrowPhase, OneMesh};
+use super::workspace::{Prepared, RingCache};
+use crate::geometry::aabb::Aabb;
+use crate::geometry::predicates::is_safe_point;
+use crate::geometry::tri_tri::PreparedTriangle;
+use crate::mesh::Mesh;
+use crate::query::pairs::{Pair, QueryStats};
+use std::ops::Range;
+
+/// What a query asks of the triangle pairs its traversal brings together (intersection,
+/// nearness; of two meshes or of one), and how its traversal reads side `a`'s volumes. A new
+/// query is a new pair test and an entry point: the traversal, the threads and the leaf narrow
+/// phase are shared. The coarse modes report node pairs whatever the test.
+pub(crate) trait PairTest<'m>: Copy + Send + Sync {
+    /// Side `a`'s volume kind, given the mesh's own (grown by the margin, if there is one).
+    type SideA<K: NodeVolumes<'m>>: NodeVolumes<'m>;
+    /// Does the test read [`Prepared::in_fast_range`]? Then each triangle checks, when the query's
+    /// coordinates may leave that range, whether they suit the fast predicates.
+    const CHECKS_DOMAIN: bool;
+
+    /// Side `a`'s volume kind, given the mesh's own.
+    fn side_a<K: NodeVolumes<'m>>(&self, kind: K) -> Self::SideA<K>;
+    /// `Some` when both sides are one mesh: a leaf is then paired with itself too, and pairs are
+    /// reported `(lower, higher)`.
+    fn own(&self) -> Option<OneMesh<'m>>;
+    /// Box `b` grown by the margin within which pairs are wanted; by default `b` itself, as
+    /// intersection asks (and then it costs nothing).
+    #[inline(always)]
+    fn widen(&self, b: &Aabb) -> Aabb {
+        *b
+    }
+    /// Is the pair of no interest to the test, and not counted as tested (say, two triangles
+    /// of one mesh that share a vertex, for nearness)?
+    #[inline(always)]
+    fn skips(&self, _mesh: &Mesh, _ta: &Prepared, _tb: &Prepared) -> bool {
+        false
+    }
+    /// The exact test of two triangles whose boxes come within the margin; `mesh` is side
+    /// `a`'s (for tests of one mesh, both sides').
+    fn test(&self, mesh: &Mesh, ta: &Prepared, tb: &Prepared) -> bool;
+}
+
+/// Reports every terminal node pair; of one mesh, as `(lower, higher)`.
+pub(crate) struct NodePairs<'s, 'w> {
+    pub sink: &'s mut Sink<'w>,
+    pub one_mesh: bool,
+}
+
+impl<'m> NarrowPhase<'m> for NodePairs<'_, '_> {
+    #[inline]
+    fn visit<A, B>(&mut self, _: &mut A, _: &mut B, na: u32, nb: u32, _: &mut QueryStats) -> bool {
+        self.sink.report(ordered(self.one_mesh, na, nb))
+    }
+}
+
+/// The pair `(a, b)`; of one mesh, `(lower, higher)`.
+#[inline(always)]
+fn ordered(one_mesh: bool, a: u32, b: u32) -> Pair {
+    if one_mesh {
+        Pair {
+            a: a.min(b),
+            b: a.max(b),
+        }
+    } else {
+        Pair { a, b }
+    }
+}
+
+/// Tests the triangles of two leaves' rings with the pair test `T` and reports the pairs it
+/// accepts. Boxes of exact coordinates, grown by the test's margin, are an exact filter in front
+/// of the test: the rings' boxes first, then each triangle against the other ring's box, then
+/// pair by pair.
+pub(crate) struct LeafPairs<'s, 'w, T> {
+    pub test: T,
+    pub sink: &'s mut Sink<'w>,
+    pub rings_a: &'s mut RingCache,
+    pub rings_b: &'s mut RingCache,
+    /// May the query's coordinates leave the range of the fast predicates?
+    pub check_domain: bool,
+}
+
+impl<'m, T: PairTest<'m>> LeafPairs<'_, '_, T> {
+    /// Must each prepared triangle check its coordinates?
+    #[inline(always)]
+    fn check_domain(&self) -> bool {
+        T::CHECKS_DOMAIN && self.check_domain
+    }
+
+    /// A leaf of one mesh against itself: each pair of its ring's triangles once.
+    fn own<A: QuerySide<'m>>(&mut self, a: &mut A, n: u32, stats: &mut QueryStats) -> bool {
+        let mesh = a.mesh();
+        let r = mesh.tree().nodes[n as usize].ring_start;
+        let (span, _) = prepare(a, r, self.rings_a, self.check_domain());
+        let count = span.len() as u64;
+        stats.triangle_candidates += count * count.saturating_sub(1) / 2;
+        let tris = &self.rings_a.tris;
+        for i in span.clone() {
+            let grown = self.test.widen(&tris[i].bounds);
+            for tb in &tris[i + 1..span.end] {
+                if try_pair(&self.test, self.sink, mesh, &grown, &tris[i], tb, stats) {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+}
+
+/// Tests `ta` against `tb` (`grown`: `ta`'s box grown by the margin) and reports the pair if
+/// the test accepts it; returns whether the traversal must stop.
+#[inline(always)]
+fn try_pair<'m, T: PairTest<'m>>(
+    test: &T,
+    sink: &mut Sink,
+    mesh: &Mesh,
+    grown: &Aabb,
+    ta: &Prepared,
+    tb: &Prepared,
+    stats: &mut QueryStats,
+) -> bool {
+    if !grown.meets(&tb.bounds) || test.skips(mesh, ta, tb) {
+        return false;
+    }
+    stats.triangle_tests += 1;
+    test.test(mesh, ta, tb) && sink.report(ordered(test.own().is_some(), ta.index, tb.index))
+}
+
+impl<'m, T: PairTest<'m>> NarrowPhase<'m> for LeafPairs<'_, '_, T> {
+    fn visit<A: QuerySide<'m>, B: QuerySide<'m>>(
+        &mut self,
+        a: &mut A,
+        b: &mut B,
+        na: u32,
+        nb: u32,
+        stats: &mut QueryStats,
+    ) -> bool {
+        if na == nb && self.test.own().is_some() {
+            return self.own(a, na, stats);
+        }
+        let (ma, mb) = (a.mesh(), b.mesh());
+        let ra = ma.tree().nodes[na as usize].ring_start;
+        let rb = mb.tree().nodes[nb as usize].ring_start;
+        stats.triangle_candidates += (ma.rings().triangles.row_len(ra as usize)
+            * mb.rings().triangles.row_len(rb as usize))
+            as u64;
+        // Most overlapping leaf volumes hold rings whose boxes are apart (about 70% of the
+        // spheres on scanned meshes): ring boxes, computed once per ring and query, settle them
+        // before any triangle is prepared.
+        if !self.test.widen(&a.ring_box(na)).meets(&b.ring_box(nb)) {
+            return false;
+        }
+        let check_domain = self.check_domain();
+        let (span_a, bounds_a) = prepare(a, ra, self.rings_a, check_domain);
+        let (span_b, bounds_b) = prepare(b, rb, self.rings_b, check_domain);
+        let (near_a, near_b) = (self.test.widen(&bounds_a), self.test.widen(&bounds_b));
+        if !near_a.meets(&bounds_b) {
+            return false;
+        }
+        let (ca, cb) = (&mut *self.rings_a, &mut *self.rings_b);
+        select(&ca.tris[span_a.clone()], &near_b, &mut ca.selected);
+        select(&cb.tris[span_b.clone()], &near_a, &mut cb.selected);
+        let (tris_a, tris_b) = (&ca.tris[span_a], &cb.tris[span_b]);
+        for &i in &ca.selected {
+            let ta = &tris_a[i as usize];
+            let grown = self.test.widen(&ta.bounds);
+            for &j in &cb.selected {
+                let tb = &tris_b[j as usize];
+                if try_pair(&self.test, self.sink, ma, &grown, ta, tb, stats) {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+}
+
+/// Ring `r`'s triangles in the side's frame, prepared unless the cache holds them: where they
+/// are in the cache's arena, and the box around them all.
+#[inline]
+pub(super) fn prepare<'m, S: QuerySide<'m>>(
+    side: &mut S,
+    r: u32,
+    cache: &mut RingCache,
+    check_domain: bool,
+) -> (Range<usize>, Aabb) {
+    let rings = &side.mesh().rings();
+    let items = rings.triangles.span(r as usize..r as usize + 1);
+    if let Some((start, bounds)) = cache.held(r) {
+        return (start..start + items.len(), bounds);
+    }
+    let start = cache.place(r, items.len());
+    let span = start..start + items.len();
+    let mut bounds = Aabb::EMPTY;
+    for ((&t, &[i, j, k]), into) in rings.triangles.items()[items.clone()]
+        .iter()
+        .zip(&rings.corners[items])
+        .zip(&mut cache.tris[span.clone()])
+    {
+        let corners = [side.vertex(i), side.vertex(j), side.vertex(k)];
+        let b = Aabb::of_points(&corners);
+        bounds.merge(&b);
+        *into = Prepared {
+            bounds: b,
+            index: t,
+            in_fast_range: !check_domain || corners.iter().all(is_safe_point),
+            tri: PreparedTriangle::new(corners),
+        };
+    }
+    cache.filled(r, bounds);
+    (span, bounds)
+}
+
+/// Lists in `selected` the triangles of `tris` whose boxes meet `other`.
+#[inline]
+pub(super) fn select(tris: &[Prepared], other: &Aabb, selected: &mut Vec<u32>) {
+    selected.clear();
+    for (i, t) in tris.iter().enumerate() {
+        if t.bounds.meets(other) {
+            selected.push(i as u32);
+        }
+    }
+}
