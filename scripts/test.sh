@@ -10,10 +10,11 @@
 #                            CGAL, and the demo (about 15 minutes on a fresh 2-core machine,
 #                            builds and package installs included; about 6 once built)
 #   scripts/test.sh --full   all of that and the long runs: the C tests under valgrind, the
-#                            soak, the benchmark runner's short runs (every method and knob, its
-#                            scenes checked against the cross-check's), the cross-check on one
-#                            thread and on every core, the criterion benchmarks' build and the
-#                            whole fuzz corpus replayed (about 45 minutes; what CI runs)
+#                            soak, the benchmark runner's tests and short runs (every method and
+#                            knob, its scenes checked against the cross-check's), the cross-check
+#                            on one thread as well as on every core, the criterion benchmarks'
+#                            build, the demo's release build, and the whole fuzz corpus replayed
+#                            (about 45 minutes; what CI runs)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 full=false
@@ -38,9 +39,8 @@ cargo clippy --workspace --all-targets --quiet -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --quiet
 
 step "Rust tests"
-# Unit, property, integration and documentation tests of the library and the runner; a missing
-# mesh archive is a failure here.
-DVH_REQUIRE_CGAL_DATA=1 cargo test --workspace --quiet
+# Unit, property, integration and documentation tests; a missing mesh archive is a failure here.
+DVH_REQUIRE_CGAL_DATA=1 cargo test --quiet
 
 step "C ABI"
 # The C tests under sanitizers (and valgrind with --full), install, pkg-config, Python ctypes.
@@ -64,7 +64,8 @@ if $full; then
     [ -d fuzz/corpus ] || scripts/fuzz.sh restore
     DVH_FUZZ_CORPUS=fuzz/corpus cargo test --quiet --test fuzz_replay
 
-    step "criterion benchmarks build"
+    step "the runner's tests, the criterion benchmarks' build"
+    cargo test -p dvh-runner --quiet
     cargo bench --no-run --quiet
 
     step "soak"
