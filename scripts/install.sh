@@ -14,10 +14,15 @@ minor=${rest%%.*}
 if [ "$major" = "0" ]; then soversion="0.$minor"; else soversion="$major"; fi
 
 target="${CARGO_TARGET_DIR:-target}"
-cargo build --release --quiet
-# The system libraries a static link needs, as rustc reports them.
-static_libs=$(cargo rustc --release --quiet --lib --crate-type staticlib -- --print native-static-libs 2>&1 \
-    | sed -n 's/.*native-static-libs: //p' | tail -n 1)
+# One build of the library's three kinds (rlib, cdylib, staticlib) that also reports the system
+# libraries a static link needs (cargo repeats the report when the build is already fresh). A
+# second command asking for the staticlib alone would compile the whole crate again.
+build=$(cargo rustc --release --quiet --lib -- --print native-static-libs 2>&1) || {
+    echo "$build" >&2
+    exit 1
+}
+static_libs=$(sed -n 's/.*native-static-libs: //p' <<<"$build" | tail -n 1)
+[ -n "$static_libs" ] || { echo "rustc did not report the static link's libraries" >&2; exit 1; }
 
 libdir="$dest$prefix/lib"
 install -d "$libdir/pkgconfig" "$dest$prefix/include"
