@@ -1,5 +1,5 @@
 //! Exact tests for triangles of one mesh that share vertices: do they meet anywhere other than
-//! what they share? Self-collision (issue 11) reports such pairs only then, so an intact surface
+//! what they share? Self-collision reports such pairs only then, so an intact surface
 //! reports nothing however it bends while a fold through itself reports every crossing.
 //!
 //! Both tests reduce to cones at a shared vertex, decided by orientation signs alone:

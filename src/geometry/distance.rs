@@ -1,5 +1,5 @@
 //! Exact proximity: is the Euclidean distance between two closed triangles at most `d`?
-//! (Issue 11's proximity queries rest on it.)
+//! (The proximity queries rest on it.)
 //!
 //! Two triangles that do not intersect are closest at a vertex of one and the other triangle,
 //! or between two edges where the closest points lie inside both edges. Each of those cases
