@@ -30,6 +30,10 @@
 
 mod csr;
 mod error;
+// The C ABI: public so that the fuzz drivers and the FFI benchmark call it as C does, hidden
+// because Rust users have the Rust API; its functions are exported from the cdylib and declared
+// in include/dvh.h either way.
+#[doc(hidden)]
 pub mod ffi;
 #[cfg(feature = "fixtures")]
 pub mod fixtures;
