@@ -24,7 +24,8 @@
 use dvh::ffi::*;
 use dvh::fixtures::oracle::{proximity_brute_force, self_collide_brute_force};
 use dvh::fixtures::{MeshData, Morph, Rng, grid, icosphere, torus};
-use dvh::{BuildOptions, Mesh, Pair, Pose, brute_force, triangles_intersect};
+use dvh::exact::triangles_intersect;
+use dvh::{BuildOptions, Mesh, Pair, Pose, brute_force};
 use nalgebra::{Isometry3, Vector3};
 use std::collections::{BTreeMap, HashSet};
 use std::time::Instant;

@@ -30,6 +30,7 @@
 
 mod csr;
 mod error;
+pub mod exact;
 // The C ABI: public so that the fuzz drivers and the FFI benchmark call it as C does, hidden
 // because Rust users have the Rust API; its functions are exported from the cdylib and declared
 // in include/dvh.h either way.
@@ -37,7 +38,7 @@ mod error;
 pub mod ffi;
 #[cfg(feature = "fixtures")]
 pub mod fixtures;
-pub mod geometry;
+mod geometry;
 mod mesh;
 mod prefetch;
 mod query;
@@ -47,10 +48,10 @@ mod tree;
 mod volume;
 
 pub use error::{Error, Result, Side};
+pub use geometry::MAX_POSED_MAGNITUDE;
 pub use geometry::aabb::Aabb;
 pub use geometry::pose::{Pose, RIGIDITY_TOLERANCE};
 pub use geometry::sphere::Sphere;
-pub use geometry::tri_tri::triangles_intersect;
 pub use mesh::{
     BoundingVolume, BuildOptions, InvariantError, LeftoverPolicy, Mesh, NodeView, RadiusKind,
     RefitStats, TreeStats,

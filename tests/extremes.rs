@@ -10,10 +10,11 @@ use dvh::fixtures::oracle::{
     corners, proximity_brute_force, self_collide_brute_force as self_brute_force,
     self_proximity_brute_force,
 };
+use dvh::exact::triangles_intersect;
 use dvh::fixtures::{MeshData, Rng, grid, icosphere, torus};
 use dvh::{
     BuildOptions, Mesh, Pair, Pairs, Pose, QueryMode, QueryOptions, RIGIDITY_TOLERANCE, VolumeKind,
-    brute_force, collide, proximity, self_collide, self_proximity, triangles_intersect,
+    brute_force, collide, proximity, self_collide, self_proximity,
 };
 
 fn sorted(p: &Pairs) -> Vec<Pair> {

@@ -6,8 +6,9 @@ use super::boundary::{Failure, choice, guard, guard_value, set_last_error, slice
 use super::types::*;
 use crate::{
     PairKind, Pairs, Pose, QueryMode, QueryOptions, QueryStats, collide, proximity, self_collide,
-    self_proximity, triangles_intersect,
+    self_proximity,
 };
+use crate::exact::triangles_intersect;
 use std::cell::UnsafeCell;
 
 /// The default query options: every intersecting triangle pair, no pair limit, every core (all
