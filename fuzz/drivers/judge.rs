@@ -86,11 +86,7 @@ pub fn brute(
                 )),
                 Asked::SelfProximity(d) => Some(
                     !tri(i).iter().any(|v| tri(j).contains(v))
-                        && dvh::exact::triangles_within(
-                            &plain(i, None),
-                            &plain(j, None),
-                            *d,
-                        ),
+                        && dvh::exact::triangles_within(&plain(i, None), &plain(j, None), *d),
                 ),
             };
             out.push(((i as u32, j as u32), verdict));

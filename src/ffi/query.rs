@@ -4,11 +4,11 @@
 use super::access::{Access, PAIRS_TAG, Read, Tag, read, release, write};
 use super::boundary::{Failure, choice, guard, guard_value, set_last_error, slice_from, try_box};
 use super::types::*;
+use crate::exact::triangles_intersect;
 use crate::{
     PairKind, Pairs, Pose, QueryMode, QueryOptions, QueryStats, collide, proximity, self_collide,
     self_proximity,
 };
-use crate::exact::triangles_intersect;
 use std::cell::UnsafeCell;
 
 /// The default query options: every intersecting triangle pair, no pair limit, every core (all

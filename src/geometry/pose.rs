@@ -261,7 +261,8 @@ mod tests {
             let mut unit = || (next() >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
             let (a, b, c) = (unit() * 3.2, unit() * 3.2, unit() * 3.2);
             let rotation = nalgebra::Rotation3::from_euler_angles(a, b, c);
-            let mut r: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| rotation[(i, j)]));
+            let mut r: [[f64; 3]; 3] =
+                std::array::from_fn(|i| std::array::from_fn(|j| rotation[(i, j)]));
             match case % 5 {
                 0 => {}
                 1 => r[(case / 5) % 3][case % 3] += unit() * 1e-5,
@@ -270,10 +271,19 @@ mod tests {
                 _ => r[case % 3][(case / 3) % 3] = unit() * 1e300,
             }
             let m = nalgebra::Matrix3::from_fn(|i, j| r[i][j]);
-            let expected = ((m.transpose() * m - nalgebra::Matrix3::identity()).abs().max(), m.determinant());
+            let expected = (
+                (m.transpose() * m - nalgebra::Matrix3::identity())
+                    .abs()
+                    .max(),
+                m.determinant(),
+            );
             let got = rigidity(&r);
             assert_eq!(got.0.to_bits(), expected.0.to_bits(), "deviation of {r:?}");
-            assert_eq!(got.1.to_bits(), expected.1.to_bits(), "determinant of {r:?}");
+            assert_eq!(
+                got.1.to_bits(),
+                expected.1.to_bits(),
+                "determinant of {r:?}"
+            );
         }
     }
 

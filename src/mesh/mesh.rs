@@ -13,6 +13,7 @@ use std::sync::Arc;
 
 /// Counters of one refit (the paper's `NU` and the work behind it).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub struct RefitStats {
     /// Nodes whose volume was recomputed (`NU`).
     pub nodes_refit: u64,
@@ -22,6 +23,7 @@ pub struct RefitStats {
 
 /// Shape of a built hierarchy, for comparison with the paper's Tables 1 and 2.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub struct TreeStats {
     /// Triangles in the mesh.
     pub triangles: usize,

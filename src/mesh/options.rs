@@ -11,6 +11,7 @@ use crate::volume::VolumeKind;
 /// give the lower time per frame (the refit about half as dear, the query 10-20% dearer);
 /// wrapped radii win when there is no refit to pay for, as for rigid meshes placed by poses.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum RadiusKind {
     /// The largest distance from the node's centre to any vertex below it: the tightest sphere
     /// with that centre (the paper's choice).
@@ -21,8 +22,10 @@ pub enum RadiusKind {
 }
 
 /// Options for [`crate::Mesh::new`]. The defaults (octree, boxes) are the fastest measured for
-/// meshes that deform; [`BuildOptions::rigid`] for meshes that only move.
+/// meshes that deform; [`BuildOptions::rigid`] for meshes that only move. Start from either and
+/// set what you need with the `with_*` methods (or the fields).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub struct BuildOptions {
     /// Octree or binary tree.
     pub tree: TreeKind,
@@ -52,6 +55,35 @@ impl BuildOptions {
             leftovers: LeftoverPolicy::JoinAdjacent,
             volume: VolumeKind::Sbv,
             refit_threads: 0,
+        }
+    }
+
+    /// These options with [`BuildOptions::tree`] set.
+    pub fn with_tree(self, tree: TreeKind) -> BuildOptions {
+        BuildOptions { tree, ..self }
+    }
+
+    /// These options with [`BuildOptions::radius`] set.
+    pub fn with_radius(self, radius: RadiusKind) -> BuildOptions {
+        BuildOptions { radius, ..self }
+    }
+
+    /// These options with [`BuildOptions::leftovers`] set.
+    pub fn with_leftovers(self, leftovers: LeftoverPolicy) -> BuildOptions {
+        BuildOptions { leftovers, ..self }
+    }
+
+    /// These options with [`BuildOptions::volume`] set: `BuildOptions::default()
+    /// .with_volume(VolumeKind::Dvh)`.
+    pub fn with_volume(self, volume: VolumeKind) -> BuildOptions {
+        BuildOptions { volume, ..self }
+    }
+
+    /// These options with [`BuildOptions::refit_threads`] set.
+    pub fn with_refit_threads(self, refit_threads: u32) -> BuildOptions {
+        BuildOptions {
+            refit_threads,
+            ..self
         }
     }
 

@@ -87,6 +87,7 @@ impl<'a> IntoIterator for &'a Pairs {
 
 /// Counters of one query: the terms of the paper's cost model `T = NV·CV + NP·CP + NU·CU`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub struct QueryStats {
     /// Volume pairs tested for overlap (`NV`).
     pub bv_tests: u64,

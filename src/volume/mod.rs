@@ -30,6 +30,7 @@ use spheres::{FitDvh, FitSbv};
 /// [`crate::BuildOptions::rigid`] chooses. The paper's DVH comes between the two when rigid and
 /// on two of the three paper scenes, last on the many-object one.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum VolumeKind {
     /// The paper's DVH: spheres centred on mesh vertices chosen at build (a leaf on its ring's
     /// centre, an inner node on the vertex below it nearest to their mean), so a refit copies
