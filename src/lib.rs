@@ -1,13 +1,9 @@
-//! # dvh: collision detection between deformable triangle meshes
+//! # dvh
 //!
-//! dvh implements the DVH algorithm (Madera, Day, Laycock 2009): a sphere hierarchy whose spheres
-//! are centred on mesh vertices and whose leaves bound vertex 1-rings. When a mesh deforms, its
-//! hierarchy is refit by recomputing radii only; the centres move with their vertices. A query
-//! between two meshes (each optionally moved by a rigid [`Pose`]) reports the intersecting
-//! triangle pairs, decided by an exact triangle test, or coarser answers when speed matters more
-//! than precision ([`QueryMode`]). A mesh can be queried against itself ([`self_collide`]: folds
-//! and crossings, not the contact of neighbouring triangles), and for nearness: every triangle
-//! pair within a distance ([`proximity`], [`self_proximity`]), exact like the rest.
+//! Collision detection between deformable triangle meshes, with the DVH hierarchy (Madera, Day,
+//! Laycock 2009): spheres centred on mesh vertices over vertex 1-rings, refit by recomputing
+//! radii only when the mesh deforms (boxes and recentred spheres are offered too). Every
+//! triangle pair it reports is decided by an exact test, touching included.
 //!
 //! ```
 //! use dvh::{BuildOptions, Mesh, Pairs, QueryOptions, collide};
@@ -25,6 +21,29 @@
 //! assert!(pairs.is_empty());
 //! # Ok::<(), dvh::Error>(())
 //! ```
+//!
+//! ## Where to go
+//!
+//! - **Two meshes.** Build a [`Mesh`] with [`BuildOptions`], [`Mesh::refit`] it after each
+//!   deformation, and [`collide`] two of them, each placed by an optional [`Pose`].
+//!   [`QueryOptions`] and [`QueryMode`] trade precision for speed (exact pairs, the first hit,
+//!   leaf or node pairs); results go to a reusable [`Pairs`], counters to [`QueryStats`].
+//!   [`brute_force`] is the all-pairs reference.
+//! - **One mesh against itself.** [`self_collide`]: folds and crossings, not the contact of
+//!   neighbouring triangles.
+//! - **Nearness.** [`proximity`] and [`self_proximity`]: every triangle pair within a distance,
+//!   exact.
+//! - **Many objects.** A [`Scene`] of rigid and deformable objects sharing meshes, with groups,
+//!   masks and exclusions; [`Scene::collide`] reports [`Contacts`] and [`SceneStats`].
+//! - **The exact predicates on their own.** [`exact`]: [`exact::triangles_intersect`],
+//!   [`exact::triangles_within`], [`exact::orient3d`].
+//! - **Failures.** Every fallible call returns an [`Error`] that says what was wrong, and
+//!   changes nothing when it fails.
+//! - **From C and other languages.** The C ABI is declared in `include/dvh.h` (the library
+//!   builds as `cdylib` and `staticlib`); the header's opening comment gives its conventions.
+//! - **Figures and guarantees.** `BENCHMARKS.md` measures the options against each other and
+//!   against FCL and parry; `ROBUSTNESS.md` says how the exactness and the C ABI's resistance to
+//!   misuse are tested.
 
 #![warn(missing_docs)]
 
