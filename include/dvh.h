@@ -756,8 +756,8 @@ size_t dvh_pairs_len(const struct DvhPairs *pairs);
 
 /**
  * The pairs of the last successful query into `pairs`: `dvh_pairs_len(pairs)` entries, sorted
- * by `a` then `b`, without duplicates. NULL when there are none. Owned by the buffer; valid until
- * the next `dvh_collide` into it or `dvh_pairs_free`.
+ * by `a` then `b`, without duplicates. NULL when there are none. Owned by the buffer; valid
+ * until the next query into it or `dvh_pairs_free`.
  *
  * Thread safety: as `dvh_pairs_len`.
  *
@@ -780,7 +780,8 @@ DvhPairKind dvh_pairs_kind(const struct DvhPairs *pairs);
 /**
  * Releases a result buffer. NULL is a no-op.
  *
- * Thread safety: needs exclusive access; the buffer must not be used afterwards.
+ * Thread safety: needs exclusive access; the buffer must not be used afterwards. A buffer in
+ * use by another call is not released (the last error message says so).
  *
  * # Safety
  * `pairs` is NULL or a live buffer from `dvh_pairs_new`, not freed before.
@@ -1103,7 +1104,8 @@ DvhStatus dvh_scene_collide(struct DvhScene *scene,
 
 /**
  * A new, empty contact buffer, or NULL when memory ran out. Owned by the caller, released with
- * `dvh_contacts_free`; it keeps the scratch space of the queries that use it.
+ * `dvh_contacts_free`. It keeps the scratch space of the queries that use it, so that once it
+ * has grown to a scene's needs queries allocate nothing.
  *
  * Thread safety: any thread; a buffer must be used by one thread at a time.
  */
@@ -1122,8 +1124,8 @@ size_t dvh_contacts_len(const struct DvhContacts *contacts);
 
 /**
  * The contacts of the last successful query into `contacts`: `dvh_contacts_len(contacts)`
- * entries sorted by `(object_a, object_b, a, b)`. NULL when there are none. Owned by the
- * buffer; valid until the next `dvh_scene_collide` into it or `dvh_contacts_free`.
+ * entries, sorted by `(object_a, object_b, a, b)`, without duplicates. NULL when there are
+ * none. Owned by the buffer; valid until the next query into it or `dvh_contacts_free`.
  *
  * Thread safety: as `dvh_contacts_len`.
  *
@@ -1133,8 +1135,8 @@ size_t dvh_contacts_len(const struct DvhContacts *contacts);
 const struct DvhContact *dvh_contacts_data(const struct DvhContacts *contacts);
 
 /**
- * What `a` and `b` of the contacts in `contacts` index: `DVH_PAIR_KIND_TRIANGLES` or
- * `DVH_PAIR_KIND_NODES` (triangles for NULL or a new buffer).
+ * What the indices `a` and `b` of the contacts in `contacts` refer to:
+ * `DVH_PAIR_KIND_TRIANGLES` or `DVH_PAIR_KIND_NODES` (triangles for NULL or a new buffer).
  *
  * Thread safety: as `dvh_contacts_len`.
  *
@@ -1146,7 +1148,8 @@ DvhPairKind dvh_contacts_kind(const struct DvhContacts *contacts);
 /**
  * Releases a contact buffer. NULL is a no-op.
  *
- * Thread safety: needs exclusive access; the buffer must not be used afterwards.
+ * Thread safety: needs exclusive access; the buffer must not be used afterwards. A buffer in
+ * use by another call is not released (the last error message says so).
  *
  * # Safety
  * `contacts` is NULL or a live buffer from `dvh_contacts_new`, not freed before.

@@ -5,7 +5,7 @@
 //! undefined behaviour. Every such value is checked and reported as an invalid argument.
 
 use super::access::{Access, Tag};
-use crate::{Contact, Pair};
+use crate::{Contact, Pair, QueryStats, RefitStats, SceneStats, TreeStats};
 use std::cell::UnsafeCell;
 
 /// Result of every fallible call: `DVH_STATUS_OK` (0) or one of the `DVH_STATUS_*` codes.
@@ -302,4 +302,131 @@ pub struct DvhContacts {
     /// Scene queries write it, the accessors read it.
     pub(crate) access: Access,
     pub(crate) contacts: UnsafeCell<crate::Contacts>,
+}
+
+// The counters cross the boundary as mirrors of the library's own, field for field and in the
+// same order. Each conversion names every field of both sides, so that a field added to one
+// without the other does not compile; the tests below check names, order, values and layout.
+macro_rules! mirror {
+    ($rust:ident => $c:ident { $($field:ident),+ $(,)? }) => {
+        impl From<&$rust> for $c {
+            fn from(s: &$rust) -> $c {
+                let $rust { $($field),+ } = *s;
+                $c { $($field),+ }
+            }
+        }
+    };
+}
+
+mirror!(QueryStats => DvhQueryStats {
+    bv_tests, triangle_tests, triangle_candidates, leaf_pairs, pairs, nodes_refit, truncated,
+    frontier_pairs,
+});
+mirror!(SceneStats => DvhSceneStats {
+    objects, object_pairs_tested, object_pairs_colliding, bv_tests, triangle_tests, nodes_refit,
+    contacts, truncated,
+});
+mirror!(RefitStats => DvhRefitStats { nodes_refit, distance_evaluations });
+mirror!(TreeStats => DvhTreeStats { triangles, rings, inner_nodes, levels, max_ring_triangles });
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::mem::{align_of, offset_of, size_of};
+
+    /// Each C counter struct, converted from its Rust twin holding a distinct value in every
+    /// field, prints as the twin does: the same fields, in the same order, with the same values.
+    #[test]
+    fn c_counters_mirror_the_rust_counters_field_by_field() {
+        let query = QueryStats {
+            bv_tests: 1,
+            triangle_tests: 2,
+            triangle_candidates: 3,
+            leaf_pairs: 4,
+            pairs: 5,
+            nodes_refit: 6,
+            truncated: true,
+            frontier_pairs: 7,
+        };
+        let scene = SceneStats {
+            objects: 1,
+            object_pairs_tested: 2,
+            object_pairs_colliding: 3,
+            bv_tests: 4,
+            triangle_tests: 5,
+            nodes_refit: 6,
+            contacts: 7,
+            truncated: true,
+        };
+        let refit = RefitStats {
+            nodes_refit: 1,
+            distance_evaluations: 2,
+        };
+        let tree = TreeStats {
+            triangles: 1,
+            rings: 2,
+            inner_nodes: 3,
+            levels: 4,
+            max_ring_triangles: 5,
+        };
+        let pairs = [
+            (
+                format!("{:?}", DvhQueryStats::from(&query)),
+                format!("Dvh{query:?}"),
+            ),
+            (
+                format!("{:?}", DvhSceneStats::from(&scene)),
+                format!("Dvh{scene:?}"),
+            ),
+            (
+                format!("{:?}", DvhRefitStats::from(&refit)),
+                format!("Dvh{refit:?}"),
+            ),
+            (
+                format!("{:?}", DvhTreeStats::from(&tree)),
+                format!("Dvh{tree:?}"),
+            ),
+        ];
+        for (c, rust) in pairs {
+            assert_eq!(c, rust);
+        }
+    }
+
+    /// Asserts the size and alignment of a C struct and the offset of each field, in order.
+    macro_rules! assert_layout {
+        ($t:ty, size $size:expr, align $align:expr, $($field:ident $offset:expr),+ $(,)?) => {
+            assert_eq!(size_of::<$t>(), $size, "size of {}", stringify!($t));
+            assert_eq!(align_of::<$t>(), $align, "alignment of {}", stringify!($t));
+            $(assert_eq!(
+                offset_of!($t, $field),
+                $offset,
+                "offset of {}.{}",
+                stringify!($t),
+                stringify!($field)
+            );)+
+        };
+    }
+
+    /// The layouts programs were compiled against (`include/dvh.h`, on 64-bit targets): a change
+    /// here breaks every program built against the header.
+    #[test]
+    #[cfg(target_pointer_width = "64")]
+    fn c_structs_keep_their_layout() {
+        assert_layout!(DvhBuildOptions, size 20, align 4,
+            tree 0, radius 4, leftovers 8, volume 12, refit_threads 16);
+        assert_layout!(DvhQueryOptions, size 32, align 8,
+            mode 0, max_depth 4, max_pairs 8, budget 16, threads 24);
+        assert_layout!(DvhQueryStats, size 64, align 8,
+            bv_tests 0, triangle_tests 8, triangle_candidates 16, leaf_pairs 24, pairs 32,
+            nodes_refit 40, truncated 48, frontier_pairs 56);
+        assert_layout!(DvhSceneStats, size 64, align 8,
+            objects 0, object_pairs_tested 8, object_pairs_colliding 16, bv_tests 24,
+            triangle_tests 32, nodes_refit 40, contacts 48, truncated 56);
+        assert_layout!(DvhRefitStats, size 16, align 8, nodes_refit 0, distance_evaluations 8);
+        assert_layout!(DvhTreeStats, size 40, align 8,
+            triangles 0, rings 8, inner_nodes 16, levels 24, max_ring_triangles 32);
+        assert_layout!(DvhPose, size 96, align 8, rotation 0, translation 72);
+        assert_layout!(DvhPair, size 8, align 4, a 0, b 4);
+        assert_layout!(DvhContact, size 16, align 4, object_a 0, object_b 4, a 8, b 12);
+    }
 }
