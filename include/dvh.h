@@ -143,11 +143,11 @@ typedef struct DvhTreeStats {
    */
   size_t rings;
   /**
-   * Inner nodes.
+   * Inner nodes ("clusters" in the paper).
    */
   size_t inner_nodes;
   /**
-   * Depth of the deepest leaf plus one.
+   * Levels: the depth of the deepest leaf plus one.
    */
   size_t levels;
   /**
@@ -161,11 +161,11 @@ typedef struct DvhTreeStats {
  */
 typedef struct DvhRefitStats {
   /**
-   * Nodes whose radius was recomputed (`NU`).
+   * Nodes whose volume was recomputed (`NU`).
    */
   uint64_t nodes_refit;
   /**
-   * Vertex-to-centre distances evaluated.
+   * Vertex-to-centre distances evaluated (for boxes: vertices folded into leaf boxes).
    */
   uint64_t distance_evaluations;
 } DvhRefitStats;
@@ -255,11 +255,13 @@ typedef struct DvhQueryStats {
    */
   uint64_t triangle_tests;
   /**
-   * Triangle pairs of overlapping leaves, before the exact box filter.
+   * Triangle pairs of overlapping leaves, before the exact bounding-box filter that decides
+   * which go to the exact test.
    */
   uint64_t triangle_candidates;
   /**
-   * Overlapping pairs of terminal nodes (leaves, or nodes at the depth limit).
+   * Overlapping pairs of terminal nodes (leaves, or nodes at the depth limit) the traversal
+   * reached.
    */
   uint64_t leaf_pairs;
   /**
@@ -267,11 +269,11 @@ typedef struct DvhQueryStats {
    */
   uint64_t pairs;
   /**
-   * Nodes recomputed by the last refit of each mesh (`NU`).
+   * Nodes recomputed by the last refit of each mesh (`NU` of the frame).
    */
   uint64_t nodes_refit;
   /**
-   * Did `max_pairs` stop the query?
+   * Did `max_pairs` stop the query before every pair was found?
    */
   bool truncated;
   /**
@@ -290,7 +292,9 @@ typedef struct DvhSceneStats {
    */
   uint64_t objects;
   /**
-   * Object pairs that passed the broad phase and the filters, and were queried.
+   * Object pairs that passed the broad phase and the filters, and were queried. A pair that
+   * an earlier query found without contact is not queried again while neither object has
+   * changed (nor the options): it is not counted.
    */
   uint64_t object_pairs_tested;
   /**
@@ -306,8 +310,9 @@ typedef struct DvhSceneStats {
    */
   uint64_t triangle_tests;
   /**
-   * Nodes recomputed by the refits the query made (`NU`): with box volumes, only the blocks
-   * of the deformable objects' trees that a traversal reached.
+   * Nodes recomputed by the refits the query made (`NU`): only in deformable objects some
+   * pair needed whose positions had changed and, with box volumes in the modes that report
+   * triangles, only the blocks of their trees that a traversal reached.
    */
   uint64_t nodes_refit;
   /**

@@ -147,15 +147,17 @@ pub struct DvhQueryStats {
     pub bv_tests: u64,
     /// Triangle pairs given to the exact test (`NP`).
     pub triangle_tests: u64,
-    /// Triangle pairs of overlapping leaves, before the exact box filter.
+    /// Triangle pairs of overlapping leaves, before the exact bounding-box filter that decides
+    /// which go to the exact test.
     pub triangle_candidates: u64,
-    /// Overlapping pairs of terminal nodes (leaves, or nodes at the depth limit).
+    /// Overlapping pairs of terminal nodes (leaves, or nodes at the depth limit) the traversal
+    /// reached.
     pub leaf_pairs: u64,
     /// Pairs reported.
     pub pairs: u64,
-    /// Nodes recomputed by the last refit of each mesh (`NU`).
+    /// Nodes recomputed by the last refit of each mesh (`NU` of the frame).
     pub nodes_refit: u64,
-    /// Did `max_pairs` stop the query?
+    /// Did `max_pairs` stop the query before every pair was found?
     pub truncated: bool,
     /// Node pairs left unopened when the budget of `DVH_QUERY_MODE_BUDGET` ran out (0: it
     /// sufficed, and the result is `DVH_QUERY_MODE_LEAVES`'s).
@@ -166,9 +168,9 @@ pub struct DvhQueryStats {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct DvhRefitStats {
-    /// Nodes whose radius was recomputed (`NU`).
+    /// Nodes whose volume was recomputed (`NU`).
     pub nodes_refit: u64,
-    /// Vertex-to-centre distances evaluated.
+    /// Vertex-to-centre distances evaluated (for boxes: vertices folded into leaf boxes).
     pub distance_evaluations: u64,
 }
 
@@ -180,9 +182,9 @@ pub struct DvhTreeStats {
     pub triangles: usize,
     /// 1-rings, that is leaves.
     pub rings: usize,
-    /// Inner nodes.
+    /// Inner nodes ("clusters" in the paper).
     pub inner_nodes: usize,
-    /// Depth of the deepest leaf plus one.
+    /// Levels: the depth of the deepest leaf plus one.
     pub levels: usize,
     /// Most triangles in one ring.
     pub max_ring_triangles: usize,
@@ -269,7 +271,9 @@ const _: () = {
 pub struct DvhSceneStats {
     /// Objects in the scene.
     pub objects: u64,
-    /// Object pairs that passed the broad phase and the filters, and were queried.
+    /// Object pairs that passed the broad phase and the filters, and were queried. A pair that
+    /// an earlier query found without contact is not queried again while neither object has
+    /// changed (nor the options): it is not counted.
     pub object_pairs_tested: u64,
     /// Object pairs with at least one contact.
     pub object_pairs_colliding: u64,
@@ -277,8 +281,9 @@ pub struct DvhSceneStats {
     pub bv_tests: u64,
     /// Triangle pairs given to the exact test, over every object pair.
     pub triangle_tests: u64,
-    /// Nodes recomputed by the refits the query made (`NU`): with box volumes, only the blocks
-    /// of the deformable objects' trees that a traversal reached.
+    /// Nodes recomputed by the refits the query made (`NU`): only in deformable objects some
+    /// pair needed whose positions had changed and, with box volumes in the modes that report
+    /// triangles, only the blocks of their trees that a traversal reached.
     pub nodes_refit: u64,
     /// Contacts reported.
     pub contacts: u64,
