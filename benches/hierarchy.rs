@@ -44,11 +44,7 @@ fn kinds() -> Vec<BuildOptions> {
     let mut all = Vec::new();
     for volume in [VolumeKind::Dvh, VolumeKind::Sbv, VolumeKind::Aabb] {
         for tree in [TreeKind::Octree, TreeKind::Binary] {
-            all.push(BuildOptions {
-                volume,
-                tree,
-                ..BuildOptions::default()
-            });
+            all.push(BuildOptions::default().with_volume(volume).with_tree(tree));
         }
     }
     all

@@ -34,18 +34,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             m = m.subdivided_to(size);
         }
         for volume in [VolumeKind::Aabb, VolumeKind::Dvh, VolumeKind::Sbv] {
-            let options = BuildOptions {
-                volume,
-                ..BuildOptions::default()
-            };
+            let options = BuildOptions::default().with_volume(volume);
             let mesh = Mesh::new(&m.positions, &m.triangles, &options)?;
             let tris = mesh.triangle_count() as f64;
             // The buffer of a query on one thread, then of one on every core.
             let mut pairs = Pairs::new();
-            let one = QueryOptions {
-                threads: 1,
-                ..QueryOptions::default()
-            };
+            let one = QueryOptions::default().with_threads(1);
             collide(&mesh, None, &mesh, None, &one, &mut pairs)?;
             let single = pairs.memory_bytes();
             let result = pairs.len() * std::mem::size_of::<dvh::Pair>();

@@ -21,10 +21,11 @@
 //! [--big 10000000] [--no-memory-check]`; `scripts/soak.sh` runs it and a shorter run under
 //! valgrind.
 
+use dvh::exact::triangles_intersect;
 use dvh::ffi::*;
 use dvh::fixtures::oracle::{proximity_brute_force, self_collide_brute_force};
 use dvh::fixtures::{MeshData, Morph, Rng, grid, icosphere, torus};
-use dvh::{BuildOptions, Mesh, Pair, Pose, brute_force, triangles_intersect};
+use dvh::{BuildOptions, Mesh, Pair, Pose, brute_force};
 use nalgebra::{Isometry3, Vector3};
 use std::collections::{BTreeMap, HashSet};
 use std::time::Instant;

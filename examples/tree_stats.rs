@@ -21,11 +21,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let m = cgal_mesh(name)?;
         for leftovers in [LeftoverPolicy::JoinAdjacent, LeftoverPolicy::ExtraRings] {
             for tree in [TreeKind::Binary, TreeKind::Octree] {
-                let options = BuildOptions {
-                    tree,
-                    leftovers,
-                    ..BuildOptions::default()
-                };
+                let options = BuildOptions::default()
+                    .with_tree(tree)
+                    .with_leftovers(leftovers);
                 let mesh = Mesh::new(&m.positions, &m.triangles, &options)?;
                 let s = mesh.tree_stats();
                 println!(

@@ -143,11 +143,11 @@ typedef struct DvhTreeStats {
    */
   size_t rings;
   /**
-   * Inner nodes.
+   * Inner nodes ("clusters" in the paper).
    */
   size_t inner_nodes;
   /**
-   * Depth of the deepest leaf plus one.
+   * Levels: the depth of the deepest leaf plus one.
    */
   size_t levels;
   /**
@@ -161,11 +161,11 @@ typedef struct DvhTreeStats {
  */
 typedef struct DvhRefitStats {
   /**
-   * Nodes whose radius was recomputed (`NU`).
+   * Nodes whose volume was recomputed (`NU`).
    */
   uint64_t nodes_refit;
   /**
-   * Vertex-to-centre distances evaluated.
+   * Vertex-to-centre distances evaluated (for boxes: vertices folded into leaf boxes).
    */
   uint64_t distance_evaluations;
 } DvhRefitStats;
@@ -255,11 +255,13 @@ typedef struct DvhQueryStats {
    */
   uint64_t triangle_tests;
   /**
-   * Triangle pairs of overlapping leaves, before the exact box filter.
+   * Triangle pairs of overlapping leaves, before the exact bounding-box filter that decides
+   * which go to the exact test.
    */
   uint64_t triangle_candidates;
   /**
-   * Overlapping pairs of terminal nodes (leaves, or nodes at the depth limit).
+   * Overlapping pairs of terminal nodes (leaves, or nodes at the depth limit) the traversal
+   * reached.
    */
   uint64_t leaf_pairs;
   /**
@@ -267,11 +269,11 @@ typedef struct DvhQueryStats {
    */
   uint64_t pairs;
   /**
-   * Nodes recomputed by the last refit of each mesh (`NU`).
+   * Nodes recomputed by the last refit of each mesh (`NU` of the frame).
    */
   uint64_t nodes_refit;
   /**
-   * Did `max_pairs` stop the query?
+   * Did `max_pairs` stop the query before every pair was found?
    */
   bool truncated;
   /**
@@ -290,7 +292,9 @@ typedef struct DvhSceneStats {
    */
   uint64_t objects;
   /**
-   * Object pairs that passed the broad phase and the filters, and were queried.
+   * Object pairs that passed the broad phase and the filters, and were queried. A pair that
+   * an earlier query found without contact is not queried again while neither object has
+   * changed (nor the options): it is not counted.
    */
   uint64_t object_pairs_tested;
   /**
@@ -306,8 +310,9 @@ typedef struct DvhSceneStats {
    */
   uint64_t triangle_tests;
   /**
-   * Nodes recomputed by the refits the query made (`NU`): with box volumes, only the blocks
-   * of the deformable objects' trees that a traversal reached.
+   * Nodes recomputed by the refits the query made (`NU`): only in deformable objects some
+   * pair needed whose positions had changed and, with box volumes in the modes that report
+   * triangles, only the blocks of their trees that a traversal reached.
    */
   uint64_t nodes_refit;
   /**
@@ -756,8 +761,8 @@ size_t dvh_pairs_len(const struct DvhPairs *pairs);
 
 /**
  * The pairs of the last successful query into `pairs`: `dvh_pairs_len(pairs)` entries, sorted
- * by `a` then `b`, without duplicates. NULL when there are none. Owned by the buffer; valid until
- * the next `dvh_collide` into it or `dvh_pairs_free`.
+ * by `a` then `b`, without duplicates. NULL when there are none. Owned by the buffer; valid
+ * until the next query into it or `dvh_pairs_free`.
  *
  * Thread safety: as `dvh_pairs_len`.
  *
@@ -780,7 +785,8 @@ DvhPairKind dvh_pairs_kind(const struct DvhPairs *pairs);
 /**
  * Releases a result buffer. NULL is a no-op.
  *
- * Thread safety: needs exclusive access; the buffer must not be used afterwards.
+ * Thread safety: needs exclusive access; the buffer must not be used afterwards. A buffer in
+ * use by another call is not released (the last error message says so).
  *
  * # Safety
  * `pairs` is NULL or a live buffer from `dvh_pairs_new`, not freed before.
@@ -1103,7 +1109,8 @@ DvhStatus dvh_scene_collide(struct DvhScene *scene,
 
 /**
  * A new, empty contact buffer, or NULL when memory ran out. Owned by the caller, released with
- * `dvh_contacts_free`; it keeps the scratch space of the queries that use it.
+ * `dvh_contacts_free`. It keeps the scratch space of the queries that use it, so that once it
+ * has grown to a scene's needs queries allocate nothing.
  *
  * Thread safety: any thread; a buffer must be used by one thread at a time.
  */
@@ -1122,8 +1129,8 @@ size_t dvh_contacts_len(const struct DvhContacts *contacts);
 
 /**
  * The contacts of the last successful query into `contacts`: `dvh_contacts_len(contacts)`
- * entries sorted by `(object_a, object_b, a, b)`. NULL when there are none. Owned by the
- * buffer; valid until the next `dvh_scene_collide` into it or `dvh_contacts_free`.
+ * entries, sorted by `(object_a, object_b, a, b)`, without duplicates. NULL when there are
+ * none. Owned by the buffer; valid until the next query into it or `dvh_contacts_free`.
  *
  * Thread safety: as `dvh_contacts_len`.
  *
@@ -1133,8 +1140,8 @@ size_t dvh_contacts_len(const struct DvhContacts *contacts);
 const struct DvhContact *dvh_contacts_data(const struct DvhContacts *contacts);
 
 /**
- * What `a` and `b` of the contacts in `contacts` index: `DVH_PAIR_KIND_TRIANGLES` or
- * `DVH_PAIR_KIND_NODES` (triangles for NULL or a new buffer).
+ * What the indices `a` and `b` of the contacts in `contacts` refer to:
+ * `DVH_PAIR_KIND_TRIANGLES` or `DVH_PAIR_KIND_NODES` (triangles for NULL or a new buffer).
  *
  * Thread safety: as `dvh_contacts_len`.
  *
@@ -1146,7 +1153,8 @@ DvhPairKind dvh_contacts_kind(const struct DvhContacts *contacts);
 /**
  * Releases a contact buffer. NULL is a no-op.
  *
- * Thread safety: needs exclusive access; the buffer must not be used afterwards.
+ * Thread safety: needs exclusive access; the buffer must not be used afterwards. A buffer in
+ * use by another call is not released (the last error message says so).
  *
  * # Safety
  * `contacts` is NULL or a live buffer from `dvh_contacts_new`, not freed before.

@@ -16,6 +16,7 @@ pub enum Side {
 /// A call that returns an error has changed nothing: meshes and result buffers are exactly as
 /// they were before the call.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Error {
     /// The mesh has no triangles.
     NoTriangles,

@@ -1,13 +1,9 @@
-//! # dvh: collision detection between deformable triangle meshes
+//! # dvh
 //!
-//! dvh implements the DVH algorithm (Madera, Day, Laycock 2009): a sphere hierarchy whose spheres
-//! are centred on mesh vertices and whose leaves bound vertex 1-rings. When a mesh deforms, its
-//! hierarchy is refit by recomputing radii only; the centres move with their vertices. A query
-//! between two meshes (each optionally moved by a rigid [`Pose`]) reports the intersecting
-//! triangle pairs, decided by an exact triangle test, or coarser answers when speed matters more
-//! than precision ([`QueryMode`]). A mesh can be queried against itself ([`self_collide`]: folds
-//! and crossings, not the contact of neighbouring triangles), and for nearness: every triangle
-//! pair within a distance ([`proximity`], [`self_proximity`]), exact like the rest.
+//! Collision detection between deformable triangle meshes, with the DVH hierarchy (Madera, Day,
+//! Laycock 2009): spheres centred on mesh vertices over vertex 1-rings, refit by recomputing
+//! radii only when the mesh deforms (boxes and recentred spheres are offered too). Every
+//! triangle pair it reports is decided by an exact test, touching included.
 //!
 //! ```
 //! use dvh::{BuildOptions, Mesh, Pairs, QueryOptions, collide};
@@ -25,15 +21,43 @@
 //! assert!(pairs.is_empty());
 //! # Ok::<(), dvh::Error>(())
 //! ```
+//!
+//! ## Where to go
+//!
+//! - **Two meshes.** Build a [`Mesh`] with [`BuildOptions`], [`Mesh::refit`] it after each
+//!   deformation, and [`collide`] two of them, each placed by an optional [`Pose`].
+//!   [`QueryOptions`] and [`QueryMode`] trade precision for speed (exact pairs, the first hit,
+//!   leaf or node pairs); results go to a reusable [`Pairs`], counters to [`QueryStats`].
+//!   [`brute_force`] is the all-pairs reference.
+//! - **One mesh against itself.** [`self_collide`]: folds and crossings, not the contact of
+//!   neighbouring triangles.
+//! - **Nearness.** [`proximity`] and [`self_proximity`]: every triangle pair within a distance,
+//!   exact.
+//! - **Many objects.** A [`Scene`] of rigid and deformable objects sharing meshes, with groups,
+//!   masks and exclusions; [`Scene::collide`] reports [`Contacts`] and [`SceneStats`].
+//! - **The exact predicates on their own.** [`exact`]: [`exact::triangles_intersect`],
+//!   [`exact::triangles_within`], [`exact::orient3d`].
+//! - **Failures.** Every fallible call returns an [`Error`] that says what was wrong, and
+//!   changes nothing when it fails.
+//! - **From C and other languages.** The C ABI is declared in `include/dvh.h` (the library
+//!   builds as `cdylib` and `staticlib`); the header's opening comment gives its conventions.
+//! - **Figures and guarantees.** `BENCHMARKS.md` measures the options against each other and
+//!   against FCL and parry; `ROBUSTNESS.md` says how the exactness and the C ABI's resistance to
+//!   misuse are tested.
 
 #![warn(missing_docs)]
 
 mod csr;
 mod error;
+pub mod exact;
+// The C ABI: public so that the fuzz drivers and the FFI benchmark call it as C does, hidden
+// because Rust users have the Rust API; its functions are exported from the cdylib and declared
+// in include/dvh.h either way.
+#[doc(hidden)]
 pub mod ffi;
 #[cfg(feature = "fixtures")]
 pub mod fixtures;
-pub mod geometry;
+mod geometry;
 mod mesh;
 mod prefetch;
 mod query;
@@ -43,10 +67,10 @@ mod tree;
 mod volume;
 
 pub use error::{Error, Result, Side};
+pub use geometry::MAX_POSED_MAGNITUDE;
 pub use geometry::aabb::Aabb;
 pub use geometry::pose::{Pose, RIGIDITY_TOLERANCE};
 pub use geometry::sphere::Sphere;
-pub use geometry::tri_tri::triangles_intersect;
 pub use mesh::{
     BoundingVolume, BuildOptions, InvariantError, LeftoverPolicy, Mesh, NodeView, RadiusKind,
     RefitStats, TreeStats,

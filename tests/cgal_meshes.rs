@@ -31,17 +31,13 @@ fn scanned_meshes_deforming_into_each_other() {
         ("dino", "elephant"),
         ("bunny00", "dino"),
     ];
-    let sbv = BuildOptions {
-        tree: TreeKind::Binary,
-        radius: RadiusKind::Wrapped,
-        leftovers: LeftoverPolicy::ExtraRings,
-        volume: VolumeKind::Sbv,
-        refit_threads: 2,
-    };
-    let aabb = BuildOptions {
-        volume: VolumeKind::Aabb,
-        ..BuildOptions::default()
-    };
+    let sbv = BuildOptions::default()
+        .with_tree(TreeKind::Binary)
+        .with_radius(RadiusKind::Wrapped)
+        .with_leftovers(LeftoverPolicy::ExtraRings)
+        .with_volume(VolumeKind::Sbv)
+        .with_refit_threads(2);
+    let aabb = BuildOptions::default().with_volume(VolumeKind::Aabb);
     // The last scene queries boxes against the DVH's spheres.
     let options = [
         (BuildOptions::default(), BuildOptions::default()),

@@ -114,18 +114,15 @@ fn tiny_and_huge_coordinates() {
     b_shape.translate([0.7, 0.0, 0.0]);
     let mut c_shape = soup(150, 1.0, 0.3, 9);
     c_shape.translate([-0.2, -0.3, -0.1]);
-    let sbv = BuildOptions {
-        tree: TreeKind::Binary,
-        radius: RadiusKind::Wrapped,
-        leftovers: LeftoverPolicy::ExtraRings,
-        volume: VolumeKind::Sbv,
-        refit_threads: 1,
-    };
-    let aabb = BuildOptions {
-        tree: TreeKind::Binary,
-        volume: VolumeKind::Aabb,
-        ..BuildOptions::default()
-    };
+    let sbv = BuildOptions::default()
+        .with_tree(TreeKind::Binary)
+        .with_radius(RadiusKind::Wrapped)
+        .with_leftovers(LeftoverPolicy::ExtraRings)
+        .with_volume(VolumeKind::Sbv)
+        .with_refit_threads(1);
+    let aabb = BuildOptions::default()
+        .with_tree(TreeKind::Binary)
+        .with_volume(VolumeKind::Aabb);
     for options in [BuildOptions::default(), sbv, aabb] {
         let mut pairs = Pairs::new();
         let reference_ab = check_all_modes(
@@ -172,10 +169,8 @@ fn tiny_and_huge_coordinates() {
 
 /// One option set per volume kind.
 fn each_volume_kind() -> [BuildOptions; 3] {
-    [VolumeKind::Dvh, VolumeKind::Sbv, VolumeKind::Aabb].map(|volume| BuildOptions {
-        volume,
-        ..BuildOptions::default()
-    })
+    [VolumeKind::Dvh, VolumeKind::Sbv, VolumeKind::Aabb]
+        .map(|volume| BuildOptions::default().with_volume(volume))
 }
 
 #[test]

@@ -5,6 +5,7 @@
 //! limits of `uint32_t`. Every query (pair collision, self-collision, proximity, self-proximity)
 //! is compared with brute force by the exact predicates, with every volume kind.
 
+use dvh::exact::triangles_intersect;
 use dvh::ffi::*;
 use dvh::fixtures::oracle::{
     corners, proximity_brute_force, self_collide_brute_force as self_brute_force,
@@ -13,7 +14,7 @@ use dvh::fixtures::oracle::{
 use dvh::fixtures::{MeshData, Rng, grid, icosphere, torus};
 use dvh::{
     BuildOptions, Mesh, Pair, Pairs, Pose, QueryMode, QueryOptions, RIGIDITY_TOLERANCE, VolumeKind,
-    brute_force, collide, proximity, self_collide, self_proximity, triangles_intersect,
+    brute_force, collide, proximity, self_collide, self_proximity,
 };
 
 fn sorted(p: &Pairs) -> Vec<Pair> {
@@ -23,10 +24,7 @@ fn sorted(p: &Pairs) -> Vec<Pair> {
 }
 
 fn options(volume: VolumeKind) -> BuildOptions {
-    BuildOptions {
-        volume,
-        ..BuildOptions::default()
-    }
+    BuildOptions::default().with_volume(volume)
 }
 
 /// Figures of one scene checked by [`check`].
@@ -58,10 +56,7 @@ fn check(
         mb.validate().expect("valid b");
         let what = format!("{what}, {volume:?}");
         let exact = QueryOptions::default();
-        let first = QueryOptions {
-            mode: QueryMode::FirstHit,
-            ..QueryOptions::default()
-        };
+        let first = QueryOptions::with_mode(QueryMode::FirstHit);
 
         let expected = brute_force(&ma, pa, &mb, pb);
         collide(&ma, pa, &mb, pb, &exact, &mut pairs).expect("collide");

@@ -37,10 +37,7 @@ static GLOBAL: Counting = Counting;
 
 /// The query options of `mode` on the calling thread only.
 fn one_thread(mode: QueryMode) -> QueryOptions {
-    QueryOptions {
-        threads: 1,
-        ..QueryOptions::with_mode(mode)
-    }
+    QueryOptions::with_mode(mode).with_threads(1)
 }
 
 /// The counter is global: the tests take turns.
@@ -63,13 +60,11 @@ fn refit_and_steady_state_queries_do_not_allocate() {
             (VolumeKind::Sbv, RadiusKind::Layered),
             (VolumeKind::Aabb, RadiusKind::Layered),
         ] {
-            let options = BuildOptions {
-                tree,
-                radius,
-                volume,
-                refit_threads: 1,
-                ..BuildOptions::default()
-            };
+            let options = BuildOptions::default()
+                .with_tree(tree)
+                .with_radius(radius)
+                .with_volume(volume)
+                .with_refit_threads(1);
             // Large enough that the default options would share the queries out.
             let sa = icosphere(5);
             let mut sb = torus(0.6, 0.25, 120, 40);
@@ -139,20 +134,14 @@ fn threaded_refits_and_queries_allocate_only_their_jobs() {
     let s = icosphere(6);
     // The torus's tube runs along the sphere's surface: dense contact.
     let t = torus(1.0, 0.05, 200, 100);
-    let options = BuildOptions {
-        refit_threads: 2,
-        ..BuildOptions::default()
-    };
+    let options = BuildOptions::default().with_refit_threads(2);
     let mut a = Mesh::new(&s.positions, &s.triangles, &options).unwrap();
     let b = Mesh::new(&t.positions, &t.triangles, &options).unwrap();
     let morph = Morph::random(&s, 3, 0.05, 4);
     let frames: Vec<Vec<f64>> = (0..4)
         .map(|f| morph.at(&s.positions, f as f64 / 4.0))
         .collect();
-    let threaded = QueryOptions {
-        threads: 2,
-        ..QueryOptions::default()
-    };
+    let threaded = QueryOptions::default().with_threads(2);
     let mut pairs = Pairs::new();
     // Threads take work items as they come free, so the share each thread finds, and the size
     // its own buffers grow to, varies from run to run: a few rounds let every thread's buffers

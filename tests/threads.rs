@@ -72,11 +72,11 @@ fn all_modes(limit: usize) -> Vec<QueryOptions> {
         QueryMode::Budget(500),
     ] {
         for max_pairs in [None, Some(1), Some(limit)] {
-            all.push(QueryOptions {
-                mode,
-                max_pairs,
-                threads: 1,
-            });
+            all.push(
+                QueryOptions::with_mode(mode)
+                    .with_max_pairs(max_pairs)
+                    .with_threads(1),
+            );
         }
     }
     all
@@ -96,15 +96,10 @@ fn threaded_queries_equal_single_threaded_ones_on_random_scenes() {
         sb.translate([rng.range(0.2, 0.6), rng.range(-0.2, 0.2), 0.0]);
         let morph = Morph::random(&sb, 4, 0.1, scene + 10);
         let moved = morph.at(&sb.positions, 0.5);
-        let options_a = BuildOptions {
-            volume: volumes[scene as usize % 3],
-            ..BuildOptions::default()
-        };
-        let options_b = BuildOptions {
-            volume: volumes[(scene as usize + 1) % 3],
-            tree: [TreeKind::Octree, TreeKind::Binary][scene as usize % 2],
-            ..BuildOptions::default()
-        };
+        let options_a = BuildOptions::default().with_volume(volumes[scene as usize % 3]);
+        let options_b = BuildOptions::default()
+            .with_volume(volumes[(scene as usize + 1) % 3])
+            .with_tree([TreeKind::Octree, TreeKind::Binary][scene as usize % 2]);
         let a = Mesh::new(&sa.positions, &sa.triangles, &options_a).unwrap();
         let mut b = Mesh::new(&sb.positions, &sb.triangles, &options_b).unwrap();
         b.refit(&moved).unwrap();
@@ -127,7 +122,7 @@ fn threaded_queries_equal_single_threaded_ones_on_random_scenes() {
                     );
                 }
                 for threads in [2, 3, 0] {
-                    let options = QueryOptions { threads, ..options };
+                    let options = options.with_threads(threads);
                     let many = collide(&a, None, &b, pose_b, &options, &mut threaded).unwrap();
                     let what = format!("scene {scene}, posed {}, {options:?}", pose_b.is_some());
                     assert_eq!(threaded.as_slice(), single.as_slice(), "{what}");
@@ -162,12 +157,12 @@ fn threaded_refits_equal_single_threaded_ones() {
         (VolumeKind::Sbv, RadiusKind::Wrapped),
     ] {
         for tree in [TreeKind::Octree, TreeKind::Binary] {
-            let options = |refit_threads| BuildOptions {
-                volume,
-                radius,
-                tree,
-                refit_threads,
-                ..BuildOptions::default()
+            let options = |refit_threads| {
+                BuildOptions::default()
+                    .with_volume(volume)
+                    .with_radius(radius)
+                    .with_tree(tree)
+                    .with_refit_threads(refit_threads)
             };
             let mut one = Mesh::new(&s.positions, &s.triangles, &options(1)).unwrap();
             for threads in [2, 3, 0] {

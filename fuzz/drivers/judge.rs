@@ -20,7 +20,7 @@ pub fn corners(positions: &[f64], triangles: &[u32], t: usize, pose: Option<&dvh
 pub fn self_hit(ti: [u32; 3], pi: &Tri, tj: [u32; 3], pj: &Tri) -> Option<bool> {
     let shared: Vec<usize> = (0..3).filter(|&k| tj.contains(&ti[k])).collect();
     if shared.is_empty() {
-        return Some(dvh::triangles_intersect(pi, pj));
+        return Some(dvh::exact::triangles_intersect(pi, pj));
     }
     let repeats = |t: [u32; 3]| t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
     if repeats(ti) || repeats(tj) {
@@ -30,7 +30,7 @@ pub fn self_hit(ti: [u32; 3], pi: &Tri, tj: [u32; 3], pj: &Tri) -> Option<bool> 
     match shared[..] {
         [k] => {
             let l = at(ti[k]);
-            Some(dvh::geometry::adjacent::meet_beyond_vertex(
+            Some(dvh::fixtures::oracle::meet_beyond_vertex(
                 &pi[k],
                 [&pi[(k + 1) % 3], &pi[(k + 2) % 3]],
                 [&pj[(l + 1) % 3], &pj[(l + 2) % 3]],
@@ -38,7 +38,7 @@ pub fn self_hit(ti: [u32; 3], pi: &Tri, tj: [u32; 3], pj: &Tri) -> Option<bool> 
         }
         [k1, k2] => {
             let (l1, l2) = (at(ti[k1]), at(ti[k2]));
-            Some(dvh::geometry::adjacent::meet_beyond_edge(
+            Some(dvh::fixtures::oracle::meet_beyond_edge(
                 &pi[k1],
                 &pi[k2],
                 &pi[3 - k1 - k2],
@@ -74,23 +74,19 @@ pub fn brute(
             let tri = |t: usize| -> [u32; 3] { std::array::from_fn(|k| triangles[3 * t + k]) };
             let plain = |t, pose| corners(positions, triangles, t, pose);
             let verdict = match asked {
-                Asked::Collide(p) => Some(dvh::triangles_intersect(
+                Asked::Collide(p) => Some(dvh::exact::triangles_intersect(
                     &plain(i, None),
                     &plain(j, Some(p)),
                 )),
                 Asked::SelfCollide => self_hit(tri(i), &plain(i, None), tri(j), &plain(j, None)),
-                Asked::Proximity(p, d) => Some(dvh::geometry::distance::triangles_within(
+                Asked::Proximity(p, d) => Some(dvh::exact::triangles_within(
                     &plain(i, Some(p)),
                     &plain(j, None),
                     *d,
                 )),
                 Asked::SelfProximity(d) => Some(
                     !tri(i).iter().any(|v| tri(j).contains(v))
-                        && dvh::geometry::distance::triangles_within(
-                            &plain(i, None),
-                            &plain(j, None),
-                            *d,
-                        ),
+                        && dvh::exact::triangles_within(&plain(i, None), &plain(j, None), *d),
                 ),
             };
             out.push(((i as u32, j as u32), verdict));

@@ -275,7 +275,7 @@ fn judge_scene(
                 let ta = corners(&oi.positions, &mi.triangles, a, oi.pose.as_ref());
                 for b in 0..mj.triangles.len() / 3 {
                     let tb = corners(&oj.positions, &mj.triangles, b, oj.pose.as_ref());
-                    let hit = dvh::triangles_intersect(&ta, &tb);
+                    let hit = dvh::exact::triangles_intersect(&ta, &tb);
                     brute.push(((a as u32, b as u32), Some(hit)));
                 }
             }

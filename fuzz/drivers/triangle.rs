@@ -160,7 +160,7 @@ pub fn triangle_oracle(data: &[u8]) {
         return;
     }
     assert_eq!(status, DVH_STATUS_OK);
-    let got = dvh::triangles_intersect(&a, &b);
+    let got = dvh::exact::triangles_intersect(&a, &b);
     assert_eq!(got, result, "Rust and C disagree on {a:?} {b:?}");
     assert_eq!(
         got,

@@ -5,8 +5,9 @@
 use crate::moller;
 use crate::report::Table;
 use crate::scene::Scene;
-use dvh::geometry::tri_tri::{Triangle, settled_by_filter};
-use dvh::{Aabb, BuildOptions, Mesh, Pairs, QueryMode, QueryOptions, collide, triangles_intersect};
+use dvh::exact::{Triangle, triangles_intersect};
+use dvh::fixtures::settled_by_filter;
+use dvh::{Aabb, BuildOptions, Mesh, Pairs, QueryMode, QueryOptions, collide};
 use std::hint::black_box;
 use std::time::Instant;
 

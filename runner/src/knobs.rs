@@ -27,20 +27,20 @@ pub fn options() -> Vec<BuildOptions> {
         (VolumeKind::Aabb, RadiusKind::Layered),
     ] {
         for tree in [TreeKind::Octree, TreeKind::Binary] {
-            all.push(BuildOptions {
-                volume,
-                tree,
-                radius,
-                ..BuildOptions::default()
-            });
+            all.push(
+                BuildOptions::default()
+                    .with_volume(volume)
+                    .with_tree(tree)
+                    .with_radius(radius),
+            );
         }
     }
     for volume in [VolumeKind::Dvh, VolumeKind::Aabb] {
-        all.push(BuildOptions {
-            volume,
-            leftovers: LeftoverPolicy::ExtraRings,
-            ..BuildOptions::default()
-        });
+        all.push(
+            BuildOptions::default()
+                .with_volume(volume)
+                .with_leftovers(LeftoverPolicy::ExtraRings),
+        );
     }
     all
 }
@@ -106,6 +106,8 @@ pub fn mode_name(mode: QueryMode) -> String {
         QueryMode::Leaves => "leaves".into(),
         QueryMode::Depth(d) => format!("depth {d}"),
         QueryMode::Budget(b) => format!("budget {b}"),
+        // A mode newer than this runner.
+        other => format!("{other:?}"),
     }
 }
 
@@ -265,10 +267,7 @@ pub fn run(scene: &Scene, frames: &[usize], options: &[BuildOptions]) -> Vec<Row
     for o in options {
         bar.set_message(label(o));
         // Every knob on one thread, as the peers run.
-        let mut meshes = build(&BuildOptions {
-            refit_threads: 1,
-            ..*o
-        });
+        let mut meshes = build(&o.with_refit_threads(1));
         let layouts: Vec<Layout> = meshes.iter().map(Layout::new).collect();
         let levels = meshes
             .iter()
@@ -320,10 +319,7 @@ pub fn run(scene: &Scene, frames: &[usize], options: &[BuildOptions]) -> Vec<Row
             }
             let refit = t.elapsed().as_secs_f64() * 1e3;
             for row in mine.iter_mut() {
-                let options = QueryOptions {
-                    threads: 1,
-                    ..QueryOptions::with_mode(row.mode)
-                };
+                let options = QueryOptions::with_mode(row.mode).with_threads(1);
                 let (mut query, mut tests) = (0.0, 0u64);
                 for (p, &(a, b)) in scene.pairs.iter().enumerate() {
                     let t = Instant::now();

@@ -48,10 +48,7 @@ impl Dvh {
     /// On `threads` threads (0: every core) for refits and queries alike.
     pub fn threaded(options: BuildOptions, threads: u32) -> Dvh {
         Dvh {
-            options: BuildOptions {
-                refit_threads: threads,
-                ..options
-            },
+            options: options.with_refit_threads(threads),
             threads,
             meshes: Vec::new(),
             pairs: Pairs::new(),
@@ -66,19 +63,24 @@ pub fn label(o: &BuildOptions) -> String {
         dvh::VolumeKind::Dvh => "DVH",
         dvh::VolumeKind::Sbv => "SBV",
         dvh::VolumeKind::Aabb => "AABB",
+        // Kinds newer than this runner, here and below.
+        _ => "?",
     };
     let tree = match o.tree {
         dvh::TreeKind::Octree => "octree",
         dvh::TreeKind::Binary => "binary",
+        _ => "?",
     };
     let radius = match (o.volume, o.radius) {
         (dvh::VolumeKind::Aabb, _) => "",
         (_, dvh::RadiusKind::Layered) => " layered",
         (_, dvh::RadiusKind::Wrapped) => " wrapped",
+        _ => " ?",
     };
     let leftovers = match o.leftovers {
         dvh::LeftoverPolicy::JoinAdjacent => "",
         dvh::LeftoverPolicy::ExtraRings => " extra rings",
+        _ => " ?",
     };
     format!("{volume} {tree}{radius}{leftovers}")
 }
@@ -120,10 +122,7 @@ impl Method for Dvh {
             None,
             &self.meshes[b],
             None,
-            &QueryOptions {
-                threads: self.threads,
-                ..QueryOptions::default()
-            },
+            &QueryOptions::default().with_threads(self.threads),
             &mut self.pairs,
         )
         .expect("queries on valid meshes succeed");

@@ -155,7 +155,7 @@ mod tests {
         ] {
             assert_eq!(intersect(&t, &other), expected, "{other:?}");
             assert_eq!(intersect(&other, &t), expected, "{other:?} swapped");
-            assert_eq!(dvh::triangles_intersect(&t, &other), expected);
+            assert_eq!(dvh::exact::triangles_intersect(&t, &other), expected);
         }
     }
 }

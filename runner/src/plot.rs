@@ -134,6 +134,8 @@ fn volume_name(v: VolumeKind) -> &'static str {
         VolumeKind::Dvh => "DVH",
         VolumeKind::Sbv => "SBV",
         VolumeKind::Aabb => "AABB",
+        // A kind newer than this runner.
+        _ => "?",
     }
 }
 

@@ -34,14 +34,8 @@ pub fn run(
     threads: u32,
     pause: Duration,
 ) -> Result<Profile, dvh::Error> {
-    let options = BuildOptions {
-        refit_threads: threads,
-        ..BuildOptions::default()
-    };
-    let query = QueryOptions {
-        threads,
-        ..QueryOptions::default()
-    };
+    let options = BuildOptions::default().with_refit_threads(threads);
+    let query = QueryOptions::default().with_threads(threads);
     let mut world = vec![Vec::new(); scene.objects.len()];
     scene.world(0, &mut world);
     let mut meshes = scene

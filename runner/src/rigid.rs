@@ -33,10 +33,7 @@ pub fn run(scene: &Scene) -> Vec<(BuildOptions, f64, f64)> {
                         Some(&poses[a]),
                         &meshes[b],
                         Some(&poses[b]),
-                        &QueryOptions {
-                            threads: 1,
-                            ..QueryOptions::default()
-                        },
+                        &QueryOptions::default().with_threads(1),
                         &mut pairs,
                     )
                     .expect("query");

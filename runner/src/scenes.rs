@@ -87,14 +87,8 @@ fn many(
     rows: &mut Vec<Row>,
 ) -> Result<(), Box<dyn std::error::Error>> {
     let s = scene::make("many", size).expect("a known scene");
-    let options = BuildOptions {
-        refit_threads: threads,
-        ..BuildOptions::default()
-    };
-    let query = QueryOptions {
-        threads,
-        ..QueryOptions::default()
-    };
+    let options = BuildOptions::default().with_refit_threads(threads);
+    let query = QueryOptions::default().with_threads(threads);
     let mut world = vec![Vec::new(); s.objects.len()];
     s.world(0, &mut world);
     let mut meshes = s
@@ -207,10 +201,7 @@ fn static_objects(
             [2.0 * x as f64, 2.4 * y as f64, 2.4 * z as f64],
         )
     };
-    let query = QueryOptions {
-        threads,
-        ..QueryOptions::default()
-    };
+    let query = QueryOptions::default().with_threads(threads);
     for (filtered, method) in [
         (false, "scene, 1% moved per frame"),
         (true, "the same, every pair filtered: broad phase alone"),
@@ -265,14 +256,8 @@ fn cloth(
     let sheet = grid(n, 40.0);
     let mut ball = icosphere(2);
     ball.scale(0.5);
-    let query = QueryOptions {
-        threads,
-        ..QueryOptions::default()
-    };
-    let build = BuildOptions {
-        refit_threads: threads,
-        ..BuildOptions::default()
-    };
+    let query = QueryOptions::default().with_threads(threads);
+    let build = BuildOptions::default().with_refit_threads(threads);
     let mut cloth_mesh = Mesh::new(&sheet.positions, &sheet.triangles, &build)?;
     let ball_mesh = Mesh::new(&ball.positions, &ball.triangles, &BuildOptions::rigid())?;
     let mut rng = Rng::new(5);

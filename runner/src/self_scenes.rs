@@ -154,10 +154,7 @@ pub fn run(
     if chosen("bent") {
         meshes.push(bent(size.full));
     }
-    let options = QueryOptions {
-        threads,
-        ..QueryOptions::default()
-    };
+    let options = QueryOptions::default().with_threads(threads);
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -175,10 +172,7 @@ pub fn run(
         .flat_map(|m| [(m, TreeKind::Octree), (m, TreeKind::Binary)])
     {
         let proximity = proximity && tree == TreeKind::Octree;
-        let build = BuildOptions {
-            tree,
-            ..BuildOptions::default()
-        };
+        let build = BuildOptions::default().with_tree(tree);
         let mut mesh = Mesh::new(&m.rest.positions, &m.rest.triangles, &build)?;
         let b = m.rest.bounds();
         let diagonal = (0..3)

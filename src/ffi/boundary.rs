@@ -207,6 +207,17 @@ pub(crate) fn times_three(count: usize, name: &str) -> Result<usize, Failure> {
         .ok_or_else(|| Failure::invalid(format!("argument `{name}` = {count} is too large")))
 }
 
+/// Writes `value` to the optional out-parameter `out` unless it is NULL.
+///
+/// # Safety
+/// `out` is NULL or writable.
+pub(crate) unsafe fn write_unless_null<T>(out: *mut T, value: T) {
+    if !out.is_null() {
+        // SAFETY: non-NULL and writable (contract).
+        unsafe { out.write(value) };
+    }
+}
+
 /// A box allocated without aborting on failure.
 pub(crate) fn try_box<T>(value: T) -> Result<*mut T, Failure> {
     let layout = std::alloc::Layout::new::<T>();

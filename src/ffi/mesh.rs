@@ -459,6 +459,31 @@ unsafe fn mesh_ref<'a>(mesh: *const DvhMesh, call: &str) -> Result<Read<'a, Mesh
     unsafe { read(mesh, "mesh", call) }
 }
 
+/// Writes what `f` reads of a mesh to the out-parameter `out` (named `out_name`), for entry
+/// point `call`.
+///
+/// # Safety
+/// `mesh` is NULL or a live mesh; `out` is NULL or writable.
+unsafe fn mesh_out<T>(
+    mesh: *const DvhMesh,
+    out: *mut T,
+    out_name: &str,
+    call: &str,
+    f: impl FnOnce(&Mesh) -> T,
+) -> DvhStatus {
+    guard(|| {
+        // SAFETY: per the contract.
+        let m = unsafe { mesh_ref(mesh, call)? };
+        if out.is_null() {
+            return Err(Failure::null(out_name));
+        }
+        let value = f(&m);
+        // SAFETY: non-NULL (checked) and writable per the contract.
+        unsafe { out.write(value) };
+        Ok(())
+    })
+}
+
 /// Number of vertices of a mesh (0 for NULL).
 ///
 /// Thread safety: may run alongside queries on the same mesh, not alongside a refit (0 then, and
@@ -513,25 +538,12 @@ pub unsafe extern "C" fn dvh_mesh_tree_stats(
     mesh: *const DvhMesh,
     stats_out: *mut DvhTreeStats,
 ) -> DvhStatus {
-    guard(|| {
-        // SAFETY: per the contract.
-        let m = unsafe { mesh_ref(mesh, "dvh_mesh_tree_stats")? };
-        if stats_out.is_null() {
-            return Err(Failure::null("stats_out"));
-        }
-        let s = m.tree_stats();
-        // SAFETY: non-NULL (checked) and writable per the contract.
-        unsafe {
-            stats_out.write(DvhTreeStats {
-                triangles: s.triangles,
-                rings: s.rings,
-                inner_nodes: s.inner_nodes,
-                levels: s.levels,
-                max_ring_triangles: s.max_ring_triangles,
-            })
-        };
-        Ok(())
-    })
+    // SAFETY: the caller's contract is this function's.
+    unsafe {
+        mesh_out(mesh, stats_out, "stats_out", "dvh_mesh_tree_stats", |m| {
+            DvhTreeStats::from(&m.tree_stats())
+        })
+    }
 }
 
 /// Writes the counters of a mesh's last refit (or of its build) to `*stats_out`.
@@ -545,22 +557,16 @@ pub unsafe extern "C" fn dvh_mesh_last_refit_stats(
     mesh: *const DvhMesh,
     stats_out: *mut DvhRefitStats,
 ) -> DvhStatus {
-    guard(|| {
-        // SAFETY: per the contract.
-        let m = unsafe { mesh_ref(mesh, "dvh_mesh_last_refit_stats")? };
-        if stats_out.is_null() {
-            return Err(Failure::null("stats_out"));
-        }
-        let s = m.last_refit();
-        // SAFETY: non-NULL (checked) and writable per the contract.
-        unsafe {
-            stats_out.write(DvhRefitStats {
-                nodes_refit: s.nodes_refit,
-                distance_evaluations: s.distance_evaluations,
-            })
-        };
-        Ok(())
-    })
+    // SAFETY: the caller's contract is this function's.
+    unsafe {
+        mesh_out(
+            mesh,
+            stats_out,
+            "stats_out",
+            "dvh_mesh_last_refit_stats",
+            |m| DvhRefitStats::from(&m.last_refit()),
+        )
+    }
 }
 
 /// The triangles below a node, to expand the node pairs of the coarse query modes: on success

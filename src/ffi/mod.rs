@@ -12,6 +12,7 @@ mod access;
 mod boundary;
 mod mesh;
 mod query;
+mod results;
 mod scene;
 mod types;
 

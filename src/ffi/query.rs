@@ -1,14 +1,15 @@
 //! Queries through the C ABI: result buffers, collide, self-collision, proximity, the exact
 //! triangle test.
 
-use super::access::{Access, PAIRS_TAG, Read, Tag, read, release, write};
-use super::boundary::{Failure, choice, guard, guard_value, set_last_error, slice_from, try_box};
+use super::access::{read, write};
+use super::boundary::{Failure, choice, guard, guard_value, slice_from, write_unless_null};
+use super::results;
 use super::types::*;
+use crate::exact::triangles_intersect;
 use crate::{
-    PairKind, Pairs, Pose, QueryMode, QueryOptions, QueryStats, collide, proximity, self_collide,
-    self_proximity, triangles_intersect,
+    Mesh, Pairs, Pose, QueryMode, QueryOptions, QueryStats, collide, proximity, self_collide,
+    self_proximity,
 };
-use std::cell::UnsafeCell;
 
 /// The default query options: every intersecting triangle pair, no pair limit, every core (all
 /// fields zero).
@@ -26,7 +27,7 @@ pub extern "C" fn dvh_query_options_default() -> DvhQueryOptions {
     guard_value(DEFAULT, || DEFAULT)
 }
 
-pub(super) fn query_options(o: &DvhQueryOptions) -> Result<QueryOptions, Failure> {
+fn query_options(o: &DvhQueryOptions) -> Result<QueryOptions, Failure> {
     let mode = choice(
         "mode",
         "DVH_QUERY_MODE",
@@ -69,28 +70,7 @@ pub(super) fn pose(p: &DvhPose, name: &str) -> Result<Pose, Failure> {
 /// Thread safety: any thread; a buffer must be used by one thread at a time.
 #[unsafe(no_mangle)]
 pub extern "C" fn dvh_pairs_new() -> *mut DvhPairs {
-    guard_value(std::ptr::null_mut(), || {
-        match try_box(DvhPairs {
-            tag: Tag::new(PAIRS_TAG),
-            access: Access::default(),
-            pairs: UnsafeCell::new(Pairs::new()),
-        }) {
-            Ok(p) => p,
-            Err(f) => {
-                set_last_error(&f.message);
-                std::ptr::null_mut()
-            }
-        }
-    })
-}
-
-/// The buffer behind `pairs` for accessor `call`.
-///
-/// # Safety
-/// `pairs` is NULL or a live buffer.
-unsafe fn pairs_ref<'a>(pairs: *const DvhPairs, call: &str) -> Option<Read<'a, Pairs>> {
-    // SAFETY: per the contract.
-    unsafe { read(pairs, "pairs", call) }.ok()
+    results::new()
 }
 
 /// Number of pairs of the last successful query into `pairs` (0 for NULL or a new buffer).
@@ -101,15 +81,13 @@ unsafe fn pairs_ref<'a>(pairs: *const DvhPairs, call: &str) -> Option<Read<'a, P
 /// `pairs` is NULL or a live buffer.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn dvh_pairs_len(pairs: *const DvhPairs) -> usize {
-    // SAFETY: per the contract.
-    guard_value(0, || {
-        unsafe { pairs_ref(pairs, "dvh_pairs_len") }.map_or(0, |p| p.len())
-    })
+    // SAFETY: the caller's contract is this function's.
+    unsafe { results::len(pairs, "dvh_pairs_len") }
 }
 
 /// The pairs of the last successful query into `pairs`: `dvh_pairs_len(pairs)` entries, sorted
-/// by `a` then `b`, without duplicates. NULL when there are none. Owned by the buffer; valid until
-/// the next `dvh_collide` into it or `dvh_pairs_free`.
+/// by `a` then `b`, without duplicates. NULL when there are none. Owned by the buffer; valid
+/// until the next query into it or `dvh_pairs_free`.
 ///
 /// Thread safety: as `dvh_pairs_len`.
 ///
@@ -117,13 +95,8 @@ pub unsafe extern "C" fn dvh_pairs_len(pairs: *const DvhPairs) -> usize {
 /// `pairs` is NULL or a live buffer.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn dvh_pairs_data(pairs: *const DvhPairs) -> *const DvhPair {
-    guard_value(std::ptr::null(), || {
-        // SAFETY: per the contract.
-        match unsafe { pairs_ref(pairs, "dvh_pairs_data") } {
-            Some(p) if !p.is_empty() => p.as_slice().as_ptr().cast::<DvhPair>(),
-            _ => std::ptr::null(),
-        }
-    })
+    // SAFETY: the caller's contract is this function's.
+    unsafe { results::data(pairs, "dvh_pairs_data") }
 }
 
 /// What the indices in `pairs` refer to: `DVH_PAIR_KIND_TRIANGLES` or `DVH_PAIR_KIND_NODES`
@@ -135,25 +108,21 @@ pub unsafe extern "C" fn dvh_pairs_data(pairs: *const DvhPairs) -> *const DvhPai
 /// `pairs` is NULL or a live buffer.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn dvh_pairs_kind(pairs: *const DvhPairs) -> DvhPairKind {
-    guard_value(DVH_PAIR_KIND_TRIANGLES, || {
-        // SAFETY: per the contract.
-        match unsafe { pairs_ref(pairs, "dvh_pairs_kind") }.map(|p| p.kind()) {
-            Some(PairKind::Nodes) => DVH_PAIR_KIND_NODES,
-            _ => DVH_PAIR_KIND_TRIANGLES,
-        }
-    })
+    // SAFETY: the caller's contract is this function's.
+    unsafe { results::kind(pairs, "dvh_pairs_kind") }
 }
 
 /// Releases a result buffer. NULL is a no-op.
 ///
-/// Thread safety: needs exclusive access; the buffer must not be used afterwards.
+/// Thread safety: needs exclusive access; the buffer must not be used afterwards. A buffer in
+/// use by another call is not released (the last error message says so).
 ///
 /// # Safety
 /// `pairs` is NULL or a live buffer from `dvh_pairs_new`, not freed before.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn dvh_pairs_free(pairs: *mut DvhPairs) {
-    // SAFETY: allocated by `try_box` and owned by the caller (contract).
-    guard_value((), || unsafe { release(pairs, "pairs", "dvh_pairs_free") })
+    // SAFETY: the caller's contract is this function's.
+    unsafe { results::free(pairs, "dvh_pairs_free") }
 }
 
 /// Finds what intersects between mesh `a` placed by `pose_a` and mesh `b` placed by `pose_b`
@@ -189,54 +158,98 @@ pub unsafe extern "C" fn dvh_collide(
     pairs_out: *mut DvhPairs,
     stats_out: *mut DvhQueryStats,
 ) -> DvhStatus {
-    guard(|| {
-        // SAFETY: NULL or live, read-only during the call (contract).
-        let (ma, mb) = unsafe { (read(a, "a", "dvh_collide")?, read(b, "b", "dvh_collide")?) };
-        // SAFETY: NULL or a live buffer used by this thread only (contract).
-        let mut out = unsafe { write(pairs_out, "pairs_out", "dvh_collide")? };
-        // SAFETY: NULL or readable (contract).
-        let (pa, pb) = unsafe { (pose_a.as_ref(), pose_b.as_ref()) };
-        let pa = pa.map(|p| pose(p, "pose_a")).transpose()?;
-        let pb = pb.map(|p| pose(p, "pose_b")).transpose()?;
-        // SAFETY: NULL or readable (contract).
-        let o = unsafe { options_or_default(options) }?;
-        let s = collide(&ma, pa.as_ref(), &mb, pb.as_ref(), &o, &mut out)?;
-        // SAFETY: NULL or writable (contract).
-        unsafe { write_stats(stats_out, &s) };
-        Ok(())
-    })
+    // SAFETY: the caller's contract is this function's.
+    unsafe {
+        two_meshes(
+            (a, pose_a),
+            (b, pose_b),
+            options,
+            pairs_out,
+            stats_out,
+            "dvh_collide",
+            collide,
+        )
+    }
 }
 
 /// The options behind `o`, or the defaults for NULL.
 ///
 /// # Safety
 /// `o` is NULL or readable.
-unsafe fn options_or_default(o: *const DvhQueryOptions) -> Result<QueryOptions, Failure> {
+pub(super) unsafe fn options_or_default(
+    o: *const DvhQueryOptions,
+) -> Result<QueryOptions, Failure> {
     // SAFETY: NULL or readable (contract).
     let o = unsafe { o.as_ref() };
     Ok(o.map(query_options).transpose()?.unwrap_or_default())
 }
 
-/// Writes a query's counters to `out` unless it is NULL.
+/// A mesh and its pose, as the C arguments give them.
+type Placed = (*const DvhMesh, *const DvhPose);
+
+/// A query between two meshes from C (entry point `call`): the meshes, poses and options read
+/// and checked, `query` run into `pairs_out`, its counters written to `stats_out` unless NULL.
 ///
 /// # Safety
-/// `out` is NULL or writable.
-unsafe fn write_stats(out: *mut DvhQueryStats, s: &QueryStats) {
-    if !out.is_null() {
-        // SAFETY: non-NULL and writable (contract).
-        unsafe {
-            out.write(DvhQueryStats {
-                bv_tests: s.bv_tests,
-                triangle_tests: s.triangle_tests,
-                triangle_candidates: s.triangle_candidates,
-                leaf_pairs: s.leaf_pairs,
-                pairs: s.pairs,
-                nodes_refit: s.nodes_refit,
-                truncated: s.truncated,
-                frontier_pairs: s.frontier_pairs,
-            })
-        };
-    }
+/// As `dvh_collide`'s.
+unsafe fn two_meshes(
+    (a, pose_a): Placed,
+    (b, pose_b): Placed,
+    options: *const DvhQueryOptions,
+    pairs_out: *mut DvhPairs,
+    stats_out: *mut DvhQueryStats,
+    call: &str,
+    query: impl FnOnce(
+        &Mesh,
+        Option<&Pose>,
+        &Mesh,
+        Option<&Pose>,
+        &QueryOptions,
+        &mut Pairs,
+    ) -> crate::Result<QueryStats>,
+) -> DvhStatus {
+    guard(|| {
+        // SAFETY: NULL or live, read-only during the call (contract).
+        let (ma, mb) = unsafe { (read(a, "a", call)?, read(b, "b", call)?) };
+        // SAFETY: NULL or a live buffer used by this thread only (contract).
+        let mut out = unsafe { write(pairs_out, "pairs_out", call)? };
+        // SAFETY: NULL or readable (contract).
+        let (pa, pb) = unsafe { (pose_a.as_ref(), pose_b.as_ref()) };
+        let pa = pa.map(|p| pose(p, "pose_a")).transpose()?;
+        let pb = pb.map(|p| pose(p, "pose_b")).transpose()?;
+        // SAFETY: NULL or readable (contract).
+        let o = unsafe { options_or_default(options) }?;
+        let s = query(&ma, pa.as_ref(), &mb, pb.as_ref(), &o, &mut out)?;
+        // SAFETY: NULL or writable (contract).
+        unsafe { write_unless_null(stats_out, DvhQueryStats::from(&s)) };
+        Ok(())
+    })
+}
+
+/// A query of one mesh against itself from C (entry point `call`), as [`two_meshes`].
+///
+/// # Safety
+/// As `dvh_self_collide`'s.
+unsafe fn one_mesh(
+    mesh: *const DvhMesh,
+    options: *const DvhQueryOptions,
+    pairs_out: *mut DvhPairs,
+    stats_out: *mut DvhQueryStats,
+    call: &str,
+    query: impl FnOnce(&Mesh, &QueryOptions, &mut Pairs) -> crate::Result<QueryStats>,
+) -> DvhStatus {
+    guard(|| {
+        // SAFETY: NULL or live, read-only during the call (contract).
+        let m = unsafe { read(mesh, "mesh", call) }?;
+        // SAFETY: NULL or a live buffer used by this thread only (contract).
+        let mut out = unsafe { write(pairs_out, "pairs_out", call)? };
+        // SAFETY: NULL or readable (contract).
+        let o = unsafe { options_or_default(options) }?;
+        let s = query(&m, &o, &mut out)?;
+        // SAFETY: NULL or writable (contract).
+        unsafe { write_unless_null(stats_out, DvhQueryStats::from(&s)) };
+        Ok(())
+    })
 }
 
 /// The pairs `(a, b)`, `a < b`, of triangles of one mesh that intersect. Two triangles that
@@ -266,18 +279,17 @@ pub unsafe extern "C" fn dvh_self_collide(
     pairs_out: *mut DvhPairs,
     stats_out: *mut DvhQueryStats,
 ) -> DvhStatus {
-    guard(|| {
-        // SAFETY: NULL or live, read-only during the call (contract).
-        let m = unsafe { read(mesh, "mesh", "dvh_self_collide") }?;
-        // SAFETY: NULL or a live buffer used by this thread only (contract).
-        let mut out = unsafe { write(pairs_out, "pairs_out", "dvh_self_collide")? };
-        // SAFETY: NULL or readable (contract).
-        let o = unsafe { options_or_default(options) }?;
-        let s = self_collide(&m, &o, &mut out)?;
-        // SAFETY: NULL or writable (contract).
-        unsafe { write_stats(stats_out, &s) };
-        Ok(())
-    })
+    // SAFETY: the caller's contract is this function's.
+    unsafe {
+        one_mesh(
+            mesh,
+            options,
+            pairs_out,
+            stats_out,
+            "dvh_self_collide",
+            self_collide,
+        )
+    }
 }
 
 /// Every pair `(triangle of a, triangle of b)` of closed triangles at Euclidean distance
@@ -311,27 +323,18 @@ pub unsafe extern "C" fn dvh_proximity(
     pairs_out: *mut DvhPairs,
     stats_out: *mut DvhQueryStats,
 ) -> DvhStatus {
-    guard(|| {
-        // SAFETY: NULL or live, read-only during the call (contract).
-        let (ma, mb) = unsafe {
-            (
-                read(a, "a", "dvh_proximity")?,
-                read(b, "b", "dvh_proximity")?,
-            )
-        };
-        // SAFETY: NULL or a live buffer used by this thread only (contract).
-        let mut out = unsafe { write(pairs_out, "pairs_out", "dvh_proximity")? };
-        // SAFETY: NULL or readable (contract).
-        let (pa, pb) = unsafe { (pose_a.as_ref(), pose_b.as_ref()) };
-        let pa = pa.map(|p| pose(p, "pose_a")).transpose()?;
-        let pb = pb.map(|p| pose(p, "pose_b")).transpose()?;
-        // SAFETY: NULL or readable (contract).
-        let o = unsafe { options_or_default(options) }?;
-        let s = proximity(&ma, pa.as_ref(), &mb, pb.as_ref(), distance, &o, &mut out)?;
-        // SAFETY: NULL or writable (contract).
-        unsafe { write_stats(stats_out, &s) };
-        Ok(())
-    })
+    // SAFETY: the caller's contract is this function's.
+    unsafe {
+        two_meshes(
+            (a, pose_a),
+            (b, pose_b),
+            options,
+            pairs_out,
+            stats_out,
+            "dvh_proximity",
+            |ma, pa, mb, pb, o, out| proximity(ma, pa, mb, pb, distance, o, out),
+        )
+    }
 }
 
 /// The pairs `(a, b)`, `a < b`, of one mesh's triangles that share no vertex (by index) and lie
@@ -356,18 +359,17 @@ pub unsafe extern "C" fn dvh_self_proximity(
     pairs_out: *mut DvhPairs,
     stats_out: *mut DvhQueryStats,
 ) -> DvhStatus {
-    guard(|| {
-        // SAFETY: NULL or live, read-only during the call (contract).
-        let m = unsafe { read(mesh, "mesh", "dvh_self_proximity") }?;
-        // SAFETY: NULL or a live buffer used by this thread only (contract).
-        let mut out = unsafe { write(pairs_out, "pairs_out", "dvh_self_proximity")? };
-        // SAFETY: NULL or readable (contract).
-        let o = unsafe { options_or_default(options) }?;
-        let s = self_proximity(&m, distance, &o, &mut out)?;
-        // SAFETY: NULL or writable (contract).
-        unsafe { write_stats(stats_out, &s) };
-        Ok(())
-    })
+    // SAFETY: the caller's contract is this function's.
+    unsafe {
+        one_mesh(
+            mesh,
+            options,
+            pairs_out,
+            stats_out,
+            "dvh_self_proximity",
+            |m, o, out| self_proximity(m, distance, o, out),
+        )
+    }
 }
 
 /// The exact triangle test the queries use: do the closed triangles `t1` and `t2` (9 doubles

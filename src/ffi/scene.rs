@@ -1,13 +1,14 @@
 //! Scenes through the C ABI: objects, filters, the frame's query and its contact buffer.
 
-use super::access::{Access, CONTACTS_TAG, Read, SCENE_TAG, Tag, Write, read, release, write};
+use super::access::{Access, SCENE_TAG, Tag, Write, read, release, write};
 use super::boundary::{
-    Failure, guard, guard_value, set_last_error, slice_from, times_three, try_box,
+    Failure, guard, guard_value, slice_from, times_three, try_box, write_unless_null,
 };
 use super::mesh::StridedF32;
-use super::query::{pose, query_options};
+use super::query::{options_or_default, pose};
+use super::results;
 use super::types::*;
-use crate::{Contacts, Mesh, PairKind, Pose, Scene};
+use crate::{Mesh, Pose, Scene};
 use std::cell::UnsafeCell;
 
 /// Creates an empty scene and writes it to `*scene_out`. Release it with `dvh_scene_free`.
@@ -343,58 +344,22 @@ pub unsafe extern "C" fn dvh_scene_collide(
         // SAFETY: NULL or a live buffer used by this thread only (contract).
         let mut out = unsafe { write(contacts_out, "contacts_out", "dvh_scene_collide")? };
         // SAFETY: NULL or readable (contract).
-        let o = unsafe { options.as_ref() }
-            .map(query_options)
-            .transpose()?
-            .unwrap_or_default();
+        let o = unsafe { options_or_default(options) }?;
         let st = s.collide(&o, &mut out)?;
-        if !stats_out.is_null() {
-            // SAFETY: non-NULL and writable (contract).
-            unsafe {
-                stats_out.write(DvhSceneStats {
-                    objects: st.objects,
-                    object_pairs_tested: st.object_pairs_tested,
-                    object_pairs_colliding: st.object_pairs_colliding,
-                    bv_tests: st.bv_tests,
-                    triangle_tests: st.triangle_tests,
-                    nodes_refit: st.nodes_refit,
-                    contacts: st.contacts,
-                    truncated: st.truncated,
-                })
-            };
-        }
+        // SAFETY: NULL or writable (contract).
+        unsafe { write_unless_null(stats_out, DvhSceneStats::from(&st)) };
         Ok(())
     })
 }
 
 /// A new, empty contact buffer, or NULL when memory ran out. Owned by the caller, released with
-/// `dvh_contacts_free`; it keeps the scratch space of the queries that use it.
+/// `dvh_contacts_free`. It keeps the scratch space of the queries that use it, so that once it
+/// has grown to a scene's needs queries allocate nothing.
 ///
 /// Thread safety: any thread; a buffer must be used by one thread at a time.
 #[unsafe(no_mangle)]
 pub extern "C" fn dvh_contacts_new() -> *mut DvhContacts {
-    guard_value(std::ptr::null_mut(), || {
-        match try_box(DvhContacts {
-            tag: Tag::new(CONTACTS_TAG),
-            access: Access::default(),
-            contacts: UnsafeCell::new(Contacts::new()),
-        }) {
-            Ok(p) => p,
-            Err(f) => {
-                set_last_error(&f.message);
-                std::ptr::null_mut()
-            }
-        }
-    })
-}
-
-/// The buffer behind `contacts` for accessor `call`.
-///
-/// # Safety
-/// `contacts` is NULL or a live buffer.
-unsafe fn contacts_ref<'a>(contacts: *const DvhContacts, call: &str) -> Option<Read<'a, Contacts>> {
-    // SAFETY: per the contract.
-    unsafe { read(contacts, "contacts", call) }.ok()
+    results::new()
 }
 
 /// Number of contacts of the last successful query into `contacts` (0 for NULL or a new
@@ -406,15 +371,13 @@ unsafe fn contacts_ref<'a>(contacts: *const DvhContacts, call: &str) -> Option<R
 /// `contacts` is NULL or a live buffer.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn dvh_contacts_len(contacts: *const DvhContacts) -> usize {
-    // SAFETY: per the contract.
-    guard_value(0, || {
-        unsafe { contacts_ref(contacts, "dvh_contacts_len") }.map_or(0, |c| c.len())
-    })
+    // SAFETY: the caller's contract is this function's.
+    unsafe { results::len(contacts, "dvh_contacts_len") }
 }
 
 /// The contacts of the last successful query into `contacts`: `dvh_contacts_len(contacts)`
-/// entries sorted by `(object_a, object_b, a, b)`. NULL when there are none. Owned by the
-/// buffer; valid until the next `dvh_scene_collide` into it or `dvh_contacts_free`.
+/// entries, sorted by `(object_a, object_b, a, b)`, without duplicates. NULL when there are
+/// none. Owned by the buffer; valid until the next query into it or `dvh_contacts_free`.
 ///
 /// Thread safety: as `dvh_contacts_len`.
 ///
@@ -422,17 +385,12 @@ pub unsafe extern "C" fn dvh_contacts_len(contacts: *const DvhContacts) -> usize
 /// `contacts` is NULL or a live buffer.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn dvh_contacts_data(contacts: *const DvhContacts) -> *const DvhContact {
-    guard_value(std::ptr::null(), || {
-        // SAFETY: per the contract.
-        match unsafe { contacts_ref(contacts, "dvh_contacts_data") } {
-            Some(c) if !c.is_empty() => c.as_slice().as_ptr().cast::<DvhContact>(),
-            _ => std::ptr::null(),
-        }
-    })
+    // SAFETY: the caller's contract is this function's.
+    unsafe { results::data(contacts, "dvh_contacts_data") }
 }
 
-/// What `a` and `b` of the contacts in `contacts` index: `DVH_PAIR_KIND_TRIANGLES` or
-/// `DVH_PAIR_KIND_NODES` (triangles for NULL or a new buffer).
+/// What the indices `a` and `b` of the contacts in `contacts` refer to:
+/// `DVH_PAIR_KIND_TRIANGLES` or `DVH_PAIR_KIND_NODES` (triangles for NULL or a new buffer).
 ///
 /// Thread safety: as `dvh_contacts_len`.
 ///
@@ -440,25 +398,19 @@ pub unsafe extern "C" fn dvh_contacts_data(contacts: *const DvhContacts) -> *con
 /// `contacts` is NULL or a live buffer.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn dvh_contacts_kind(contacts: *const DvhContacts) -> DvhPairKind {
-    guard_value(DVH_PAIR_KIND_TRIANGLES, || {
-        // SAFETY: per the contract.
-        match unsafe { contacts_ref(contacts, "dvh_contacts_kind") }.map(|c| c.kind()) {
-            Some(PairKind::Nodes) => DVH_PAIR_KIND_NODES,
-            _ => DVH_PAIR_KIND_TRIANGLES,
-        }
-    })
+    // SAFETY: the caller's contract is this function's.
+    unsafe { results::kind(contacts, "dvh_contacts_kind") }
 }
 
 /// Releases a contact buffer. NULL is a no-op.
 ///
-/// Thread safety: needs exclusive access; the buffer must not be used afterwards.
+/// Thread safety: needs exclusive access; the buffer must not be used afterwards. A buffer in
+/// use by another call is not released (the last error message says so).
 ///
 /// # Safety
 /// `contacts` is NULL or a live buffer from `dvh_contacts_new`, not freed before.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn dvh_contacts_free(contacts: *mut DvhContacts) {
-    // SAFETY: allocated by `try_box` and owned by the caller (contract).
-    guard_value((), || unsafe {
-        release(contacts, "contacts", "dvh_contacts_free")
-    })
+    // SAFETY: the caller's contract is this function's.
+    unsafe { results::free(contacts, "dvh_contacts_free") }
 }

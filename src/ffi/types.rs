@@ -5,7 +5,7 @@
 //! undefined behaviour. Every such value is checked and reported as an invalid argument.
 
 use super::access::{Access, Tag};
-use crate::{Contact, Pair};
+use crate::{Contact, Pair, QueryStats, RefitStats, SceneStats, TreeStats};
 use std::cell::UnsafeCell;
 
 /// Result of every fallible call: `DVH_STATUS_OK` (0) or one of the `DVH_STATUS_*` codes.
@@ -147,15 +147,17 @@ pub struct DvhQueryStats {
     pub bv_tests: u64,
     /// Triangle pairs given to the exact test (`NP`).
     pub triangle_tests: u64,
-    /// Triangle pairs of overlapping leaves, before the exact box filter.
+    /// Triangle pairs of overlapping leaves, before the exact bounding-box filter that decides
+    /// which go to the exact test.
     pub triangle_candidates: u64,
-    /// Overlapping pairs of terminal nodes (leaves, or nodes at the depth limit).
+    /// Overlapping pairs of terminal nodes (leaves, or nodes at the depth limit) the traversal
+    /// reached.
     pub leaf_pairs: u64,
     /// Pairs reported.
     pub pairs: u64,
-    /// Nodes recomputed by the last refit of each mesh (`NU`).
+    /// Nodes recomputed by the last refit of each mesh (`NU` of the frame).
     pub nodes_refit: u64,
-    /// Did `max_pairs` stop the query?
+    /// Did `max_pairs` stop the query before every pair was found?
     pub truncated: bool,
     /// Node pairs left unopened when the budget of `DVH_QUERY_MODE_BUDGET` ran out (0: it
     /// sufficed, and the result is `DVH_QUERY_MODE_LEAVES`'s).
@@ -166,9 +168,9 @@ pub struct DvhQueryStats {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct DvhRefitStats {
-    /// Nodes whose radius was recomputed (`NU`).
+    /// Nodes whose volume was recomputed (`NU`).
     pub nodes_refit: u64,
-    /// Vertex-to-centre distances evaluated.
+    /// Vertex-to-centre distances evaluated (for boxes: vertices folded into leaf boxes).
     pub distance_evaluations: u64,
 }
 
@@ -180,9 +182,9 @@ pub struct DvhTreeStats {
     pub triangles: usize,
     /// 1-rings, that is leaves.
     pub rings: usize,
-    /// Inner nodes.
+    /// Inner nodes ("clusters" in the paper).
     pub inner_nodes: usize,
-    /// Depth of the deepest leaf plus one.
+    /// Levels: the depth of the deepest leaf plus one.
     pub levels: usize,
     /// Most triangles in one ring.
     pub max_ring_triangles: usize,
@@ -269,7 +271,9 @@ const _: () = {
 pub struct DvhSceneStats {
     /// Objects in the scene.
     pub objects: u64,
-    /// Object pairs that passed the broad phase and the filters, and were queried.
+    /// Object pairs that passed the broad phase and the filters, and were queried. A pair that
+    /// an earlier query found without contact is not queried again while neither object has
+    /// changed (nor the options): it is not counted.
     pub object_pairs_tested: u64,
     /// Object pairs with at least one contact.
     pub object_pairs_colliding: u64,
@@ -277,8 +281,9 @@ pub struct DvhSceneStats {
     pub bv_tests: u64,
     /// Triangle pairs given to the exact test, over every object pair.
     pub triangle_tests: u64,
-    /// Nodes recomputed by the refits the query made (`NU`): with box volumes, only the blocks
-    /// of the deformable objects' trees that a traversal reached.
+    /// Nodes recomputed by the refits the query made (`NU`): only in deformable objects some
+    /// pair needed whose positions had changed and, with box volumes in the modes that report
+    /// triangles, only the blocks of their trees that a traversal reached.
     pub nodes_refit: u64,
     /// Contacts reported.
     pub contacts: u64,
@@ -302,4 +307,131 @@ pub struct DvhContacts {
     /// Scene queries write it, the accessors read it.
     pub(crate) access: Access,
     pub(crate) contacts: UnsafeCell<crate::Contacts>,
+}
+
+// The counters cross the boundary as mirrors of the library's own, field for field and in the
+// same order. Each conversion names every field of both sides, so that a field added to one
+// without the other does not compile; the tests below check names, order, values and layout.
+macro_rules! mirror {
+    ($rust:ident => $c:ident { $($field:ident),+ $(,)? }) => {
+        impl From<&$rust> for $c {
+            fn from(s: &$rust) -> $c {
+                let $rust { $($field),+ } = *s;
+                $c { $($field),+ }
+            }
+        }
+    };
+}
+
+mirror!(QueryStats => DvhQueryStats {
+    bv_tests, triangle_tests, triangle_candidates, leaf_pairs, pairs, nodes_refit, truncated,
+    frontier_pairs,
+});
+mirror!(SceneStats => DvhSceneStats {
+    objects, object_pairs_tested, object_pairs_colliding, bv_tests, triangle_tests, nodes_refit,
+    contacts, truncated,
+});
+mirror!(RefitStats => DvhRefitStats { nodes_refit, distance_evaluations });
+mirror!(TreeStats => DvhTreeStats { triangles, rings, inner_nodes, levels, max_ring_triangles });
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::mem::{align_of, offset_of, size_of};
+
+    /// Each C counter struct, converted from its Rust twin holding a distinct value in every
+    /// field, prints as the twin does: the same fields, in the same order, with the same values.
+    #[test]
+    fn c_counters_mirror_the_rust_counters_field_by_field() {
+        let query = QueryStats {
+            bv_tests: 1,
+            triangle_tests: 2,
+            triangle_candidates: 3,
+            leaf_pairs: 4,
+            pairs: 5,
+            nodes_refit: 6,
+            truncated: true,
+            frontier_pairs: 7,
+        };
+        let scene = SceneStats {
+            objects: 1,
+            object_pairs_tested: 2,
+            object_pairs_colliding: 3,
+            bv_tests: 4,
+            triangle_tests: 5,
+            nodes_refit: 6,
+            contacts: 7,
+            truncated: true,
+        };
+        let refit = RefitStats {
+            nodes_refit: 1,
+            distance_evaluations: 2,
+        };
+        let tree = TreeStats {
+            triangles: 1,
+            rings: 2,
+            inner_nodes: 3,
+            levels: 4,
+            max_ring_triangles: 5,
+        };
+        let pairs = [
+            (
+                format!("{:?}", DvhQueryStats::from(&query)),
+                format!("Dvh{query:?}"),
+            ),
+            (
+                format!("{:?}", DvhSceneStats::from(&scene)),
+                format!("Dvh{scene:?}"),
+            ),
+            (
+                format!("{:?}", DvhRefitStats::from(&refit)),
+                format!("Dvh{refit:?}"),
+            ),
+            (
+                format!("{:?}", DvhTreeStats::from(&tree)),
+                format!("Dvh{tree:?}"),
+            ),
+        ];
+        for (c, rust) in pairs {
+            assert_eq!(c, rust);
+        }
+    }
+
+    /// Asserts the size and alignment of a C struct and the offset of each field, in order.
+    macro_rules! assert_layout {
+        ($t:ty, size $size:expr, align $align:expr, $($field:ident $offset:expr),+ $(,)?) => {
+            assert_eq!(size_of::<$t>(), $size, "size of {}", stringify!($t));
+            assert_eq!(align_of::<$t>(), $align, "alignment of {}", stringify!($t));
+            $(assert_eq!(
+                offset_of!($t, $field),
+                $offset,
+                "offset of {}.{}",
+                stringify!($t),
+                stringify!($field)
+            );)+
+        };
+    }
+
+    /// The layouts programs were compiled against (`include/dvh.h`, on 64-bit targets): a change
+    /// here breaks every program built against the header.
+    #[test]
+    #[cfg(target_pointer_width = "64")]
+    fn c_structs_keep_their_layout() {
+        assert_layout!(DvhBuildOptions, size 20, align 4,
+            tree 0, radius 4, leftovers 8, volume 12, refit_threads 16);
+        assert_layout!(DvhQueryOptions, size 32, align 8,
+            mode 0, max_depth 4, max_pairs 8, budget 16, threads 24);
+        assert_layout!(DvhQueryStats, size 64, align 8,
+            bv_tests 0, triangle_tests 8, triangle_candidates 16, leaf_pairs 24, pairs 32,
+            nodes_refit 40, truncated 48, frontier_pairs 56);
+        assert_layout!(DvhSceneStats, size 64, align 8,
+            objects 0, object_pairs_tested 8, object_pairs_colliding 16, bv_tests 24,
+            triangle_tests 32, nodes_refit 40, contacts 48, truncated 56);
+        assert_layout!(DvhRefitStats, size 16, align 8, nodes_refit 0, distance_evaluations 8);
+        assert_layout!(DvhTreeStats, size 40, align 8,
+            triangles 0, rings 8, inner_nodes 16, levels 24, max_ring_triangles 32);
+        assert_layout!(DvhPose, size 96, align 8, rotation 0, translation 72);
+        assert_layout!(DvhPair, size 8, align 4, a 0, b 4);
+        assert_layout!(DvhContact, size 16, align 4, object_a 0, object_b 4, a 8, b 12);
+    }
 }

@@ -2,6 +2,7 @@
 
 use super::predicates::Point;
 use crate::error::{Error, Result};
+#[cfg(feature = "nalgebra")]
 use nalgebra::{Isometry3, Matrix3, Vector3};
 
 /// Largest entry of `|RᵀR - I|` a pose's rotation may have. Rotations that went through `f32`
@@ -63,10 +64,7 @@ impl Pose {
                 });
             }
         }
-        let r = Matrix3::from_fn(|i, j| rotation[i][j]);
-        let gram = r.transpose() * r - Matrix3::identity();
-        let deviation = gram.abs().max();
-        let determinant = r.determinant();
+        let (deviation, determinant) = rigidity(&rotation);
         // Written so that NaN fails too.
         let rigid = deviation <= RIGIDITY_TOLERANCE && determinant > 0.0;
         if !rigid {
@@ -86,7 +84,8 @@ impl Pose {
         })
     }
 
-    /// A pose from an nalgebra isometry.
+    /// A pose from an nalgebra isometry (cargo feature `nalgebra`).
+    #[cfg(feature = "nalgebra")]
     pub fn from_isometry(isometry: &Isometry3<f64>) -> Result<Pose> {
         let m = isometry.rotation.to_rotation_matrix();
         let m = m.matrix();
@@ -101,7 +100,9 @@ impl Pose {
         )
     }
 
-    /// A pose from a rotation matrix and a translation vector (nalgebra types).
+    /// A pose from a rotation matrix and a translation vector (nalgebra types; cargo feature
+    /// `nalgebra`).
+    #[cfg(feature = "nalgebra")]
     pub fn from_matrix(rotation: &Matrix3<f64>, translation: &Vector3<f64>) -> Result<Pose> {
         Pose::new(
             [0, 1, 2].map(|i| [rotation[(i, 0)], rotation[(i, 1)], rotation[(i, 2)]]),
@@ -159,6 +160,31 @@ impl Pose {
         let error = 2.0 * 16.0 * u * magnitude + f64::MIN_POSITIVE;
         (error, magnitude)
     }
+}
+
+/// How far `r` is from a rotation: the largest entry of `|RᵀR - I|`, and the determinant. The
+/// operations are nalgebra's for `Matrix3` (`(r.transpose() * r - I).abs().max()`,
+/// `r.determinant()`), in its order, so that the figures, the poses accepted and the widening of
+/// the sphere tests are those of the releases that computed them with nalgebra.
+fn rigidity(r: &[[f64; 3]; 3]) -> (f64, f64) {
+    // Entry (i, j) of RᵀR: column i of R against column j, summed over rows 0, 1, 2 in order.
+    let gram = |i: usize, j: usize| r[0][i] * r[0][j] + r[1][i] * r[1][j] + r[2][i] * r[2][j];
+    // Folded column-major from the first entry, each step keeping the running value when it
+    // is `>=` the next entry (a NaN entry therefore wins over the entries before it only), as
+    // nalgebra's `max` does.
+    let mut deviation = (gram(0, 0) - 1.0).abs();
+    for j in 0..3 {
+        for i in (0..3).filter(|&i| (i, j) != (0, 0)) {
+            let e = (gram(i, j) - if i == j { 1.0 } else { 0.0 }).abs();
+            deviation = if deviation >= e { deviation } else { e };
+        }
+    }
+    let [[m11, m12, m13], [m21, m22, m23], [m31, m32, m33]] = *r;
+    let minor_m12_m23 = m22 * m33 - m32 * m23;
+    let minor_m11_m23 = m21 * m33 - m31 * m23;
+    let minor_m11_m22 = m21 * m32 - m31 * m22;
+    let determinant = m11 * minor_m12_m23 - m12 * minor_m11_m23 + m13 * minor_m11_m22;
+    (deviation, determinant)
 }
 
 #[cfg(test)]
@@ -220,8 +246,51 @@ mod tests {
         );
     }
 
+    /// The figures of [`rigidity`] are nalgebra's, bit for bit, on rotations, near-rotations,
+    /// shears, reflections and entries whose products overflow.
     #[test]
+    fn rigidity_is_nalgebras_arithmetic() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for case in 0..20_000 {
+            let mut unit = || (next() >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
+            let (a, b, c) = (unit() * 3.2, unit() * 3.2, unit() * 3.2);
+            let rotation = nalgebra::Rotation3::from_euler_angles(a, b, c);
+            let mut r: [[f64; 3]; 3] =
+                std::array::from_fn(|i| std::array::from_fn(|j| rotation[(i, j)]));
+            match case % 5 {
+                0 => {}
+                1 => r[(case / 5) % 3][case % 3] += unit() * 1e-5,
+                2 => r = r.map(|row| row.map(|v| v * (1.0 + unit()))),
+                3 => r[0] = r[0].map(|v| -v),
+                _ => r[case % 3][(case / 3) % 3] = unit() * 1e300,
+            }
+            let m = nalgebra::Matrix3::from_fn(|i, j| r[i][j]);
+            let expected = (
+                (m.transpose() * m - nalgebra::Matrix3::identity())
+                    .abs()
+                    .max(),
+                m.determinant(),
+            );
+            let got = rigidity(&r);
+            assert_eq!(got.0.to_bits(), expected.0.to_bits(), "deviation of {r:?}");
+            assert_eq!(
+                got.1.to_bits(),
+                expected.1.to_bits(),
+                "determinant of {r:?}"
+            );
+        }
+    }
+
+    #[test]
+    #[cfg(feature = "nalgebra")]
     fn isometry_round_trip() {
+        use nalgebra::{Isometry3, Vector3};
         let iso = Isometry3::new(Vector3::new(1.0, -2.0, 0.5), Vector3::new(0.3, 0.2, -0.1));
         let pose = Pose::from_isometry(&iso).unwrap();
         let p = [0.7, -1.1, 2.5];

@@ -319,9 +319,11 @@ thread_local! {
 /// The adaptive predicates, recording whether any sign needed more than the floating-point
 /// stage (the adaptive stages): how often exactness costs extra arithmetic. Signs decided by
 /// exact shortcuts (coincident points, exactly zero products) count as settled, as they cost
-/// nothing either. Diagnostics only; the queries use [`Adaptive`].
+/// nothing either. Diagnostics only, served by `dvh::fixtures`; the queries use [`Adaptive`].
+#[cfg_attr(not(feature = "fixtures"), allow(dead_code))]
 pub(crate) struct FilterProbe;
 
+#[cfg_attr(not(feature = "fixtures"), allow(dead_code))]
 impl FilterProbe {
     /// Clears the record; returns whether a sign was left undecided since the last call.
     pub fn take() -> bool {

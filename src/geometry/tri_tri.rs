@@ -54,7 +54,9 @@ pub fn triangles_intersect(t1: &Triangle, t2: &Triangle) -> bool {
 /// Diagnostics, for measuring what exactness costs: [`triangles_intersect`]'s answer, and whether
 /// the floating-point stage of every orientation predicate it evaluated decided its sign, so that
 /// no adaptive (or big-integer) arithmetic ran. Coordinates outside the adaptive predicates' safe
-/// range are never settled. Slower than [`triangles_intersect`]; not for production queries.
+/// range are never settled. Slower than [`triangles_intersect`]; not for production queries
+/// (served by `dvh::fixtures`).
+#[cfg_attr(not(feature = "fixtures"), allow(dead_code))]
 pub fn settled_by_filter(t1: &Triangle, t2: &Triangle) -> (bool, bool) {
     if !t1.iter().chain(t2.iter()).all(is_safe_point) {
         return (intersect::<BigExact>(t1, t2), false);

@@ -13,6 +13,7 @@ use std::sync::Arc;
 
 /// Shape of a built hierarchy, for comparison with the paper's Tables 1 and 2.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub struct TreeStats {
     /// Triangles in the mesh.
     pub triangles: usize,

@@ -5,8 +5,10 @@ use crate::tree::TreeKind;
 use crate::volume::{RadiusKind, VolumeKind};
 
 /// Options for [`crate::Mesh::new`]. The defaults (octree, boxes) are the fastest measured for
-/// meshes that deform; [`BuildOptions::rigid`] for meshes that only move.
+/// meshes that deform; [`BuildOptions::rigid`] for meshes that only move. Start from either and
+/// set what you need with the `with_*` methods (or the fields).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub struct BuildOptions {
     /// Octree or binary tree.
     pub tree: TreeKind,
@@ -36,6 +38,35 @@ impl BuildOptions {
             leftovers: LeftoverPolicy::JoinAdjacent,
             volume: VolumeKind::Sbv,
             refit_threads: 0,
+        }
+    }
+
+    /// These options with [`BuildOptions::tree`] set.
+    pub fn with_tree(self, tree: TreeKind) -> BuildOptions {
+        BuildOptions { tree, ..self }
+    }
+
+    /// These options with [`BuildOptions::radius`] set.
+    pub fn with_radius(self, radius: RadiusKind) -> BuildOptions {
+        BuildOptions { radius, ..self }
+    }
+
+    /// These options with [`BuildOptions::leftovers`] set.
+    pub fn with_leftovers(self, leftovers: LeftoverPolicy) -> BuildOptions {
+        BuildOptions { leftovers, ..self }
+    }
+
+    /// These options with [`BuildOptions::volume`] set: `BuildOptions::default()
+    /// .with_volume(VolumeKind::Dvh)`.
+    pub fn with_volume(self, volume: VolumeKind) -> BuildOptions {
+        BuildOptions { volume, ..self }
+    }
+
+    /// These options with [`BuildOptions::refit_threads`] set.
+    pub fn with_refit_threads(self, refit_threads: u32) -> BuildOptions {
+        BuildOptions {
+            refit_threads,
+            ..self
         }
     }
 

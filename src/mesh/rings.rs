@@ -19,6 +19,7 @@ use std::collections::VecDeque;
 
 /// How triangles that touch no ring centre are put into leaves.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum LeftoverPolicy {
     /// Each joins an adjacent ring, one across an edge of it where there is one (so that leaves
     /// stay disks, which self-collision can prove free of self-intersection), the one whose

@@ -2,6 +2,7 @@
 
 /// What a query reports.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum QueryMode {
     /// Every intersecting triangle pair, decided by the exact test: exactly the pairs a
     /// brute-force all-pairs exact test reports.
@@ -44,8 +45,10 @@ impl QueryMode {
     }
 }
 
-/// Options for [`crate::collide`].
+/// Options for [`crate::collide`]. Start from the defaults or [`QueryOptions::with_mode`], then
+/// set what you need with the `with_*` methods (or the fields).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub struct QueryOptions {
     /// What the query reports.
     pub mode: QueryMode,
@@ -71,5 +74,16 @@ impl QueryOptions {
             mode,
             ..QueryOptions::default()
         }
+    }
+
+    /// These options with [`QueryOptions::max_pairs`] set: `QueryOptions::with_mode(mode)
+    /// .with_max_pairs(Some(100))`.
+    pub fn with_max_pairs(self, max_pairs: Option<usize>) -> QueryOptions {
+        QueryOptions { max_pairs, ..self }
+    }
+
+    /// These options with [`QueryOptions::threads`] set.
+    pub fn with_threads(self, threads: u32) -> QueryOptions {
+        QueryOptions { threads, ..self }
     }
 }

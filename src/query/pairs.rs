@@ -87,6 +87,7 @@ impl<'a> IntoIterator for &'a Pairs {
 
 /// Counters of one query: the terms of the paper's cost model `T = NV·CV + NP·CP + NU·CU`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub struct QueryStats {
     /// Volume pairs tested for overlap (`NV`).
     pub bv_tests: u64,
@@ -98,15 +99,15 @@ pub struct QueryStats {
     /// Overlapping pairs of terminal nodes (leaves, or nodes at the depth limit) the traversal
     /// reached.
     pub leaf_pairs: u64,
-    /// Overlapping node pairs left unopened when [`crate::QueryMode::Budget`]'s budget ran out,
-    /// and reported as they are (0: the budget sufficed, the answer is [`crate::QueryMode::Leaves`]'s).
-    pub frontier_pairs: u64,
     /// Pairs reported.
     pub pairs: u64,
     /// Nodes recomputed by the last refit of each mesh (`NU` of the frame).
     pub nodes_refit: u64,
     /// Did [`crate::QueryOptions::max_pairs`] stop the query before every pair was found?
     pub truncated: bool,
+    /// Overlapping node pairs left unopened when [`crate::QueryMode::Budget`]'s budget ran out,
+    /// and reported as they are (0: the budget sufficed, the answer is [`crate::QueryMode::Leaves`]'s).
+    pub frontier_pairs: u64,
 }
 
 impl QueryStats {

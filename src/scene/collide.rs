@@ -30,6 +30,7 @@ pub struct Contact {
 
 /// Counters of one scene query.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub struct SceneStats {
     /// Objects in the scene.
     pub objects: u64,

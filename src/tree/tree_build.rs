@@ -7,6 +7,7 @@ use crate::geometry::predicates::Point;
 
 /// How the hierarchy above the 1-rings is split.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum TreeKind {
     /// Each node's box of ring centres is cut at its midpoint on all three axes: up to 8
     /// children, shallow trees.

@@ -30,6 +30,7 @@ use spheres::{FitDvh, FitSbv};
 /// [`crate::BuildOptions::rigid`] chooses. The paper's DVH comes between the two when rigid and
 /// on two of the three paper scenes, last on the many-object one.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum VolumeKind {
     /// The paper's DVH: spheres centred on mesh vertices chosen at build (a leaf on its ring's
     /// centre, an inner node on the vertex below it nearest to their mean), so a refit copies
@@ -57,6 +58,7 @@ pub enum VolumeKind {
 /// give the lower time per frame (the refit about half as dear, the query 10-20% dearer);
 /// wrapped radii win when there is no refit to pay for, as for rigid meshes placed by poses.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum RadiusKind {
     /// The largest distance from the node's centre to any vertex below it: the tightest sphere
     /// with that centre (the paper's choice).
@@ -68,6 +70,7 @@ pub enum RadiusKind {
 
 /// Counters of one refit (the paper's `NU` and the work behind it).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub struct RefitStats {
     /// Nodes whose volume was recomputed (`NU`).
     pub nodes_refit: u64,

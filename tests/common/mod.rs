@@ -188,10 +188,7 @@ pub fn check_all_modes(a: &Body, b: &Body, depth: u32, pairs: &mut Pairs) -> Vec
 
     // A pair limit: some of the pairs, sorted, flagged; a limit above the count changes nothing.
     let k = expected.len().div_ceil(2);
-    let limited = QueryOptions {
-        max_pairs: Some(k),
-        ..QueryOptions::default()
-    };
+    let limited = QueryOptions::default().with_max_pairs(Some(k));
     let stats = collide(&a.mesh, pa, &b.mesh, pb, &limited, pairs).expect("query");
     assert_eq!(pairs.len(), k);
     assert!(stats.truncated);
@@ -200,10 +197,7 @@ pub fn check_all_modes(a: &Body, b: &Body, depth: u32, pairs: &mut Pairs) -> Vec
         pairs.iter().all(|p| expected.binary_search(p).is_ok()),
         "a limited query reported a pair that does not intersect"
     );
-    let roomy = QueryOptions {
-        max_pairs: Some(expected.len() + 1),
-        ..QueryOptions::default()
-    };
+    let roomy = QueryOptions::default().with_max_pairs(Some(expected.len() + 1));
     let stats = collide(&a.mesh, pa, &b.mesh, pb, &roomy, pairs).expect("query");
     assert_eq!(pairs.as_slice(), &expected[..]);
     assert!(!stats.truncated);

@@ -1,0 +1,149 @@
+//! The C ABI's result buffers, `DvhPairs` and `DvhContacts`, and the family of calls on them
+//! (`_new`, `_len`, `_data`, `_kind`, `_free`), written once for both. The entry points
+//! themselves are one-line wrappers in `query.rs` and `scene.rs`, written out because cbindgen
+//! reads the sources without expanding macros, and each carries its own documentation into the
+//! header.
+
+use super::access::{Access, Handle, Read, Tag, read, release};
+use super::boundary::{guard_value, set_last_error, try_box};
+use super::types::{
+    DVH_PAIR_KIND_NODES, DVH_PAIR_KIND_TRIANGLES, DvhContact, DvhContacts, DvhPair, DvhPairKind,
+    DvhPairs,
+};
+use crate::{Contacts, PairKind, Pairs};
+use std::cell::UnsafeCell;
+
+/// A result buffer of the C ABI.
+pub(crate) trait Results: Handle + Sized {
+    /// One result, as C reads it: the same layout as the library's own item.
+    type Item;
+    /// The name of the buffer's argument in the accessors, for messages.
+    const ARGUMENT: &'static str;
+    /// A new, empty buffer.
+    fn empty() -> Self;
+    /// How many results `inner` holds.
+    fn len(inner: &Self::Inner) -> usize;
+    /// The first of them.
+    fn data(inner: &Self::Inner) -> *const Self::Item;
+    /// What their indices refer to.
+    fn kind(inner: &Self::Inner) -> PairKind;
+}
+
+impl Results for DvhPairs {
+    type Item = DvhPair;
+    const ARGUMENT: &'static str = "pairs";
+
+    fn empty() -> DvhPairs {
+        DvhPairs {
+            tag: Tag::new(Self::TAG),
+            access: Access::default(),
+            pairs: UnsafeCell::new(Pairs::new()),
+        }
+    }
+
+    fn len(inner: &Pairs) -> usize {
+        inner.len()
+    }
+
+    fn data(inner: &Pairs) -> *const DvhPair {
+        // `DvhPair` has `Pair`'s layout (checked in `types`).
+        inner.as_slice().as_ptr().cast()
+    }
+
+    fn kind(inner: &Pairs) -> PairKind {
+        inner.kind()
+    }
+}
+
+impl Results for DvhContacts {
+    type Item = DvhContact;
+    const ARGUMENT: &'static str = "contacts";
+
+    fn empty() -> DvhContacts {
+        DvhContacts {
+            tag: Tag::new(Self::TAG),
+            access: Access::default(),
+            contacts: UnsafeCell::new(Contacts::new()),
+        }
+    }
+
+    fn len(inner: &Contacts) -> usize {
+        inner.len()
+    }
+
+    fn data(inner: &Contacts) -> *const DvhContact {
+        // `DvhContact` has `Contact`'s layout (checked in `types`).
+        inner.as_slice().as_ptr().cast()
+    }
+
+    fn kind(inner: &Contacts) -> PairKind {
+        inner.kind()
+    }
+}
+
+/// `dvh_*_new`: a new, empty buffer owned by the caller, or NULL when memory ran out.
+pub(super) fn new<R: Results>() -> *mut R {
+    guard_value(std::ptr::null_mut(), || match try_box(R::empty()) {
+        Ok(p) => p,
+        Err(f) => {
+            set_last_error(&f.message);
+            std::ptr::null_mut()
+        }
+    })
+}
+
+/// The contents of buffer `r` for accessor `call`, or `None` (NULL, not a live buffer, being
+/// written).
+///
+/// # Safety
+/// `r` is NULL or a live buffer.
+unsafe fn contents<'a, R: Results + 'a>(r: *const R, call: &str) -> Option<Read<'a, R::Inner>> {
+    // SAFETY: per the contract.
+    unsafe { read(r, R::ARGUMENT, call) }.ok()
+}
+
+/// `dvh_*_len` (entry point `call`): the number of results, 0 when there is no buffer to read.
+///
+/// # Safety
+/// `r` is NULL or a live buffer.
+pub(super) unsafe fn len<R: Results>(r: *const R, call: &str) -> usize {
+    // SAFETY: per the contract.
+    guard_value(0, || unsafe { contents(r, call) }.map_or(0, |c| R::len(&c)))
+}
+
+/// `dvh_*_data`: the first result, NULL when there are none or no buffer to read.
+///
+/// # Safety
+/// `r` is NULL or a live buffer.
+pub(super) unsafe fn data<R: Results>(r: *const R, call: &str) -> *const R::Item {
+    guard_value(std::ptr::null(), || {
+        // SAFETY: per the contract.
+        match unsafe { contents(r, call) } {
+            Some(c) if R::len(&c) > 0 => R::data(&c),
+            _ => std::ptr::null(),
+        }
+    })
+}
+
+/// `dvh_*_kind`: what the results' indices refer to, triangles when there is no buffer to read.
+///
+/// # Safety
+/// `r` is NULL or a live buffer.
+pub(super) unsafe fn kind<R: Results>(r: *const R, call: &str) -> DvhPairKind {
+    guard_value(DVH_PAIR_KIND_TRIANGLES, || {
+        // SAFETY: per the contract.
+        match unsafe { contents(r, call) }.map(|c| R::kind(&c)) {
+            Some(PairKind::Nodes) => DVH_PAIR_KIND_NODES,
+            _ => DVH_PAIR_KIND_TRIANGLES,
+        }
+    })
+}
+
+/// `dvh_*_free`: releases the buffer; NULL is a no-op.
+///
+/// # Safety
+/// `r` is NULL or a live buffer from `new`, owned by the caller, not freed before.
+pub(super) unsafe fn free<R: Results>(r: *mut R, call: &str) {
+    // SAFETY: allocated by `try_box` in `new` and owned by the caller (contract).
+    guard_value((), || unsafe { release(r, R::ARGUMENT, call) })
+}
