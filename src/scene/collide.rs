@@ -389,9 +389,7 @@ impl Scene {
                 let blocks = mesh.blocks()?;
                 // SAFETY: `b` is this mesh's boxes (made unique by `lazy_boxes`, so no other
                 // object reads them), and the query reads them only through the view.
-                Some(unsafe {
-                    LazyBoxes::new(b, blocks, fresh, mesh.refit_input(), mesh.positions())
-                })
+                Some(unsafe { LazyBoxes::new(b, blocks, fresh, mesh.refit_input()) })
             })
             .collect()
     }
