@@ -8,7 +8,7 @@ use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::Point;
 use crate::geometry::sphere::Sphere;
 use crate::tree::{RingTable, Tree};
-use crate::volume::{Blocks, RefitInput, RefitStats, Volumes};
+use crate::volume::{Blocks, RadiusKind, RefitInput, RefitStats, Volumes};
 use std::sync::Arc;
 
 /// Shape of a built hierarchy, for comparison with the paper's Tables 1 and 2.
@@ -59,6 +59,18 @@ pub(super) struct Topology {
     pub blocks: std::sync::OnceLock<Blocks>,
     /// The nodes' patches for self-collision; found on first use.
     pub patches: std::sync::OnceLock<Patches>,
+}
+
+impl Topology {
+    /// What a refit of this shape reads, with `radius` and `positions`.
+    pub fn refit_input<'a>(&'a self, radius: RadiusKind, positions: &'a [Point]) -> RefitInput<'a> {
+        RefitInput {
+            tree: &self.tree,
+            rings: &self.rings,
+            radius,
+            positions,
+        }
+    }
 }
 
 /// A deformable triangle mesh with its bounding-volume hierarchy.
@@ -182,13 +194,10 @@ impl Mesh {
             .row_range(n.ring_start as usize..n.ring_end as usize)
     }
 
-    /// What a refit of this mesh reads besides the positions.
+    /// What a refit of this mesh reads.
     pub(crate) fn refit_input(&self) -> RefitInput<'_> {
-        RefitInput {
-            tree: &self.topology.tree,
-            rings: &self.topology.rings,
-            radius: self.options.radius,
-        }
+        self.topology
+            .refit_input(self.options.radius, &self.positions)
     }
 
     /// The centre vertex of each 1-ring, in leaf order.

@@ -5,7 +5,7 @@ use super::mesh::Mesh;
 use crate::error::{Error, Result};
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::Point;
-use crate::volume::{Blocks, Freshness, RefitInput, RefitStats, Volumes};
+use crate::volume::{Blocks, Freshness, RefitStats, Volumes};
 
 impl Mesh {
     /// Takes new positions for every vertex (`x, y, z` each, same vertex count as at build) and
@@ -99,13 +99,10 @@ impl Mesh {
 
     /// Recomputes every volume from the current positions.
     pub(crate) fn update_volumes(&mut self) -> RefitStats {
-        let input = RefitInput {
-            tree: &self.topology.tree,
-            rings: &self.topology.rings,
-            radius: self.options.radius,
-        };
-        self.volumes
-            .refit(&input, &self.positions, &mut self.scratch)
+        let input = self
+            .topology
+            .refit_input(self.options.radius, &self.positions);
+        self.volumes.refit(&input, &mut self.scratch)
     }
 
     /// Recomputes every volume from the current positions and records the counters.
@@ -121,16 +118,14 @@ impl Mesh {
         let Volumes::Aabb { boxes } = &mut self.volumes else {
             return false;
         };
-        let input = RefitInput {
-            tree: &self.topology.tree,
-            rings: &self.topology.rings,
-            radius: self.options.radius,
-        };
+        let input = self
+            .topology
+            .refit_input(self.options.radius, &self.positions);
         let blocks = self
             .topology
             .blocks
             .get_or_init(|| Blocks::new(&input, self.positions.len()));
-        fresh.fit_top(blocks, &input, &self.positions, boxes);
+        fresh.fit_top(blocks, &input, boxes);
         true
     }
 }

@@ -16,6 +16,7 @@ pub use brute_force::brute_force;
 pub use collide::collide;
 pub(crate) use collide::collide_lazy;
 pub use options::{QueryMode, QueryOptions};
+pub(crate) use pairs::result_buffer;
 pub use pairs::{Pair, PairKind, Pairs, QueryStats};
 pub use proximity::{proximity, self_proximity};
 pub use self_collide::self_collide;

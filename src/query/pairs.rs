@@ -37,43 +37,61 @@ pub struct Pairs {
     pub(crate) workspace: Workspace,
 }
 
+/// The read side shared by the result buffers ([`Pairs`], the scene's `Contacts`): a struct with
+/// fields `items: Vec<$item>` and `kind: PairKind`, and `Default`. The docs of `as_slice` and
+/// `kind` are the buffer's own; the others name its items.
+macro_rules! result_buffer {
+    ($buffer:ident, $item:ty, $items:literal, as_slice: $as_slice:literal, kind: $kind:literal) => {
+        impl $buffer {
+            /// An empty buffer.
+            pub fn new() -> $buffer {
+                $buffer::default()
+            }
+
+            #[doc = $as_slice]
+            pub fn as_slice(&self) -> &[$item] {
+                &self.items
+            }
+
+            #[doc = concat!("Number of ", $items, ".")]
+            pub fn len(&self) -> usize {
+                self.items.len()
+            }
+
+            #[doc = concat!("No ", $items, "?")]
+            pub fn is_empty(&self) -> bool {
+                self.items.is_empty()
+            }
+
+            #[doc = $kind]
+            pub fn kind(&self) -> PairKind {
+                self.kind
+            }
+
+            #[doc = concat!("Iterates over the ", $items, ".")]
+            pub fn iter(&self) -> std::slice::Iter<'_, $item> {
+                self.items.iter()
+            }
+        }
+    };
+}
+pub(crate) use result_buffer;
+
+result_buffer!(
+    Pairs,
+    Pair,
+    "pairs",
+    as_slice: "The pairs of the last successful query, sorted and without duplicates.",
+    kind: "What the indices refer to."
+);
+
 impl Pairs {
-    /// An empty buffer.
-    pub fn new() -> Pairs {
-        Pairs::default()
-    }
-
-    /// The pairs of the last successful query, sorted and without duplicates.
-    pub fn as_slice(&self) -> &[Pair] {
-        &self.items
-    }
-
-    /// Number of pairs.
-    pub fn len(&self) -> usize {
-        self.items.len()
-    }
-
-    /// No pairs?
-    pub fn is_empty(&self) -> bool {
-        self.items.is_empty()
-    }
-
-    /// What the indices refer to.
-    pub fn kind(&self) -> PairKind {
-        self.kind
-    }
-
     /// Bytes of memory the buffer holds beyond the struct itself: the result, the spare it
     /// writes the next one into, and the scratch space of the queries it served (per thread
     /// that took part: stack, caches of ring boxes and posed vertices, prepared rings, found
     /// pairs). It grows with the largest query served and is kept for the next.
     pub fn memory_bytes(&self) -> usize {
         heap_bytes(&self.items) + heap_bytes(&self.spare) + self.workspace.heap_bytes()
-    }
-
-    /// Iterates over the pairs.
-    pub fn iter(&self) -> std::slice::Iter<'_, Pair> {
-        self.items.iter()
     }
 }
 

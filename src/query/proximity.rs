@@ -133,7 +133,7 @@ mod tests {
     use super::*;
     use crate::fixtures::oracle::{proximity_brute_force, self_proximity_brute_force};
     use crate::fixtures::{Rng, grid, icosphere, torus};
-    use crate::query::testing::nodes_cover;
+    use crate::query::testing::{map_vertices, nodes_cover};
     use crate::{BuildOptions, Pair, PairKind, QueryMode, VolumeKind, collide};
 
     fn modes() -> [QueryMode; 5] {
@@ -279,11 +279,7 @@ mod tests {
             pairs.len()
         );
         // Two parallel sheets exactly 1/4 apart: every facing pair within 1/4, none below.
-        let lifted: Vec<f64> = g
-            .positions
-            .chunks_exact(3)
-            .flat_map(|v| [v[0], v[1], 0.25])
-            .collect();
+        let lifted = map_vertices(&g.positions, |v| [v[0], v[1], 0.25]);
         let b = Mesh::new(&lifted, &g.triangles, &BuildOptions::default()).unwrap();
         proximity(&m, None, &b, None, 0.25, &q, &mut pairs).unwrap();
         assert_eq!(

@@ -127,7 +127,7 @@ mod tests {
     use super::*;
     use crate::fixtures::oracle::self_collide_brute_force;
     use crate::fixtures::{Rng, grid, icosphere, torus};
-    use crate::query::testing::nodes_cover;
+    use crate::query::testing::{map_vertices, nodes_cover};
     use crate::{BuildOptions, Pair, PairKind, QueryMode, VolumeKind};
 
     /// Self-collision of the mesh equals brute force for every volume kind, on 1 and 2 threads;
@@ -201,15 +201,11 @@ mod tests {
         // its radius shrinking along the roll at one edge and growing at the other, so the turns
         // pass through each other at mid-height.
         let g = grid(48, 1.0);
-        let rolled: Vec<f64> = g
-            .positions
-            .chunks_exact(3)
-            .flat_map(|v| {
-                let t = 3.0 * std::f64::consts::PI * v[0];
-                let r = 0.3 + 0.12 * (v[0] - 0.5) * (2.0 * v[1] - 1.0);
-                [r * t.cos(), v[1], r * t.sin()]
-            })
-            .collect();
+        let rolled = map_vertices(&g.positions, |v| {
+            let t = 3.0 * std::f64::consts::PI * v[0];
+            let r = 0.3 + 0.12 * (v[0] - 0.5) * (2.0 * v[1] - 1.0);
+            [r * t.cos(), v[1], r * t.sin()]
+        });
         let mesh = Mesh::new(&rolled, &g.triangles, &BuildOptions::default()).unwrap();
         let expected = self_collide_brute_force(&mesh);
         assert!(expected.len() > 100, "{} crossings", expected.len());
@@ -271,14 +267,10 @@ mod tests {
         // A grid bent along a figure-eight (x, z) = (sin t, sin t cos t), which passes through
         // the origin at t = 0 and t = pi: the sheet crosses itself along a line.
         let g = grid(24, 1.0);
-        let folded: Vec<f64> = g
-            .positions
-            .chunks_exact(3)
-            .flat_map(|v| {
-                let t = -1.0 + (std::f64::consts::PI + 2.0) * v[0];
-                [t.sin(), v[1], t.sin() * t.cos()]
-            })
-            .collect();
+        let folded = map_vertices(&g.positions, |v| {
+            let t = -1.0 + (std::f64::consts::PI + 2.0) * v[0];
+            [t.sin(), v[1], t.sin() * t.cos()]
+        });
         assert!(check(&folded, &g.triangles, "folded sheet") > 0);
     }
 
@@ -288,11 +280,7 @@ mod tests {
         // triangles along the fold share edges with their mirror images' neighbours, and the
         // halves overlap everywhere.
         let g = grid(8, 1.0);
-        let folded: Vec<f64> = g
-            .positions
-            .chunks_exact(3)
-            .flat_map(|v| [0.5 - (v[0] - 0.5).abs(), v[1], 0.0])
-            .collect();
+        let folded = map_vertices(&g.positions, |v| [0.5 - (v[0] - 0.5).abs(), v[1], 0.0]);
         assert!(check(&folded, &g.triangles, "flat fold") > 0);
     }
 

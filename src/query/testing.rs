@@ -22,3 +22,8 @@ pub(crate) fn nodes_cover(a: &Mesh, b: &Mesh, one_mesh: bool, nodes: &[Pair], ex
         assert!(covered.contains(&(p.a, p.b)), "{p:?} is in no node pair");
     }
 }
+
+/// `positions` (three coordinates a vertex) with every vertex moved by `f`.
+pub(crate) fn map_vertices(positions: &[f64], f: impl Fn(&[f64]) -> [f64; 3]) -> Vec<f64> {
+    positions.chunks_exact(3).flat_map(f).collect()
+}

@@ -6,7 +6,7 @@ use super::{Apart, Motion, Object, Scene, volume_box};
 use crate::error::{Error, Result};
 use crate::geometry::aabb::Aabb;
 use crate::mesh::Mesh;
-use crate::query::{PairKind, Pairs, QueryMode, QueryOptions, collide_lazy};
+use crate::query::{PairKind, Pairs, QueryMode, QueryOptions, collide_lazy, result_buffer};
 use crate::threads;
 use crate::volume::LazyBoxes;
 use std::sync::Arc;
@@ -97,37 +97,13 @@ struct Span {
     truncated: bool,
 }
 
-impl Contacts {
-    /// An empty buffer.
-    pub fn new() -> Contacts {
-        Contacts::default()
-    }
-
-    /// The contacts of the last successful query, sorted by `(object_a, object_b, a, b)`.
-    pub fn as_slice(&self) -> &[Contact] {
-        &self.items
-    }
-
-    /// Number of contacts.
-    pub fn len(&self) -> usize {
-        self.items.len()
-    }
-
-    /// No contacts?
-    pub fn is_empty(&self) -> bool {
-        self.items.is_empty()
-    }
-
-    /// What `a` and `b` of each contact index: triangles, or nodes in the coarse modes.
-    pub fn kind(&self) -> PairKind {
-        self.kind
-    }
-
-    /// Iterates over the contacts.
-    pub fn iter(&self) -> std::slice::Iter<'_, Contact> {
-        self.items.iter()
-    }
-}
+result_buffer!(
+    Contacts,
+    Contact,
+    "contacts",
+    as_slice: "The contacts of the last successful query, sorted by `(object_a, object_b, a, b)`.",
+    kind: "What `a` and `b` of each contact index: triangles, or nodes in the coarse modes."
+);
 
 impl Worker {
     /// Queries object pair `(i, j)` and appends its contacts; returns where they are.
@@ -390,9 +366,7 @@ impl Scene {
                 let blocks = mesh.blocks()?;
                 // SAFETY: `b` is this mesh's boxes (made unique by `lazy_boxes`, so no other
                 // object reads them), and the query reads them only through the view.
-                Some(unsafe {
-                    LazyBoxes::new(b, blocks, fresh, mesh.refit_input(), mesh.positions())
-                })
+                Some(unsafe { LazyBoxes::new(b, blocks, fresh, mesh.refit_input()) })
             })
             .collect()
     }

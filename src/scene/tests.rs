@@ -13,6 +13,11 @@ struct Model {
     mask: u32,
 }
 
+/// The pose that moves by `t`, without turning.
+fn translated(t: [f64; 3]) -> Pose {
+    Pose::new(Pose::IDENTITY.rotation(), t).unwrap()
+}
+
 fn random_pose(rng: &mut Rng, spread: f64) -> Pose {
     let t = Vector3::new(
         rng.range(-spread, spread),
@@ -223,11 +228,7 @@ fn chain(n: usize) -> (Mesh, Scene) {
     let mesh = Mesh::new(&d.positions, &d.triangles, &BuildOptions::default()).unwrap();
     let mut scene = Scene::new();
     for i in 0..n {
-        let pose = Pose::new(
-            [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-            [1.8 * i as f64, 0.0, 0.0],
-        )
-        .unwrap();
+        let pose = translated([1.8 * i as f64, 0.0, 0.0]);
         assert_eq!(
             scene.add_rigid(&mesh, Some(&pose), 1, u32::MAX).unwrap(),
             i as u32
@@ -252,11 +253,7 @@ fn filters_and_broad_phase() {
     let touching: Vec<(u32, u32)> = dedup_pairs(&contacts);
     assert_eq!(touching, vec![(0, 1), (1, 2), (2, 3), (3, 4), (4, 5)]);
     // Object 6 in group 2 with a mask that ignores group 1, overlapping object 5.
-    let pose = Pose::new(
-        [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-        [9.9, 0.5, 0.0],
-    )
-    .unwrap();
+    let pose = translated([9.9, 0.5, 0.0]);
     let id = scene.add_rigid(&mesh, Some(&pose), 2, 2).unwrap();
     scene.exclude_pair(2, 1).unwrap();
     scene
@@ -276,11 +273,7 @@ fn filters_and_broad_phase() {
     );
     // Removing object 1 forgets its exclusion; a new object taking id 1 is not excluded.
     scene.remove(1).unwrap();
-    let pose1 = Pose::new(
-        [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-        [1.8, 0.0, 0.0],
-    )
-    .unwrap();
+    let pose1 = translated([1.8, 0.0, 0.0]);
     assert_eq!(
         scene.add_rigid(&mesh, Some(&pose1), 1, u32::MAX).unwrap(),
         1
@@ -367,11 +360,7 @@ fn errors_change_nothing() {
         scene.set_positions(deformable, &d.positions[..30]),
         Err(Error::Object { .. })
     ));
-    let far = Pose::new(
-        [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-        [1e301, 0.0, 0.0],
-    )
-    .unwrap();
+    let far = translated([1e301, 0.0, 0.0]);
     assert!(matches!(
         scene.set_pose(0, Some(&far)),
         Err(Error::Object { object: 0, .. })
@@ -465,28 +454,11 @@ fn pairs_apart_are_not_queried_again() {
     let d = icosphere(2);
     let mesh = Mesh::new(&d.positions, &d.triangles, &BuildOptions::default()).unwrap();
     let mut scene = Scene::new();
-    let at = |x: f64| {
-        Pose::new(
-            [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-            [x, 1.9, 0.0],
-        )
-        .unwrap()
-    };
+    let at = |x: f64| translated([x, 1.9, 0.0]);
     // Boxes overlap (corners), spheres 2.68 apart: no contact. Object 2 touches object 0.
     scene.add_rigid(&mesh, Some(&at(0.0)), 1, u32::MAX).unwrap();
     scene
-        .add_rigid(
-            &mesh,
-            Some(
-                &Pose::new(
-                    [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-                    [1.9, 0.0, 0.0],
-                )
-                .unwrap(),
-            ),
-            1,
-            u32::MAX,
-        )
+        .add_rigid(&mesh, Some(&translated([1.9, 0.0, 0.0])), 1, u32::MAX)
         .unwrap();
     scene.add_rigid(&mesh, Some(&at(1.5)), 1, u32::MAX).unwrap();
     let mut contacts = Contacts::new();
@@ -504,16 +476,7 @@ fn pairs_apart_are_not_queried_again() {
     let first_hit = QueryOptions::with_mode(QueryMode::FirstHit);
     assert_eq!(tested(&mut scene, &mut contacts, &first_hit), first);
     scene
-        .set_pose(
-            1,
-            Some(
-                &Pose::new(
-                    [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-                    [1.9, 0.0, 0.0],
-                )
-                .unwrap(),
-            ),
-        )
+        .set_pose(1, Some(&translated([1.9, 0.0, 0.0])))
         .unwrap();
     assert!(tested(&mut scene, &mut contacts, &opts) > with_contacts);
     assert_eq!(contacts.as_slice(), &all[..]);
@@ -526,13 +489,7 @@ fn rigid_objects_share_their_copy() {
     let d = icosphere(2);
     let mut mesh = Mesh::new(&d.positions, &d.triangles, &BuildOptions::rigid()).unwrap();
     let mut scene = Scene::new();
-    let far = |x: f64| {
-        Pose::new(
-            [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-            [x, 0.0, 0.0],
-        )
-        .unwrap()
-    };
+    let far = |x: f64| translated([x, 0.0, 0.0]);
     let ids: Vec<u32> = (0..100)
         .map(|i| {
             scene

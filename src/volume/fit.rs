@@ -9,7 +9,6 @@
 
 use super::RefitInput;
 use crate::geometry::aabb::Aabb;
-use crate::geometry::predicates::Point;
 use crate::geometry::sphere::Sphere;
 use crate::tree::Subtree;
 use std::ops::{Index, IndexMut};
@@ -105,26 +104,15 @@ impl VolumeSlices<'_> {
     }
 }
 
+/// A refit's scratch for a search down the tree: the nodes still to visit.
+pub(super) type Stack = Vec<u32>;
+
 /// How one volume kind recomputes a node. Returns the distance evaluations made.
 pub(super) trait Fit: Sync {
     /// Leaf `leaf`, of ring `r`.
-    fn leaf(
-        &self,
-        w: &mut VolumeSlices,
-        input: &RefitInput,
-        positions: &[Point],
-        r: usize,
-        leaf: usize,
-    ) -> u64;
+    fn leaf(&self, w: &mut VolumeSlices, input: &RefitInput, r: usize, leaf: usize) -> u64;
     /// Inner node `i`, whose children are current. `stack` is scratch for searches below it.
-    fn inner(
-        &self,
-        w: &mut VolumeSlices,
-        input: &RefitInput,
-        positions: &[Point],
-        i: usize,
-        stack: &mut Vec<u32>,
-    ) -> u64;
+    fn inner(&self, w: &mut VolumeSlices, input: &RefitInput, i: usize, stack: &mut Stack) -> u64;
 }
 
 /// Below this many rings per thread, a refit stays on fewer threads: handing a subtree to
@@ -140,7 +128,6 @@ pub(super) fn refit<F: Fit>(
     fit: &F,
     mut w: VolumeSlices,
     input: &RefitInput,
-    positions: &[Point],
     stacks: &mut [Vec<u32>],
 ) -> u64 {
     let (tree, rings) = (input.tree, input.rings);
@@ -152,18 +139,11 @@ pub(super) fn refit<F: Fit>(
             nodes: 1..tree.len() as u32,
             rings: 0..rings.len() as u32,
         };
-        let below = fit_below(fit, &mut w, input, positions, &all, &mut stacks[0]);
-        return below + fit_node(fit, &mut w, input, positions, 0, &mut stacks[0]);
+        let below = fit_below(fit, &mut w, input, &all, &mut stacks[0]);
+        return below + fit_node(fit, &mut w, input, 0, &mut stacks[0]);
     }
     let below = w.rest(subtrees[0].nodes.start as usize);
-    let mut evaluations = fit_subtrees(
-        fit,
-        below,
-        input,
-        positions,
-        subtrees,
-        &mut stacks[..threads],
-    );
+    let mut evaluations = fit_subtrees(fit, below, input, subtrees, &mut stacks[..threads]);
     // The nodes above the cut (the subtrees' roots included), children before parents.
     let mut k = subtrees.len();
     let mut i = tree.len();
@@ -178,7 +158,7 @@ pub(super) fn refit<F: Fit>(
             k -= 1;
             continue;
         }
-        evaluations += fit_node(fit, &mut w, input, positions, i, &mut stacks[0]);
+        evaluations += fit_node(fit, &mut w, input, i, &mut stacks[0]);
     }
     evaluations
 }
@@ -189,14 +169,13 @@ fn fit_subtrees<F: Fit>(
     fit: &F,
     mut w: VolumeSlices,
     input: &RefitInput,
-    positions: &[Point],
     subtrees: &[Subtree],
     stacks: &mut [Vec<u32>],
 ) -> u64 {
     if stacks.len() == 1 || subtrees.len() == 1 {
         return subtrees
             .iter()
-            .map(|s| fit_below(fit, &mut w, input, positions, s, &mut stacks[0]))
+            .map(|s| fit_below(fit, &mut w, input, s, &mut stacks[0]))
             .sum();
     }
     let rings = |s: &[Subtree]| -> usize { s.iter().map(|t| t.rings.len()).sum() };
@@ -212,8 +191,8 @@ fn fit_subtrees<F: Fit>(
     let (sub_l, sub_r) = subtrees.split_at(mid);
     let (w_l, w_r) = w.split_at(sub_r[0].nodes.start as usize);
     let (a, b) = crate::threads::join(
-        || fit_subtrees(fit, w_l, input, positions, sub_l, stacks_l),
-        || fit_subtrees(fit, w_r, input, positions, sub_r, stacks_r),
+        || fit_subtrees(fit, w_l, input, sub_l, stacks_l),
+        || fit_subtrees(fit, w_r, input, sub_r, stacks_r),
     );
     a + b
 }
@@ -230,7 +209,6 @@ pub(super) fn fit_below<F: Fit>(
     fit: &F,
     w: &mut VolumeSlices,
     input: &RefitInput,
-    positions: &[Point],
     s: &Subtree,
     stack: &mut Vec<u32>,
 ) -> u64 {
@@ -245,14 +223,14 @@ pub(super) fn fit_below<F: Fit>(
             .vertices_of(r + PREFETCH_RINGS, s.rings.end as usize)
         {
             for v in ahead {
-                crate::prefetch::read(&positions[v as usize]);
+                crate::prefetch::read(&input.positions[v as usize]);
             }
         }
-        evaluations += fit.leaf(w, input, positions, r, tree.leaf_of_ring[r] as usize);
+        evaluations += fit.leaf(w, input, r, tree.leaf_of_ring[r] as usize);
     }
     for i in (s.nodes.start as usize..s.nodes.end as usize).rev() {
         if !tree.nodes[i].is_leaf() {
-            evaluations += fit.inner(w, input, positions, i, stack);
+            evaluations += fit.inner(w, input, i, stack);
         }
     }
     evaluations
@@ -263,14 +241,13 @@ fn fit_node<F: Fit>(
     fit: &F,
     w: &mut VolumeSlices,
     input: &RefitInput,
-    positions: &[Point],
     i: usize,
     stack: &mut Vec<u32>,
 ) -> u64 {
     let node = &input.tree.nodes[i];
     if node.is_leaf() {
-        fit.leaf(w, input, positions, node.ring_start as usize, i)
+        fit.leaf(w, input, node.ring_start as usize, i)
     } else {
-        fit.inner(w, input, positions, i, stack)
+        fit.inner(w, input, i, stack)
     }
 }

@@ -23,7 +23,6 @@ use super::boxes::FitBoxes;
 use super::fit::{Fit, NodeSlice, VolumeSlices, fit_below};
 use crate::csr::Csr;
 use crate::geometry::aabb::Aabb;
-use crate::geometry::predicates::Point;
 use crate::tree::{Subtree, Tree};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -214,19 +213,14 @@ impl Freshness {
         self.top && (k == TOP || self.filled[k as usize].load(Ordering::Relaxed))
     }
 
-    /// Makes the top current: the blocks' roots from one pass over `positions` and the shared
+    /// Makes the top current: the blocks' roots from one pass over the positions and the shared
     /// vertices, then the top's leaves from their rings and its inner nodes from their children.
     /// Marks every block unfilled.
-    pub fn fit_top(
-        &mut self,
-        blocks: &Blocks,
-        input: &RefitInput,
-        positions: &[Point],
-        boxes: &mut [Aabb],
-    ) {
+    pub fn fit_top(&mut self, blocks: &Blocks, input: &RefitInput, boxes: &mut [Aabb]) {
         if self.top {
             return;
         }
+        let positions = input.positions;
         let mut roots = vec![Aabb::EMPTY; blocks.len()];
         for (p, &k) in positions.iter().zip(&blocks.home) {
             if k != TOP {
@@ -246,15 +240,9 @@ impl Freshness {
         for &n in &blocks.top {
             let node = &input.tree.nodes[n as usize];
             if node.is_leaf() {
-                FitBoxes.leaf(
-                    &mut w,
-                    input,
-                    positions,
-                    node.ring_start as usize,
-                    n as usize,
-                );
+                FitBoxes.leaf(&mut w, input, node.ring_start as usize, n as usize);
             } else {
-                FitBoxes.inner(&mut w, input, positions, n as usize, &mut Vec::new());
+                FitBoxes.inner(&mut w, input, n as usize, &mut Vec::new());
             }
         }
         self.filled.clear();
@@ -274,7 +262,6 @@ pub(crate) struct LazyBoxes<'m> {
     blocks: &'m Blocks,
     fresh: &'m Freshness,
     input: RefitInput<'m>,
-    positions: &'m [Point],
 }
 
 // SAFETY: `boxes` is written only under `fresh.lock`, for a block not yet marked filled, and
@@ -293,7 +280,6 @@ impl<'m> LazyBoxes<'m> {
         blocks: &'m Blocks,
         fresh: &'m Freshness,
         input: RefitInput<'m>,
-        positions: &'m [Point],
     ) -> Self {
         assert!(fresh.top && boxes.len() == input.tree.len());
         assert_eq!(fresh.filled.len(), blocks.len());
@@ -303,7 +289,6 @@ impl<'m> LazyBoxes<'m> {
             blocks,
             fresh,
             input,
-            positions,
         }
     }
 
@@ -338,14 +323,7 @@ impl<'m> LazyBoxes<'m> {
             spheres: NodeSlice::whole(&mut []),
             boxes: NodeSlice::at(start, items),
         };
-        fit_below(
-            &FitBoxes,
-            &mut w,
-            &self.input,
-            self.positions,
-            b,
-            &mut Vec::new(),
-        );
+        fit_below(&FitBoxes, &mut w, &self.input, b, &mut Vec::new());
         self.fresh
             .nodes
             .fetch_add((end - start) as u64, Ordering::Relaxed);

@@ -114,15 +114,10 @@ impl Volumes {
         }
     }
 
-    /// Recomputes every volume from `positions` on at most `stacks.len()` threads (each with
+    /// Recomputes every volume from `input.positions` on at most `stacks.len()` threads (each with
     /// its scratch stack for the wrapped-radius search, sized at build), the same result
     /// whatever their number. Allocates nothing.
-    pub fn refit(
-        &mut self,
-        input: &RefitInput,
-        positions: &[Point],
-        stacks: &mut [Vec<u32>],
-    ) -> RefitStats {
+    pub fn refit(&mut self, input: &RefitInput, stacks: &mut [Vec<u32>]) -> RefitStats {
         let nodes = input.tree.len() as u64;
         let evaluations = match self {
             Volumes::Dvh {
@@ -133,21 +128,21 @@ impl Volumes {
                     spheres: NodeSlice::whole(spheres),
                     boxes: NodeSlice::whole(&mut []),
                 };
-                fit::refit(&FitDvh { centre_vertex }, w, input, positions, stacks)
+                fit::refit(&FitDvh { centre_vertex }, w, input, stacks)
             }
             Volumes::Sbv { spheres, boxes } => {
                 let w = VolumeSlices {
                     spheres: NodeSlice::whole(spheres),
                     boxes: NodeSlice::whole(boxes),
                 };
-                fit::refit(&FitSbv, w, input, positions, stacks)
+                fit::refit(&FitSbv, w, input, stacks)
             }
             Volumes::Aabb { boxes } => {
                 let w = VolumeSlices {
                     spheres: NodeSlice::whole(&mut []),
                     boxes: NodeSlice::whole(boxes),
                 };
-                fit::refit(&FitBoxes, w, input, positions, stacks)
+                fit::refit(&FitBoxes, w, input, stacks)
             }
         };
         RefitStats {
@@ -166,10 +161,11 @@ impl Volumes {
     }
 }
 
-/// What a refit reads besides the positions: the shape, the rings, and the radius kind.
+/// What a refit reads: the shape, the rings, the radius kind, and the positions.
 #[derive(Clone, Copy)]
 pub(crate) struct RefitInput<'a> {
     pub tree: &'a Tree,
     pub rings: &'a RingTable,
     pub radius: RadiusKind,
+    pub positions: &'a [Point],
 }

@@ -4,7 +4,7 @@
 use super::RadiusKind;
 use super::RefitInput;
 use super::boxes::children_union;
-use super::fit::{Fit, NodeSlice, VolumeSlices};
+use super::fit::{Fit, NodeSlice, Stack, VolumeSlices};
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::Point;
 use crate::geometry::sphere::{Sphere, distance_squared, round_up};
@@ -28,14 +28,8 @@ pub(super) struct FitDvh<'a> {
 
 impl Fit for FitDvh<'_> {
     #[inline]
-    fn leaf(
-        &self,
-        w: &mut VolumeSlices,
-        input: &RefitInput,
-        positions: &[Point],
-        r: usize,
-        leaf: usize,
-    ) -> u64 {
+    fn leaf(&self, w: &mut VolumeSlices, input: &RefitInput, r: usize, leaf: usize) -> u64 {
+        let positions = input.positions;
         let rings = input.rings;
         // The ring's centre is the sphere's: only the other vertices can be farther.
         let c = positions[rings.centre[r] as usize];
@@ -48,16 +42,9 @@ impl Fit for FitDvh<'_> {
     }
 
     #[inline]
-    fn inner(
-        &self,
-        w: &mut VolumeSlices,
-        input: &RefitInput,
-        positions: &[Point],
-        i: usize,
-        stack: &mut Vec<u32>,
-    ) -> u64 {
-        w.spheres[i].centre = positions[self.centre_vertex[i] as usize];
-        radius::<true>(i, &mut w.spheres, input, positions, stack)
+    fn inner(&self, w: &mut VolumeSlices, input: &RefitInput, i: usize, stack: &mut Stack) -> u64 {
+        w.spheres[i].centre = input.positions[self.centre_vertex[i] as usize];
+        radius::<true>(i, &mut w.spheres, input, stack)
     }
 }
 
@@ -66,14 +53,8 @@ pub(super) struct FitSbv;
 
 impl Fit for FitSbv {
     #[inline]
-    fn leaf(
-        &self,
-        w: &mut VolumeSlices,
-        input: &RefitInput,
-        positions: &[Point],
-        r: usize,
-        leaf: usize,
-    ) -> u64 {
+    fn leaf(&self, w: &mut VolumeSlices, input: &RefitInput, r: usize, leaf: usize) -> u64 {
+        let positions = input.positions;
         let rings = input.rings;
         let b = Aabb::of_points(rings.all_vertices(r).map(|v| &positions[v as usize]));
         let c = b.centre();
@@ -89,18 +70,11 @@ impl Fit for FitSbv {
     }
 
     #[inline]
-    fn inner(
-        &self,
-        w: &mut VolumeSlices,
-        input: &RefitInput,
-        positions: &[Point],
-        i: usize,
-        stack: &mut Vec<u32>,
-    ) -> u64 {
+    fn inner(&self, w: &mut VolumeSlices, input: &RefitInput, i: usize, stack: &mut Stack) -> u64 {
         let b = children_union(&input.tree.nodes[i], &w.boxes);
         w.boxes[i] = b;
         w.spheres[i].centre = b.centre();
-        radius::<false>(i, &mut w.spheres, input, positions, stack)
+        radius::<false>(i, &mut w.spheres, input, stack)
     }
 }
 
@@ -110,14 +84,11 @@ fn radius<const SEEDED: bool>(
     i: usize,
     spheres: &mut NodeSlice<Sphere>,
     input: &RefitInput,
-    positions: &[Point],
     stack: &mut Vec<u32>,
 ) -> u64 {
     let mut evaluations = 0;
     spheres[i].radius = match input.radius {
-        RadiusKind::Wrapped => {
-            wrapped::<SEEDED>(i, spheres, input, positions, stack, &mut evaluations)
-        }
+        RadiusKind::Wrapped => wrapped::<SEEDED>(i, spheres, input, stack, &mut evaluations),
         RadiusKind::Layered => layered(i, spheres, input, &mut evaluations),
     };
     evaluations
@@ -155,11 +126,10 @@ fn wrapped<const SEEDED: bool>(
     i: usize,
     spheres: &NodeSlice<Sphere>,
     input: &RefitInput,
-    positions: &[Point],
     stack: &mut Vec<u32>,
     evaluations: &mut u64,
 ) -> f64 {
-    let (tree, rings) = (input.tree, input.rings);
+    let (tree, rings, positions) = (input.tree, input.rings, input.positions);
     let c = spheres[i].centre;
     let mut best = 0.0f64;
     stack.clear();

@@ -227,7 +227,7 @@ fn open_pair<'m, A: QuerySide<'m>, B: QuerySide<'m>>(
 /// the overlapping pair `start` (then in the order the traversal from the roots reaches them):
 /// nodes are terminal when they are leaves or at depth `max_depth`. A child pair is tested
 /// before it is pushed. Returns whether the narrow phase stopped the traversal.
-pub(crate) fn depth_first<'m, A, B, N>(
+pub(crate) fn depth_first<'m, A: QuerySide<'m>, B: QuerySide<'m>, N: NarrowPhase<'m>>(
     a: &mut A,
     b: &mut B,
     start: Option<(u32, u32)>,
@@ -235,12 +235,7 @@ pub(crate) fn depth_first<'m, A, B, N>(
     stack: &mut Vec<(u32, u32)>,
     stats: &mut QueryStats,
     narrow: &mut N,
-) -> bool
-where
-    A: QuerySide<'m>,
-    B: QuerySide<'m>,
-    N: NarrowPhase<'m>,
-{
+) -> bool {
     let start = match start {
         Some(start) => start,
         None if roots_overlap(a, b, walk, stats) => (0, 0),
@@ -332,7 +327,7 @@ pub(crate) fn split<'m, A: QuerySide<'m>, B: QuerySide<'m>>(
 /// report (every such pair lies below a reported one), and with a large enough budget they are
 /// exactly those. At most one opening runs past the budget: `bv_tests` ends below `budget` plus
 /// the child tests of one pair. Returns whether the narrow phase stopped the traversal.
-pub(crate) fn best_first<'m, A, B, N>(
+pub(crate) fn best_first<'m, A: QuerySide<'m>, B: QuerySide<'m>, N: NarrowPhase<'m>>(
     a: &mut A,
     b: &mut B,
     budget: u64,
@@ -340,12 +335,7 @@ pub(crate) fn best_first<'m, A, B, N>(
     queue: &mut BinaryHeap<Queued>,
     stats: &mut QueryStats,
     narrow: &mut N,
-) -> bool
-where
-    A: QuerySide<'m>,
-    B: QuerySide<'m>,
-    N: NarrowPhase<'m>,
-{
+) -> bool {
     queue.clear();
     let walk = Walk {
         max_depth: u32::MAX,
