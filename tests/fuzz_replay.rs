@@ -17,7 +17,11 @@ fn replay(target: &str, driver: fn(&[u8])) -> usize {
     let mut dirs = vec![root.join("regressions"), root.join("seeds")];
     if let Some(corpus) = std::env::var_os("DVH_FUZZ_CORPUS") {
         let corpus = root.parent().expect("the repository").join(corpus);
-        assert!(corpus.join(target).is_dir(), "no corpus at {}", corpus.display());
+        assert!(
+            corpus.join(target).is_dir(),
+            "no corpus at {}",
+            corpus.display()
+        );
         dirs.push(corpus);
     }
     let mut n = 0;
@@ -52,13 +56,19 @@ fn triangle_oracle_inputs() {
     ] {
         drivers::triangle_oracle(&grid(v));
     }
-    assert!(replay("triangle_oracle", drivers::triangle_oracle) > 0, "no kept inputs for triangle_oracle");
+    assert!(
+        replay("triangle_oracle", drivers::triangle_oracle) > 0,
+        "no kept inputs for triangle_oracle"
+    );
 }
 
 #[test]
 fn c_abi_inputs() {
     drivers::c_abi(&[8, 4, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]);
-    assert!(replay("c_abi", drivers::c_abi) > 0, "no kept inputs for c_abi");
+    assert!(
+        replay("c_abi", drivers::c_abi) > 0,
+        "no kept inputs for c_abi"
+    );
 }
 
 #[test]
@@ -72,7 +82,10 @@ fn scene_inputs() {
     input.extend(mesh);
     input.extend([0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 0, 0, 0, 0]);
     drivers::scene(&input);
-    assert!(replay("scene", drivers::scene) > 0, "no kept inputs for scene");
+    assert!(
+        replay("scene", drivers::scene) > 0,
+        "no kept inputs for scene"
+    );
 }
 
 #[test]
@@ -96,5 +109,8 @@ fn the_oracle_is_right_on_known_cases() {
 fn self_collision_inputs() {
     // A sheet folded over itself, then queried.
     drivers::self_collision(&[0, 4, 1, 0, 0, 0, 8, 16, 0, 0, 0, 0, 0, 0, 0]);
-    assert!(replay("self_collision", drivers::self_collision) > 0, "no kept inputs for self_collision");
+    assert!(
+        replay("self_collision", drivers::self_collision) > 0,
+        "no kept inputs for self_collision"
+    );
 }
