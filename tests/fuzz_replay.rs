@@ -17,11 +17,8 @@ fn replay(target: &str, driver: fn(&[u8])) -> usize {
     let mut dirs = vec![root.join("regressions"), root.join("seeds")];
     if let Some(corpus) = std::env::var_os("DVH_FUZZ_CORPUS") {
         let corpus = root.parent().expect("the repository").join(corpus);
-        assert!(
-            corpus.join(target).is_dir(),
-            "no corpus at {}",
-            corpus.display()
-        );
+        // A corpus may hold some targets only; a directory that is not there at all is a mistake.
+        assert!(corpus.is_dir(), "no corpus at {}", corpus.display());
         dirs.push(corpus);
     }
     let mut n = 0;
