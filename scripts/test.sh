@@ -7,14 +7,14 @@
 #                            regressions), the C tests under AddressSanitizer and
 #                            UndefinedBehaviorSanitizer, the header as C and C++, the install,
 #                            Python through ctypes, a short cross-check against FCL judged by
-#                            CGAL, and the demo (about 15 minutes on a fresh 2-core machine,
-#                            builds and package installs included; about 6 once built)
+#                            CGAL, and the demo (about 9 minutes from a clean build on 2 cores,
+#                            plus the package installs on a new machine; about 4 once built)
 #   scripts/test.sh --full   all of that and the long runs: the C tests under valgrind, the
 #                            soak, the benchmark runner's tests and short runs (every method and
 #                            knob, its scenes checked against the cross-check's), the cross-check
 #                            on one thread as well as on every core, the criterion benchmarks'
 #                            build, the demo's release build, and the whole fuzz corpus replayed
-#                            (about 45 minutes; what CI runs)
+#                            (about 40 minutes; what CI runs)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 full=false
