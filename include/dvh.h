@@ -277,8 +277,8 @@ typedef struct DvhQueryStats {
    */
   bool truncated;
   /**
-   * Node pairs left unopened when the budget of `DVH_QUERY_MODE_BUDGET` ran out (0: it
-   * sufficed, and the result is `DVH_QUERY_MODE_LEAVES`'s).
+   * Overlapping node pairs left unopened when `DVH_QUERY_MODE_BUDGET`'s budget ran out, and
+   * reported as they are (0: the budget sufficed, the answer is `DVH_QUERY_MODE_LEAVES`'s).
    */
   uint64_t frontier_pairs;
 } DvhQueryStats;

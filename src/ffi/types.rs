@@ -159,8 +159,8 @@ pub struct DvhQueryStats {
     pub nodes_refit: u64,
     /// Did `max_pairs` stop the query before every pair was found?
     pub truncated: bool,
-    /// Node pairs left unopened when the budget of `DVH_QUERY_MODE_BUDGET` ran out (0: it
-    /// sufficed, and the result is `DVH_QUERY_MODE_LEAVES`'s).
+    /// Overlapping node pairs left unopened when `DVH_QUERY_MODE_BUDGET`'s budget ran out, and
+    /// reported as they are (0: the budget sufficed, the answer is `DVH_QUERY_MODE_LEAVES`'s).
     pub frontier_pairs: u64,
 }
 

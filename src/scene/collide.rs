@@ -44,9 +44,9 @@ pub struct SceneStats {
     pub bv_tests: u64,
     /// Triangle pairs given to the exact test, over every object pair.
     pub triangle_tests: u64,
-    /// Nodes recomputed by the refits this query made (the paper's NU): only in deformable
-    /// objects some pair needed whose positions had changed and, for box volumes in the modes
-    /// that report triangles, only the blocks of their trees that a traversal reached.
+    /// Nodes recomputed by the refits the query made (`NU`): only in deformable objects some
+    /// pair needed whose positions had changed and, with box volumes in the modes that report
+    /// triangles, only the blocks of their trees that a traversal reached.
     pub nodes_refit: u64,
     /// Contacts reported.
     pub contacts: u64,
