@@ -1,0 +1,672 @@
+"""The Python layer over dvh's C ABI (``include/dvh.h``), through cffi.
+
+Arrays are checked here, before any call, so that a wrong shape or dtype is a ``ValueError`` or
+``TypeError`` naming the argument; what only the library can check (an index out of range, a
+NaN, a non-rigid pose) comes back as :class:`DvhError` with the library's message. cffi releases
+the GIL for the duration of every C call, so refits and queries on other threads run alongside.
+"""
+
+from __future__ import annotations
+
+import threading
+from dataclasses import dataclass
+from typing import Optional, Tuple, Union
+
+import numpy as np
+
+from ._dvh import ffi, lib
+
+__all__ = [
+    "DvhError",
+    "Mesh",
+    "Scene",
+    "QueryStats",
+    "SceneStats",
+    "TreeStats",
+    "RefitStats",
+    "CONTACT_DTYPE",
+    "collide",
+    "self_collide",
+    "proximity",
+    "self_proximity",
+    "triangles_intersect",
+    "version",
+]
+
+_VOLUMES = {
+    "aabb": lib.DVH_VOLUME_KIND_AABB,
+    "dvh": lib.DVH_VOLUME_KIND_DVH,
+    "sbv": lib.DVH_VOLUME_KIND_SBV,
+}
+_TREES = {"octree": lib.DVH_TREE_KIND_OCTREE, "binary": lib.DVH_TREE_KIND_BINARY}
+_RADII = {"layered": lib.DVH_RADIUS_KIND_LAYERED, "wrapped": lib.DVH_RADIUS_KIND_WRAPPED}
+_LEFTOVERS = {
+    "join_adjacent": lib.DVH_LEFTOVER_POLICY_JOIN_ADJACENT,
+    "extra_rings": lib.DVH_LEFTOVER_POLICY_EXTRA_RINGS,
+}
+_MODES = {
+    "triangles": lib.DVH_QUERY_MODE_TRIANGLES,
+    "first_hit": lib.DVH_QUERY_MODE_FIRST_HIT,
+    "leaves": lib.DVH_QUERY_MODE_LEAVES,
+    "depth": lib.DVH_QUERY_MODE_DEPTH,
+    "budget": lib.DVH_QUERY_MODE_BUDGET,
+}
+_U32_MAX = 0xFFFF_FFFF
+_U64_MAX = 0xFFFF_FFFF_FFFF_FFFF
+
+#: The dtype of :meth:`Scene.collide`'s contacts: two object ids (the lower first) and a
+#: triangle (or node) index in each object's mesh.
+CONTACT_DTYPE = np.dtype(
+    [("object_a", "<u4"), ("object_b", "<u4"), ("a", "<u4"), ("b", "<u4")]
+)
+
+
+class DvhError(Exception):
+    """A call the library refused: ``status`` is the ``DVH_STATUS_*`` code, ``name`` its name and
+    ``message`` the library's explanation (which argument, index or value was wrong). The objects
+    involved are as they were before the call."""
+
+    def __init__(self, status: int, message: str):
+        self.status = int(status)
+        self.name = ffi.string(lib.dvh_status_name(status)).decode()
+        self.message = message
+        super().__init__(f"{self.name}: {message}")
+
+
+def _raise_for(status: int) -> None:
+    if status == lib.DVH_STATUS_OK:
+        return
+    n = lib.dvh_last_error_message(ffi.NULL, 0)
+    buf = ffi.new("char[]", n + 1)
+    lib.dvh_last_error_message(buf, n + 1)
+    message = ffi.string(buf).decode("utf-8", "replace")
+    if status == lib.DVH_STATUS_OUT_OF_MEMORY:
+        raise MemoryError(message)
+    raise DvhError(status, message)
+
+
+def version() -> str:
+    """The library's version, such as ``"0.3.0"``."""
+    return ffi.string(lib.dvh_version()).decode()
+
+
+def _choice(name: str, value: str, table: dict) -> int:
+    if not isinstance(value, str):
+        raise TypeError(f"{name} must be a string, one of {sorted(table)}; got {value!r}")
+    try:
+        return table[value]
+    except KeyError:
+        raise ValueError(f"{name} must be one of {sorted(table)}; got {value!r}") from None
+
+
+def _count(name: str, value, limit: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an integer; got {value!r}")
+    value = int(value)
+    if not 0 <= value <= limit:
+        raise ValueError(f"{name} must be in 0..={limit}; got {value}")
+    return value
+
+
+# ---------------------------------------------------------------------------------------------
+# Arrays
+
+
+def _positions(name: str, positions, expected: Optional[int] = None):
+    """A cffi pointer to `positions` and what the C call needs to read it, with the array kept
+    alive by the caller. float64 arrays are read in place when C-contiguous (other layouts are
+    copied once); float32 arrays in place whenever their rows are evenly spaced, as the C ABI
+    takes a row stride for them."""
+    arr = np.asarray(positions)
+    if arr.ndim != 2 or arr.shape[1] != 3:
+        raise ValueError(f"{name} must have shape (n, 3); got {arr.shape}")
+    if expected is not None and arr.shape[0] != expected:
+        raise ValueError(f"{name} has {arr.shape[0]} vertices; the mesh has {expected}")
+    if arr.dtype == np.float32:
+        if arr.strides[1] != 4 or arr.strides[0] < 12 or arr.strides[0] % 4:
+            arr = np.ascontiguousarray(arr)
+        ptr = ffi.cast("const float *", arr.ctypes.data)
+        return arr, ptr, arr.strides[0] if arr.shape[0] > 0 else 12, True
+    # Integers and float16 convert to float64 exactly; long double would round, so it is refused.
+    if arr.dtype.kind not in "fiu" or (arr.dtype.kind == "f" and arr.dtype.itemsize > 8):
+        raise TypeError(f"{name} must hold float64 or float32 values; got dtype {arr.dtype}")
+    arr = np.ascontiguousarray(arr, dtype=np.float64)
+    return arr, ffi.cast("const double *", arr.ctypes.data), 24, False
+
+
+def _triangles(triangles):
+    """`triangles` as a C-contiguous (m, 3) array of uint32 or uint16 (read in place when it is
+    one already), after checking that no index is negative."""
+    arr = np.asarray(triangles)
+    if arr.ndim != 2 or arr.shape[1] != 3:
+        raise ValueError(f"triangles must have shape (m, 3); got {arr.shape}")
+    if arr.dtype.kind not in "iu":
+        raise TypeError(f"triangles must hold integers; got dtype {arr.dtype}")
+    if arr.dtype in (np.uint32, np.uint16):
+        return np.ascontiguousarray(arr)
+    if arr.size:
+        low, high = int(arr.min()), int(arr.max())
+        if low < 0:
+            t = int(np.argwhere(arr < 0)[0][0])
+            raise ValueError(f"triangle {t} has a negative vertex index: {arr[t].tolist()}")
+        if high > _U32_MAX:
+            t = int(np.argwhere(arr > _U32_MAX)[0][0])
+            raise ValueError(f"triangle {t} has a vertex index above 2**32 - 1: {arr[t].tolist()}")
+    return np.ascontiguousarray(arr, dtype=np.uint32)
+
+
+def _pose(name: str, pose):
+    """A `DvhPose *` for a 4x4 or 3x4 rigid transform (NULL for None)."""
+    if pose is None:
+        return ffi.NULL
+    m = np.asarray(pose, dtype=np.float64)
+    if m.shape not in ((4, 4), (3, 4)):
+        raise ValueError(f"{name} must be a 4x4 or 3x4 matrix; got shape {m.shape}")
+    if m.shape == (4, 4) and not np.array_equal(m[3], [0.0, 0.0, 0.0, 1.0]):
+        raise ValueError(f"{name}'s last row must be [0, 0, 0, 1]; got {m[3].tolist()}")
+    p = ffi.new("DvhPose *")
+    p.rotation = m[:3, :3].ravel().tolist()
+    p.translation = m[:3, 3].tolist()
+    return p
+
+
+# ---------------------------------------------------------------------------------------------
+# Counters
+
+
+@dataclass(frozen=True)
+class QueryStats:
+    """Counters of one query: the terms of the paper's cost model ``T = NV*CV + NP*CP + NU*CU``."""
+
+    #: Volume pairs tested for overlap (NV).
+    bv_tests: int
+    #: Triangle pairs given to the exact test (NP).
+    triangle_tests: int
+    #: Triangle pairs of overlapping leaves, before the exact bounding-box filter.
+    triangle_candidates: int
+    #: Overlapping pairs of terminal nodes the traversal reached.
+    leaf_pairs: int
+    #: Pairs reported.
+    pairs: int
+    #: Nodes recomputed by the last refit of each mesh (NU of the frame).
+    nodes_refit: int
+    #: Did ``max_pairs`` stop the query before every pair was found?
+    truncated: bool
+    #: Node pairs left unopened when the ``"budget"`` mode's budget ran out.
+    frontier_pairs: int
+
+    @classmethod
+    def _of(cls, s) -> "QueryStats":
+        return cls(
+            s.bv_tests, s.triangle_tests, s.triangle_candidates, s.leaf_pairs, s.pairs,
+            s.nodes_refit, bool(s.truncated), s.frontier_pairs,
+        )
+
+
+@dataclass(frozen=True)
+class SceneStats:
+    """Counters of one :meth:`Scene.collide`."""
+
+    #: Objects in the scene.
+    objects: int
+    #: Object pairs that passed the broad phase and the filters, and were queried.
+    object_pairs_tested: int
+    #: Object pairs with at least one contact.
+    object_pairs_colliding: int
+    #: Volume pairs tested, over every object pair.
+    bv_tests: int
+    #: Triangle pairs given to the exact test, over every object pair.
+    triangle_tests: int
+    #: Nodes recomputed by the refits the query made.
+    nodes_refit: int
+    #: Contacts reported.
+    contacts: int
+    #: Did ``max_pairs`` cut the result short?
+    truncated: bool
+
+
+@dataclass(frozen=True)
+class TreeStats:
+    """The shape of a mesh's hierarchy."""
+
+    #: Triangles in the mesh.
+    triangles: int
+    #: 1-rings, that is leaves.
+    rings: int
+    #: Inner nodes.
+    inner_nodes: int
+    #: Levels: the depth of the deepest leaf plus one.
+    levels: int
+    #: Most triangles in one ring.
+    max_ring_triangles: int
+
+
+@dataclass(frozen=True)
+class RefitStats:
+    """Counters of a mesh's last refit (or of its build)."""
+
+    #: Nodes whose volume was recomputed.
+    nodes_refit: int
+    #: Vertex-to-centre distances evaluated (for boxes: vertices folded into leaf boxes).
+    distance_evaluations: int
+
+
+# ---------------------------------------------------------------------------------------------
+# Meshes
+
+
+class Mesh:
+    """A triangle mesh with its collision hierarchy.
+
+    ``positions`` is an ``(n, 3)`` float64 or float32 array, ``triangles`` an ``(m, 3)`` integer
+    array of vertex indices. Both are copied by the library; the arrays may change afterwards.
+
+    ``volume`` is the bounding volume on every node: ``"aabb"`` (boxes, the fastest measured for
+    deforming meshes; the default), ``"dvh"`` (spheres centred on vertices, refit by radii only)
+    or ``"sbv"`` (free sphere centres). ``tree`` is ``"octree"`` (the default) or ``"binary"``.
+    ``rigid=True`` starts from the options measured fastest for meshes moved by poses and never
+    refit (SBV spheres with wrapped radii); ``volume``, ``tree``, ``radius`` and ``leftovers``,
+    when given, override the starting point. ``refit_threads`` bounds the threads of a refit
+    (0: every core).
+    """
+
+    __slots__ = ("_ptr", "_vertices", "_triangles", "__weakref__")
+
+    def __init__(
+        self,
+        positions,
+        triangles,
+        volume: Optional[str] = None,
+        tree: Optional[str] = None,
+        rigid: bool = False,
+        radius: Optional[str] = None,
+        leftovers: Optional[str] = None,
+        refit_threads: int = 0,
+    ):
+        opts = ffi.new("DvhBuildOptions *")
+        opts[0] = lib.dvh_build_options_rigid() if rigid else lib.dvh_build_options_default()
+        if volume is not None:
+            opts.volume = _choice("volume", volume, _VOLUMES)
+        if tree is not None:
+            opts.tree = _choice("tree", tree, _TREES)
+        if radius is not None:
+            opts.radius = _choice("radius", radius, _RADII)
+        if leftovers is not None:
+            opts.leftovers = _choice("leftovers", leftovers, _LEFTOVERS)
+        opts.refit_threads = _count("refit_threads", refit_threads, _U32_MAX)
+        pos, pptr, stride, single = _positions("positions", positions)
+        tri = _triangles(triangles)
+        out = ffi.new("DvhMesh **")
+        n, m = pos.shape[0], tri.shape[0]
+        if single:
+            if tri.dtype != np.uint32:
+                tri = tri.astype(np.uint32)
+            tptr = ffi.cast("const uint32_t *", tri.ctypes.data)
+            status = lib.dvh_mesh_create_f32(pptr, stride, n, tptr, m, opts, out)
+        elif tri.dtype == np.uint16:
+            tptr = ffi.cast("const uint16_t *", tri.ctypes.data)
+            status = lib.dvh_mesh_create_u16(pptr, n, tptr, m, opts, out)
+        else:
+            tptr = ffi.cast("const uint32_t *", tri.ctypes.data)
+            status = lib.dvh_mesh_create(pptr, n, tptr, m, opts, out)
+        _raise_for(status)
+        self._ptr = ffi.gc(out[0], lib.dvh_mesh_free)
+        self._vertices = n
+        self._triangles = m
+
+    @property
+    def vertex_count(self) -> int:
+        """Vertices of the mesh."""
+        return self._vertices
+
+    @property
+    def triangle_count(self) -> int:
+        """Triangles of the mesh."""
+        return self._triangles
+
+    @property
+    def node_count(self) -> int:
+        """Nodes of the hierarchy (node indices of the coarse query modes are below this)."""
+        return lib.dvh_mesh_node_count(self._ptr)
+
+    def refit(self, positions) -> None:
+        """Moves every vertex to ``positions`` (``(n, 3)``, the mesh's vertex count) and refits the
+        hierarchy. On error the mesh keeps its previous positions and volumes."""
+        pos, pptr, stride, single = _positions("positions", positions, self._vertices)
+        if single:
+            status = lib.dvh_mesh_refit_f32(self._ptr, pptr, stride, pos.shape[0])
+        else:
+            status = lib.dvh_mesh_refit(self._ptr, pptr, pos.shape[0])
+        _raise_for(status)
+
+    def tree_stats(self) -> TreeStats:
+        """The shape of the hierarchy."""
+        s = ffi.new("DvhTreeStats *")
+        _raise_for(lib.dvh_mesh_tree_stats(self._ptr, s))
+        return TreeStats(s.triangles, s.rings, s.inner_nodes, s.levels, s.max_ring_triangles)
+
+    def last_refit_stats(self) -> RefitStats:
+        """Counters of the last refit (or of the build)."""
+        s = ffi.new("DvhRefitStats *")
+        _raise_for(lib.dvh_mesh_last_refit_stats(self._ptr, s))
+        return RefitStats(s.nodes_refit, s.distance_evaluations)
+
+    def node_triangles(self, node: int) -> np.ndarray:
+        """The triangles below ``node`` (a uint32 array), to expand the node pairs of the
+        ``"leaves"``, ``"depth"`` and ``"budget"`` modes."""
+        node = _count("node", node, _U32_MAX)
+        tris = ffi.new("const uint32_t **")
+        count = ffi.new("size_t *")
+        _raise_for(lib.dvh_mesh_node_triangles(self._ptr, node, tris, count))
+        return np.frombuffer(ffi.buffer(tris[0], 4 * count[0]), dtype=np.uint32).copy()
+
+    def validate(self) -> None:
+        """Checks every invariant of the hierarchy; :class:`DvhError` (``INVARIANT_BROKEN``) if
+        one is broken, which would be a bug in dvh."""
+        _raise_for(lib.dvh_mesh_validate(self._ptr))
+
+    def __repr__(self) -> str:
+        return f"dvh.Mesh({self._vertices} vertices, {self._triangles} triangles)"
+
+
+def _mesh(name: str, mesh) -> object:
+    if not isinstance(mesh, Mesh):
+        raise TypeError(f"{name} must be a dvh.Mesh; got {type(mesh).__name__}")
+    return mesh._ptr
+
+
+# ---------------------------------------------------------------------------------------------
+# Queries
+
+
+_option_cache: dict = {}
+
+
+def _options(mode, max_pairs, threads, max_depth, budget):
+    """The C options for these arguments, checked once and kept: the per-call cost of the
+    Python layer is mostly here, and most programs use a handful of option sets. Only plain
+    `str` and `int` arguments are kept (`True == 1` and `1.0 == 1` must not find a checked set)."""
+    plain = (
+        type(mode) is str
+        and type(max_pairs) is int
+        and type(threads) is int
+        and type(max_depth) is int
+        and type(budget) is int
+    )
+    key = (mode, max_pairs, threads, max_depth, budget)
+    if plain:
+        o = _option_cache.get(key)
+        if o is not None:
+            return o
+    o = _new_options(mode, max_pairs, threads, max_depth, budget)
+    if plain and len(_option_cache) < 256:
+        _option_cache[key] = o
+    return o
+
+
+def _new_options(mode, max_pairs, threads, max_depth, budget):
+    o = ffi.new("DvhQueryOptions *")
+    o[0] = lib.dvh_query_options_default()
+    o.mode = _choice("mode", mode, _MODES)
+    o.max_pairs = _count("max_pairs", max_pairs, _U64_MAX)
+    o.threads = _count("threads", threads, _U32_MAX)
+    o.max_depth = _count("max_depth", max_depth, _U32_MAX)
+    o.budget = _count("budget", budget, _U64_MAX)
+    return o
+
+
+class _Buffers(threading.local):
+    """One result buffer per thread, reused by every query on it: the library keeps its
+    workspace (the threads' scratch space) in the buffer, so reuse saves allocations."""
+
+    def __init__(self):
+        self.pairs = ffi.gc(lib.dvh_pairs_new(), lib.dvh_pairs_free)
+        if self.pairs == ffi.NULL:
+            raise MemoryError("dvh_pairs_new: out of memory")
+
+
+_buffers = _Buffers()
+
+
+def _pairs_array(buf) -> np.ndarray:
+    n = lib.dvh_pairs_len(buf)
+    if n == 0:
+        return np.empty((0, 2), dtype=np.uint32)
+    data = lib.dvh_pairs_data(buf)
+    return np.frombuffer(ffi.buffer(data, 8 * n), dtype=np.uint32).reshape(n, 2).copy()
+
+
+def _stats_out(want: bool):
+    return ffi.new("DvhQueryStats *") if want else ffi.NULL
+
+
+def _finish(status, buf, stats):
+    if status:
+        _raise_for(status)
+    pairs = _pairs_array(buf)
+    return pairs if stats == ffi.NULL else (pairs, QueryStats._of(stats))
+
+
+_Result = Union[np.ndarray, Tuple[np.ndarray, QueryStats]]
+
+
+def collide(
+    a: Mesh,
+    b: Mesh,
+    pose_a=None,
+    pose_b=None,
+    mode: str = "triangles",
+    max_pairs: int = 0,
+    threads: int = 0,
+    max_depth: int = 0,
+    budget: int = 0,
+    stats: bool = False,
+) -> _Result:
+    """The intersecting triangle pairs of ``a`` and ``b``, each placed by its pose (a 4x4 or 3x4
+    rigid transform; None for the identity), as a ``(k, 2)`` uint32 array sorted by ``a`` then
+    ``b``. The decision is exact: touching triangles intersect.
+
+    ``mode``: ``"triangles"`` (every pair), ``"first_hit"`` (at most one), ``"leaves"`` (node pairs
+    of overlapping leaves, no triangle tests), ``"depth"`` (node pairs at most ``max_depth`` deep),
+    ``"budget"`` (at most ``budget`` volume tests). Node indices expand with
+    :meth:`Mesh.node_triangles`. ``max_pairs`` stops after that many (0: no limit); ``threads``
+    bounds the threads (0: every core; the result is the same for any count). With
+    ``stats=True`` returns ``(pairs, QueryStats)``."""
+    pa, pb = _mesh("a", a), _mesh("b", b)
+    ka, kb = _pose("pose_a", pose_a), _pose("pose_b", pose_b)
+    o = _options(mode, max_pairs, threads, max_depth, budget)
+    s = _stats_out(stats)
+    buf = _buffers.pairs
+    return _finish(lib.dvh_collide(pa, ka, pb, kb, o, buf, s), buf, s)
+
+
+def self_collide(
+    mesh: Mesh,
+    mode: str = "triangles",
+    max_pairs: int = 0,
+    threads: int = 0,
+    max_depth: int = 0,
+    budget: int = 0,
+    stats: bool = False,
+) -> _Result:
+    """The pairs ``(a, b)``, ``a < b``, of one mesh's triangles that intersect beyond what they
+    share: triangles sharing a vertex or an edge are reported only when they also meet elsewhere.
+    Options and result as :func:`collide`."""
+    p = _mesh("mesh", mesh)
+    o = _options(mode, max_pairs, threads, max_depth, budget)
+    s = _stats_out(stats)
+    buf = _buffers.pairs
+    return _finish(lib.dvh_self_collide(p, o, buf, s), buf, s)
+
+
+def _distance(distance) -> float:
+    if isinstance(distance, bool) or not isinstance(distance, (int, float, np.integer, np.floating)):
+        raise TypeError(f"distance must be a number; got {distance!r}")
+    return float(distance)
+
+
+def proximity(
+    a: Mesh,
+    b: Mesh,
+    distance: float,
+    pose_a=None,
+    pose_b=None,
+    mode: str = "triangles",
+    max_pairs: int = 0,
+    threads: int = 0,
+    max_depth: int = 0,
+    budget: int = 0,
+    stats: bool = False,
+) -> _Result:
+    """The triangle pairs of ``a`` and ``b`` whose distance is at most ``distance`` (decided
+    exactly: 0 gives the touching pairs). Options and result as :func:`collide`; a negative,
+    NaN or infinite distance is a :class:`DvhError`."""
+    pa, pb = _mesh("a", a), _mesh("b", b)
+    d = _distance(distance)
+    ka, kb = _pose("pose_a", pose_a), _pose("pose_b", pose_b)
+    o = _options(mode, max_pairs, threads, max_depth, budget)
+    s = _stats_out(stats)
+    buf = _buffers.pairs
+    return _finish(lib.dvh_proximity(pa, ka, pb, kb, d, o, buf, s), buf, s)
+
+
+def self_proximity(
+    mesh: Mesh,
+    distance: float,
+    mode: str = "triangles",
+    max_pairs: int = 0,
+    threads: int = 0,
+    max_depth: int = 0,
+    budget: int = 0,
+    stats: bool = False,
+) -> _Result:
+    """The pairs ``(a, b)``, ``a < b``, of one mesh's triangles that share no vertex and lie
+    within ``distance``. Options and result as :func:`proximity`."""
+    p = _mesh("mesh", mesh)
+    d = _distance(distance)
+    o = _options(mode, max_pairs, threads, max_depth, budget)
+    s = _stats_out(stats)
+    buf = _buffers.pairs
+    return _finish(lib.dvh_self_proximity(p, d, o, buf, s), buf, s)
+
+
+def triangles_intersect(t1, t2) -> bool:
+    """Do two closed triangles (each a ``(3, 3)`` array of corners) intersect? Exact for every
+    finite input; degenerate triangles are the segment or point they cover."""
+    out = ffi.new("bool *")
+    a = np.ascontiguousarray(t1, dtype=np.float64)
+    b = np.ascontiguousarray(t2, dtype=np.float64)
+    for name, t in (("t1", a), ("t2", b)):
+        if t.shape != (3, 3):
+            raise ValueError(f"{name} must have shape (3, 3); got {t.shape}")
+    pa = ffi.cast("const double *", a.ctypes.data)
+    pb = ffi.cast("const double *", b.ctypes.data)
+    _raise_for(lib.dvh_triangles_intersect(pa, pb, out))
+    return bool(out[0])
+
+
+# ---------------------------------------------------------------------------------------------
+# Scenes
+
+
+class Scene:
+    """A set of objects (rigid or deformable, sharing meshes) queried together: a broad phase
+    over the objects, then the exact query on every pair that can collide. Objects ``i`` and
+    ``j`` are tested when ``group_i & mask_j`` and ``group_j & mask_i`` are both non-zero.
+
+    A rigid object keeps the mesh's current positions as local coordinates, moved by its pose; a
+    deformable one is refit from :meth:`set_positions`. The scene copies what it needs: the mesh
+    may be refit or dropped afterwards."""
+
+    __slots__ = ("_ptr", "_vertices", "_contacts")
+
+    def __init__(self):
+        out = ffi.new("DvhScene **")
+        _raise_for(lib.dvh_scene_create(out))
+        self._ptr = ffi.gc(out[0], lib.dvh_scene_free)
+        self._vertices = {}
+        contacts = lib.dvh_contacts_new()
+        if contacts == ffi.NULL:
+            raise MemoryError("dvh_contacts_new: out of memory")
+        self._contacts = ffi.gc(contacts, lib.dvh_contacts_free)
+
+    def add_rigid(self, mesh: Mesh, pose=None, group: int = _U32_MAX, mask: int = _U32_MAX) -> int:
+        """Adds a rigid object placed by ``pose`` (4x4 or 3x4; None: the identity); returns its id."""
+        p = _mesh("mesh", mesh)
+        k = _pose("pose", pose)
+        g, m = _count("group", group, _U32_MAX), _count("mask", mask, _U32_MAX)
+        out = ffi.new("uint32_t *")
+        _raise_for(lib.dvh_scene_add_rigid(self._ptr, p, k, g, m, out))
+        return int(out[0])
+
+    def add_deformable(self, mesh: Mesh, group: int = _U32_MAX, mask: int = _U32_MAX) -> int:
+        """Adds a deformable object, at the mesh's current positions; returns its id."""
+        p = _mesh("mesh", mesh)
+        g, m = _count("group", group, _U32_MAX), _count("mask", mask, _U32_MAX)
+        out = ffi.new("uint32_t *")
+        _raise_for(lib.dvh_scene_add_deformable(self._ptr, p, g, m, out))
+        self._vertices[int(out[0])] = mesh.vertex_count
+        return int(out[0])
+
+    def set_pose(self, obj: int, pose) -> None:
+        """Moves rigid object ``obj`` to ``pose``."""
+        k = _pose("pose", pose)
+        if k == ffi.NULL:
+            k = _pose("pose", np.eye(4))
+        _raise_for(lib.dvh_scene_set_pose(self._ptr, _count("obj", obj, _U32_MAX), k))
+
+    def set_positions(self, obj: int, positions) -> None:
+        """Gives deformable object ``obj`` new vertex positions (``(n, 3)``); it is refit when a
+        query needs it."""
+        obj = _count("obj", obj, _U32_MAX)
+        pos, pptr, stride, single = _positions("positions", positions, self._vertices.get(obj))
+        if single:
+            status = lib.dvh_scene_set_positions_f32(self._ptr, obj, pptr, stride, pos.shape[0])
+        else:
+            status = lib.dvh_scene_set_positions(self._ptr, obj, pptr, pos.shape[0])
+        _raise_for(status)
+
+    def remove(self, obj: int) -> None:
+        """Removes object ``obj``; its id may be given to a later object."""
+        obj = _count("obj", obj, _U32_MAX)
+        _raise_for(lib.dvh_scene_remove(self._ptr, obj))
+        self._vertices.pop(obj, None)
+
+    def exclude_pair(self, a: int, b: int) -> None:
+        """Never tests objects ``a`` and ``b`` against each other."""
+        a, b = _count("a", a, _U32_MAX), _count("b", b, _U32_MAX)
+        _raise_for(lib.dvh_scene_exclude_pair(self._ptr, a, b))
+
+    def set_lazy_refit(self, lazy: bool) -> None:
+        """With ``lazy``, a deformable object with box volumes refits only the parts of its tree
+        a query reaches."""
+        _raise_for(lib.dvh_scene_set_lazy_refit(self._ptr, bool(lazy)))
+
+    def collide(
+        self,
+        mode: str = "triangles",
+        max_pairs: int = 0,
+        threads: int = 0,
+        max_depth: int = 0,
+        budget: int = 0,
+        stats: bool = False,
+    ):
+        """Every contact of the frame as a structured array of :data:`CONTACT_DTYPE`, sorted by
+        ``(object_a, object_b, a, b)``. Options as :func:`collide`; with ``stats=True`` returns
+        ``(contacts, SceneStats)``."""
+        o = _options(mode, max_pairs, threads, max_depth, budget)
+        s = ffi.new("DvhSceneStats *")
+        _raise_for(lib.dvh_scene_collide(self._ptr, o, self._contacts, s))
+        n = lib.dvh_contacts_len(self._contacts)
+        if n == 0:
+            contacts = np.empty(0, dtype=CONTACT_DTYPE)
+        else:
+            data = lib.dvh_contacts_data(self._contacts)
+            contacts = np.frombuffer(ffi.buffer(data, 16 * n), dtype=CONTACT_DTYPE).copy()
+        if not stats:
+            return contacts
+        st = SceneStats(
+            s.objects, s.object_pairs_tested, s.object_pairs_colliding, s.bv_tests,
+            s.triangle_tests, s.nodes_refit, s.contacts, bool(s.truncated),
+        )
+        return contacts, st

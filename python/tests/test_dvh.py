@@ -1,0 +1,308 @@
+"""The Python package against brute force on small meshes, its errors, and its array handling."""
+
+import threading
+
+import numpy as np
+import pytest
+
+import dvh
+from conftest import (
+    brute_collide,
+    exact_pose,
+    grid,
+    posed,
+    soup,
+    triangle_distance,
+    uv_sphere,
+)
+
+
+def as_set(pairs):
+    return {tuple(map(int, p)) for p in pairs}
+
+
+def sorted_pairs(pairs):
+    return pairs.shape == (len(pairs), 2) and (
+        len(pairs) < 2 or bool(np.all(np.lexsort((pairs[:, 1], pairs[:, 0])) == np.arange(len(pairs))))
+    )
+
+
+# ---------------------------------------------------------------------------------------------
+# Queries against brute force
+
+
+@pytest.mark.parametrize("volume", ["aabb", "dvh", "sbv"])
+@pytest.mark.parametrize("tree", ["octree", "binary"])
+def test_collide_matches_brute_force(volume, tree):
+    pa, ta = soup(60, seed=1)
+    pb, tb = soup(60, seed=2)
+    a = dvh.Mesh(pa, ta, volume=volume, tree=tree)
+    b = dvh.Mesh(pb, tb, volume=volume, tree=tree)
+    for k in range(3):
+        pose_a, pose_b = (None, None) if k == 0 else (exact_pose(k), exact_pose(10 + k))
+        got = dvh.collide(a, b, pose_a=pose_a, pose_b=pose_b)
+        want = brute_collide(dvh, posed(pa, pose_a), ta, posed(pb, pose_b), tb)
+        assert got.dtype == np.uint32 and sorted_pairs(got)
+        assert as_set(got) == as_set(want)
+        assert len(want) > 0
+
+
+def test_collide_after_refit_matches_brute_force():
+    pa, ta = uv_sphere(10)
+    pb, tb = uv_sphere(9, centre=(2.5, 0.0, 0.0))
+    a, b = dvh.Mesh(pa, ta), dvh.Mesh(pb, tb)
+    assert len(dvh.collide(a, b)) == 0
+    rng = np.random.default_rng(3)
+    for step in range(1, 4):
+        moved = pa * (1 + 0.2 * step) + rng.normal(0, 0.02, pa.shape)
+        a.refit(moved)
+        got = dvh.collide(a, b)
+        assert as_set(got) == as_set(brute_collide(dvh, moved, ta, pb, tb))
+    assert len(got) > 0
+
+
+def test_self_collide_matches_brute_force_on_pairs_sharing_no_vertex():
+    p, t = soup(80, seed=4)
+    m = dvh.Mesh(p, t)
+    got = dvh.self_collide(m)
+    want = {(i, j) for i, j in as_set(brute_collide(dvh, p, t, p, t)) if i < j}
+    assert sorted_pairs(got) and as_set(got) == want and want
+
+
+def test_self_collide_of_a_closed_sphere_and_a_folded_one():
+    p, t = uv_sphere(12)
+    m = dvh.Mesh(p, t)
+    assert len(dvh.self_collide(m)) == 0
+    folded = p.copy()
+    folded[:, 2] = np.abs(folded[:, 2]) * -1.5 + 0.2  # the north half pushed through the south
+    m.refit(folded)
+    got = dvh.self_collide(m)
+    shares = lambda i, j: len(set(t[i]) & set(t[j])) > 0  # noqa: E731
+    far = {(i, j) for i, j in as_set(brute_collide(dvh, folded, t, folded, t)) if i < j and not shares(i, j)}
+    assert far and far <= as_set(got)
+
+
+def test_proximity_matches_brute_force():
+    pa, ta = soup(40, seed=5)
+    pb, tb = soup(40, seed=6)
+    pb = pb + [0.9, 0.0, 0.0]
+    a, b = dvh.Mesh(pa, ta), dvh.Mesh(pb, tb)
+    for d in (0.0, 0.05, 0.2):
+        got = as_set(dvh.proximity(a, b, d))
+        for i in range(len(ta)):
+            for j in range(len(tb)):
+                dist = triangle_distance(dvh, pa[ta[i]], pb[tb[j]])
+                # The library decides exactly; the float oracle is trusted away from the boundary.
+                if dist < d - 1e-9 or (d == 0 and dist == 0):
+                    assert (i, j) in got, (i, j, dist)
+                elif dist > d + 1e-9:
+                    assert (i, j) not in got, (i, j, dist)
+    assert len(dvh.proximity(a, b, 0.2)) > len(dvh.proximity(a, b, 0.05))
+
+
+def test_self_proximity_matches_brute_force():
+    p, t = grid(6)
+    q = p.copy()
+    q[:, 2] = 0.08 * np.sin(6 * q[:, 0])
+    sheet = np.vstack([q, q + [0.0, 0.0, 0.1]])
+    tris = np.vstack([t, t + len(q)])
+    m = dvh.Mesh(sheet, tris)
+    d = 0.12
+    got = as_set(dvh.self_proximity(m, d))
+    for i in range(len(tris)):
+        for j in range(i + 1, len(tris)):
+            if set(tris[i]) & set(tris[j]):
+                assert (i, j) not in got
+                continue
+            dist = triangle_distance(dvh, sheet[tris[i]], sheet[tris[j]])
+            if dist < d - 1e-9:
+                assert (i, j) in got
+            elif dist > d + 1e-9:
+                assert (i, j) not in got
+    assert got
+
+
+def test_modes_threads_and_limits():
+    pa, ta = soup(100, seed=7)
+    pb, tb = soup(100, seed=8)
+    a, b = dvh.Mesh(pa, ta), dvh.Mesh(pb, tb)
+    full, st = dvh.collide(a, b, stats=True)
+    assert st.pairs == len(full) and not st.truncated and st.bv_tests > 0
+    assert np.array_equal(full, dvh.collide(a, b, threads=1))
+    assert np.array_equal(full, dvh.collide(a, b, threads=2))
+    first = dvh.collide(a, b, mode="first_hit")
+    assert len(first) == 1 and as_set(first) <= as_set(full)
+    cut, st = dvh.collide(a, b, max_pairs=3, stats=True)
+    assert len(cut) == 3 and st.truncated and as_set(cut) <= as_set(full)
+    for mode, extra in (("leaves", {}), ("depth", {"max_depth": 1}), ("budget", {"budget": 20})):
+        nodes = dvh.collide(a, b, mode=mode, **extra)
+        covered = {
+            (int(i), int(j))
+            for na, nb in nodes
+            for i in a.node_triangles(na)
+            for j in b.node_triangles(nb)
+        }
+        assert as_set(full) <= covered, mode
+
+
+def test_mesh_introspection():
+    p, t = uv_sphere(8)
+    m = dvh.Mesh(p, t, volume="dvh", tree="binary", radius="wrapped", leftovers="extra_rings")
+    assert (m.vertex_count, m.triangle_count) == (len(p), len(t))
+    ts = m.tree_stats()
+    assert ts.triangles == len(t) and ts.rings >= 1 and ts.levels >= 2
+    assert m.node_count == ts.rings + ts.inner_nodes
+    assert sorted(m.node_triangles(0).tolist()) == list(range(len(t)))
+    m.refit(p * 1.1)
+    assert m.last_refit_stats().nodes_refit == m.node_count
+    m.validate()
+    r = dvh.Mesh(p, t, rigid=True)
+    assert r.tree_stats().triangles == len(t)
+
+
+# ---------------------------------------------------------------------------------------------
+# Scenes
+
+
+def test_scene_matches_pairwise_queries():
+    shapes = [uv_sphere(8), uv_sphere(7, radius=0.8), grid(5, size=2.0)]
+    meshes = [dvh.Mesh(p, t) for p, t in shapes]
+    scene = dvh.Scene()
+    poses = [exact_pose(s) for s in range(3)]
+    ids = [scene.add_rigid(meshes[0], poses[0]), scene.add_rigid(meshes[1], poses[1])]
+    ids.append(scene.add_deformable(meshes[2]))
+    contacts, st = scene.collide(stats=True)
+    assert contacts.dtype == dvh.CONTACT_DTYPE and st.objects == 3
+    want = set()
+    placed = [poses[0], poses[1], None]
+    for x in range(3):
+        for y in range(x + 1, 3):
+            for i, j in dvh.collide(meshes[x], meshes[y], pose_a=placed[x], pose_b=placed[y]):
+                want.add((ids[x], ids[y], int(i), int(j)))
+    assert {tuple(map(int, c)) for c in contacts} == want and want
+    # Move the sheet away and the second sphere; exclude a pair.
+    p, t = shapes[2]
+    scene.set_positions(ids[2], (p + [10.0, 0.0, 0.0]).astype(np.float32))
+    scene.set_pose(ids[1], None)
+    scene.exclude_pair(ids[0], ids[1])
+    assert len(scene.collide()) == 0
+    scene.remove(ids[2])
+    with pytest.raises(dvh.DvhError):
+        scene.set_positions(ids[2], p)
+    scene.set_lazy_refit(True)
+    assert len(scene.collide(threads=1)) == 0
+
+
+# ---------------------------------------------------------------------------------------------
+# Arrays in and errors
+
+
+def test_float32_strided_and_uint16_inputs_give_the_same_answers():
+    pa, ta = soup(50, seed=9)
+    pb, tb = soup(50, seed=10)
+    # Coordinates that float32 holds exactly, so both precisions describe the same meshes.
+    pa, pb = np.round(pa * 1024) / 1024, np.round(pb * 1024) / 1024
+    want = dvh.collide(dvh.Mesh(pa, ta), dvh.Mesh(pb, tb))
+    wide = np.zeros((len(pa), 4), dtype=np.float32)
+    wide[:, :3] = pa
+    a32 = dvh.Mesh(wide[:, :3], ta.astype(np.uint32))  # a strided view, read in place
+    b16 = dvh.Mesh(pb, tb.astype(np.uint16))
+    bf = dvh.Mesh(np.asfortranarray(pb), tb.tolist())  # Fortran order and lists are copied
+    assert np.array_equal(dvh.collide(a32, b16), want)
+    assert np.array_equal(dvh.collide(a32, bf), want)
+    a32.refit(wide[:, :3])
+    assert np.array_equal(dvh.collide(a32, b16), want)
+
+
+def test_bad_arrays_are_python_errors_before_any_call():
+    p, t = uv_sphere(6)
+    with pytest.raises(ValueError, match=r"positions must have shape \(n, 3\)"):
+        dvh.Mesh(p[:, :2], t)
+    with pytest.raises(ValueError, match=r"triangles must have shape \(m, 3\)"):
+        dvh.Mesh(p, t[:, :2])
+    with pytest.raises(TypeError, match="triangles must hold integers"):
+        dvh.Mesh(p, t.astype(float))
+    with pytest.raises(TypeError, match="positions must hold float64 or float32"):
+        dvh.Mesh(p.astype(complex), t)
+    bad = t.copy()
+    bad[5, 1] = -1
+    with pytest.raises(ValueError, match=r"triangle 5 has a negative vertex index"):
+        dvh.Mesh(p, bad)
+    with pytest.raises(ValueError, match="must be one of"):
+        dvh.Mesh(p, t, volume="obb")
+    m = dvh.Mesh(p, t)
+    with pytest.raises(ValueError, match=f"has {len(p) - 1} vertices; the mesh has {len(p)}"):
+        m.refit(p[:-1])
+    with pytest.raises(TypeError, match="must be a dvh.Mesh"):
+        dvh.collide(m, p)
+    with pytest.raises(ValueError, match="4x4 or 3x4"):
+        dvh.collide(m, m, pose_a=np.eye(3))
+    with pytest.raises(ValueError, match="mode must be one of"):
+        dvh.collide(m, m, mode="fast")
+    with pytest.raises(ValueError, match="max_pairs must be in"):
+        dvh.collide(m, m, max_pairs=-1)
+    # Option sets are checked once and kept; look-alike values must still be checked.
+    assert np.array_equal(dvh.collide(m, m, threads=1), dvh.collide(m, m, threads=np.int64(1)))
+    with pytest.raises(TypeError, match="threads must be an integer"):
+        dvh.collide(m, m, threads=True)
+    with pytest.raises(TypeError, match="threads must be an integer"):
+        dvh.collide(m, m, threads=1.0)
+    with pytest.raises(TypeError):
+        dvh.collide(m, m, mode=["triangles"])
+
+
+def test_library_errors_carry_status_and_message_and_change_nothing():
+    p, t = uv_sphere(6)
+    bad = t.copy()
+    bad[3, 2] = len(p) + 7
+    with pytest.raises(dvh.DvhError) as e:
+        dvh.Mesh(p, bad)
+    assert e.value.status == 4 and e.value.name == "DVH_STATUS_INDEX_OUT_OF_RANGE"
+    assert "triangle 3" in e.value.message and str(len(p) + 7) in e.value.message
+    a = dvh.Mesh(p, t)
+    b = dvh.Mesh(p + [1.5, 0, 0], t)
+    before = dvh.collide(a, b)
+    nan = p * 2.0
+    nan[4, 1] = np.nan
+    with pytest.raises(dvh.DvhError) as e:
+        a.refit(nan)
+    assert e.value.name == "DVH_STATUS_NON_FINITE_COORDINATE" and "vertex 4" in e.value.message
+    assert np.array_equal(dvh.collide(a, b), before)  # the failed refit left the mesh as it was
+    shear = np.eye(4)
+    shear[0, 1] = 0.5
+    with pytest.raises(dvh.DvhError) as e:
+        dvh.collide(a, b, pose_a=shear)
+    assert e.value.name == "DVH_STATUS_NON_RIGID_POSE"
+    with pytest.raises(dvh.DvhError) as e:
+        dvh.proximity(a, b, -1.0)
+    assert e.value.name == "DVH_STATUS_INVALID_ARGUMENT"
+    with pytest.raises(dvh.DvhError):
+        a.node_triangles(a.node_count)
+
+
+def test_queries_release_the_gil():
+    p, t = grid(80)
+    q = p.copy()
+    q[:, 2] = 0.02 * np.sin(40 * q[:, 0]) * np.cos(40 * q[:, 1])
+    m = dvh.Mesh(np.vstack([q, q + [0, 0, 0.01]]), np.vstack([t, t + len(q)]))
+    inside, done = threading.Event(), threading.Event()
+
+    def work():
+        inside.set()
+        for _ in range(3):
+            dvh.self_proximity(m, 0.012, threads=1)
+        done.set()
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    inside.wait()
+    spins = 0
+    while not done.is_set():
+        spins += 1
+    worker.join()
+    # Held through the calls, the GIL would have stopped this loop for their whole length.
+    assert spins > 200_000, spins
+
+
+def test_version_and_package_metadata():
+    assert dvh.version() == dvh.__version__ and dvh.__version__.count(".") == 2
