@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds and runs the C tests against an installed copy of the library (which also tests the
 # install and its pkg-config file): under AddressSanitizer + UndefinedBehaviorSanitizer, the
-# out-of-memory test unsanitised, the header as C99 and as C++, the README's C example, a static
+# out-of-memory test unsanitised, the header as C99 and as C++, the C++ layer (dvh.hpp) and its
+# test as C++17 and C++20 under the same sanitizers, the README's C and C++ examples, a static
 # link, and the Python ctypes test.
 #
 #   ctests/run.sh          all of that (about 3 minutes on 2 cores, the library's build included)
@@ -22,23 +23,33 @@ libs="$(pkg-config --libs dvh) -Wl,-rpath,$prefix/lib"
 warn=(-Wall -Wextra -Wpedantic -Werror)
 san=(-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer)
 
-echo "every function the header declares is exported and exercised by test_api.c"
+echo "every function the header declares is exported, exercised by test_api.c and wrapped by dvh.hpp"
 declared=$(grep -oE '\bdvh_[a-z0-9_]+\(' include/dvh.h | tr -d '(' | sort -u)
 exported=$(nm -D --defined-only "$prefix/lib/libdvh.so" | awk '$2 == "T" && $3 ~ /^dvh_/ {print $3}' | sort -u)
 diff <(echo "$declared") <(echo "$exported")
 for f in $declared; do grep -q "\b$f(" ctests/test_api.c || { echo "test_api.c never calls $f"; exit 1; }; done
+for f in $declared; do grep -q "\b$f(" include/dvh.hpp || { echo "dvh.hpp never calls $f"; exit 1; }; done
 
-echo "header: C99, C11, C++11, C++17"
+echo "headers: dvh.h as C99, C11, C++11, C++17; dvh.hpp as C++17, C++20"
 printf '#include <dvh.h>\nint main(void) { return dvh_version() == 0; }\n' > "$work/header.c"
 for std in c99 c11; do gcc -std=$std "${warn[@]}" $cflags "$work/header.c" -o "$work/header_$std" $libs; done
 cp "$work/header.c" "$work/header.cpp"
 for std in c++11 c++17; do g++ -std=$std "${warn[@]}" $cflags "$work/header.cpp" -o "$work/header_$std" $libs; done
 "$work/header_c99"
+printf '#include <dvh.hpp>\nint main() { return dvh::version() == nullptr; }\n' > "$work/header_hpp.cpp"
+for std in c++17 c++20; do g++ -std=$std "${warn[@]}" $cflags "$work/header_hpp.cpp" -o "$work/header_hpp_$std" $libs; done
+"$work/header_hpp_c++17"
 
 echo "C tests under ASan + UBSan"
 for t in test_api test_threads; do
     gcc -std=c99 -g "${warn[@]}" "${san[@]}" $cflags ctests/$t.c -o "$work/${t}_san" $libs -lpthread -lm
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 "$work/${t}_san"
+done
+
+echo "C++ layer (dvh.hpp) tests as C++17 and C++20 under ASan + UBSan"
+for std in c++17 c++20; do
+    g++ -std=$std -g "${warn[@]}" "${san[@]}" $cflags ctests/test_cpp.cpp -o "$work/test_cpp_$std" $libs
+    ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 "$work/test_cpp_$std"
 done
 
 if $full; then
@@ -65,6 +76,12 @@ awk '/^```c$/{on=1; next} /^```$/{on=0} on' README.md > "$work/readme.c"
 test -s "$work/readme.c"
 gcc -std=c99 "${warn[@]}" $cflags "$work/readme.c" -o "$work/readme" $libs
 "$work/readme"
+
+echo "README C++ example"
+awk '/^```cpp$/{on=1; next} /^```$/{on=0} on' README.md > "$work/readme.cpp"
+test -s "$work/readme.cpp"
+g++ -std=c++17 "${warn[@]}" $cflags "$work/readme.cpp" -o "$work/readme_cpp" $libs
+"$work/readme_cpp"
 
 echo "Python ctypes"
 DVH_LIBRARY="$prefix/lib/libdvh.so" python3 ctests/test_ctypes.py

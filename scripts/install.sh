@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the release library and installs it the way C users expect:
 #   PREFIX/lib/libdvh.so.X.Y.Z with the links libdvh.so.SOVERSION and libdvh.so, PREFIX/lib/libdvh.a,
-#   PREFIX/include/dvh.h, PREFIX/lib/pkgconfig/dvh.pc.
+#   PREFIX/include/dvh.h and dvh.hpp (the C++ layer), PREFIX/lib/pkgconfig/dvh.pc.
 # Usage: scripts/install.sh [PREFIX]   (default /usr/local; DESTDIR is honoured for staging)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -31,6 +31,7 @@ ln -sf "libdvh.so.$version" "$libdir/libdvh.so.$soversion"
 ln -sf "libdvh.so.$soversion" "$libdir/libdvh.so"
 install -m 0644 "$target/release/libdvh.a" "$libdir/libdvh.a"
 install -m 0644 include/dvh.h "$dest$prefix/include/dvh.h"
+install -m 0644 include/dvh.hpp "$dest$prefix/include/dvh.hpp"
 cat > "$libdir/pkgconfig/dvh.pc" <<PC
 prefix=$prefix
 libdir=\${prefix}/lib

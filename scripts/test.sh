@@ -5,9 +5,10 @@
 #   scripts/test.sh          every part once: formatting, clippy, the documentation, every Rust
 #                            test (unit, property, integration, documentation; the fuzz seeds and
 #                            regressions), the C tests under AddressSanitizer and
-#                            UndefinedBehaviorSanitizer, the header as C and C++, the install,
-#                            Python through ctypes, a short cross-check against FCL judged by
-#                            CGAL, and the demo (about 9 minutes from a clean build on 2 cores,
+#                            UndefinedBehaviorSanitizer, the header as C and C++, the C++
+#                            layer's tests, the install, the Python package in a fresh virtual
+#                            environment (and Python through ctypes), a short cross-check
+#                            against FCL judged by CGAL, and the demo (about 9 minutes from a clean build on 2 cores,
 #                            plus the package installs on a new machine; about 4 once built)
 #   scripts/test.sh --full   all of that and the long runs: the C tests under valgrind, the
 #                            soak, the benchmark runner's tests and short runs (every method and
@@ -51,6 +52,12 @@ step "cross-check against FCL, judged by CGAL"
 # against dvh on one thread). --full runs it again with the threaded run on one thread.
 cross_check/run.sh | sed -n "/^Summary/,\$p"
 $full && cross_check/run.sh --threads 1 | sed -n "/^Summary/,\$p"
+
+step "Python package"
+# A fresh virtual environment, `pip install ./python`, the pytest suite and the README's example.
+# After the C steps: its release build of the library (maturin's settings) and theirs replace
+# each other in target/, so it runs once the last of theirs is done.
+scripts/python.sh
 
 step "demo"
 # The build `cargo test` made (the README's command builds it in release: --full runs that).

@@ -1,14 +1,13 @@
-// What every run of the harness uses: dvh's errors as exceptions, timing, sorted pair sets.
+// What every run of the harness uses: timing, sorted pair sets, poses for dvh. dvh itself comes
+// through dvh.hpp, whose owners release its handles and whose dvh::Error reports its failures.
 #pragma once
 
-#include <dvh.h>
+#include <dvh.hpp>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <iterator>
-#include <stdexcept>
-#include <string>
 #include <vector>
 
 #include "fcl_side.hpp"
@@ -22,22 +21,12 @@ inline double ms_since(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-[[noreturn]] inline void dvh_fail(DvhStatus status, const char* what) {
-    char message[512];
-    dvh_last_error_message(message, sizeof message);
-    throw std::runtime_error(std::string(what) + ": " + dvh_status_name(status) + ": " + message);
-}
-
-inline void dvh_check(DvhStatus status, const char* what) {
-    if (status != DVH_STATUS_OK) dvh_fail(status, what);
-}
-
 inline uint64_t pair_key(uint32_t a, uint32_t b) { return ((uint64_t)a << 32) | b; }
 
-inline PairSet to_set(const DvhPairs* pairs) {
-    PairSet s(dvh_pairs_len(pairs));
-    const DvhPair* data = dvh_pairs_data(pairs);
-    for (size_t i = 0; i < s.size(); i++) s[i] = pair_key(data[i].a, data[i].b);
+inline PairSet to_set(const dvh::Pairs& pairs) {
+    const dvh::Span<DvhPair> view = pairs.view();
+    PairSet s(view.size());
+    for (size_t i = 0; i < s.size(); i++) s[i] = pair_key(view[i].a, view[i].b);
     return s;  // dvh's output is already sorted by (a, b)
 }
 

@@ -2,7 +2,7 @@
 //
 // The pairwise run: for every scene and frame, the same world-coordinate vertex arrays go to FCL
 // (BVHModel<OBBRSSd> and BVHModel<AABBd>, replace + bottom-up refit, identity transforms, every
-// contact requested) and to dvh through dvh.h (refit + exact query), and dvh runs a second time
+// contact requested) and to dvh through dvh.hpp (refit + exact query), and dvh runs a second time
 // with its own poses (local coordinates refit, the rigid motion passed as DvhPose). Every object
 // pair of the scene is queried. The sets of intersecting triangle pairs are compared; CGAL's
 // exact do_intersect judges every pair in a symmetric difference, and a sample of the agreed
@@ -49,7 +49,7 @@
 // (the proximity run: per scene, frame and distance; per scene and distance), mismatches.txt
 // (every pair kept on which dvh differs from an exact set, with coordinates).
 
-#include <dvh.h>
+#include <dvh.hpp>
 #include <fcl/fcl.h>
 
 #include <algorithm>
@@ -79,7 +79,6 @@ using xc::Clock;
 using xc::ContactSet;
 using xc::contains;
 using xc::difference;
-using xc::dvh_check;
 using xc::median;
 using xc::ms_since;
 using xc::PairSet;
@@ -151,17 +150,12 @@ class SceneRun {
 public:
     SceneRun(const xc::Scene& scene, const std::vector<std::vector<double>>& world,
              const std::vector<std::vector<fcl::Vector3d>>& fcl_world, uint32_t threads)
-        : scene_(scene), query_one_(dvh_query_options_default()), query_many_(dvh_query_options_default()) {
+        : scene_(scene), query_one_(dvh::QueryOptions{}.threads(1)), query_many_(dvh::QueryOptions{}.threads(threads)) {
         const size_t n = scene.objects.size();
-        query_one_.threads = 1;
-        query_many_.threads = threads;
         std::vector<char> tested(n * n, 0);
         for (auto [i, j] : scene.pairs) tested[std::min(i, j) * n + std::max(i, j)] = 1;
-        DvhBuildOptions one = dvh_build_options_default(), many = dvh_build_options_default();
-        one.refit_threads = 1;
-        many.refit_threads = threads;
-        add_objects(one, world, tested, one_);
-        if (threads != 1) add_objects(many, world, tested, many_);
+        add_objects(dvh::BuildOptions{}.refit_threads(1), world, tested, one_);
+        if (threads != 1) add_objects(dvh::BuildOptions{}.refit_threads(threads), world, tested, many_);
         for (size_t i = 0; i < n; i++) {
             const auto& m = scene.objects[i].rest;
             obb_.build(m.tris.data(), m.triangles(), fcl_world[i]);
@@ -169,17 +163,6 @@ public:
         }
         obb_.finish(tested);
         aabb_.finish(tested);
-        contacts_ = dvh_contacts_new();
-        if (contacts_ == nullptr) throw std::runtime_error("dvh_contacts_new failed");
-    }
-
-    SceneRun(const SceneRun&) = delete;
-    SceneRun& operator=(const SceneRun&) = delete;
-
-    ~SceneRun() {
-        dvh_contacts_free(contacts_);
-        dvh_scene_free(one_.scene);
-        dvh_scene_free(many_.scene);
     }
 
     // `pairwise`: the pairwise run's one-thread sets of this frame, one per Scene::pairs entry,
@@ -204,7 +187,7 @@ public:
         ContactSet obb = run_fcl(obb_, fcl_world, dvh, row.obb);
         ContactSet aabb = run_fcl(aabb_, fcl_world, dvh, row.aabb);
 
-        if (many_.scene != nullptr) {
+        if (many_.scene) {
             set_positions(many_, world);
             ContactSet threaded = collide(many_, query_many_, nullptr);
             row.threads_mismatch = symmetric_difference(dvh, threaded).size();
@@ -282,7 +265,7 @@ public:
 
 private:
     struct Dvh {
-        DvhScene* scene = nullptr;
+        dvh::Scene scene{nullptr};    // none until add_objects
         std::vector<uint32_t> ids;    // dvh's id of every object
         std::vector<uint32_t> index;  // the object of every dvh id
         bool in_order = true;         // ids increase with the object index: dvh's order is ours
@@ -291,18 +274,14 @@ private:
     // Every object as a deformable object made from a mesh of its first-frame world
     // coordinates (the scene keeps what it needs of the mesh), pairs outside Scene::pairs
     // excluded.
-    void add_objects(const DvhBuildOptions& build, const std::vector<std::vector<double>>& world, const std::vector<char>& tested,
+    void add_objects(const dvh::BuildOptions& build, const std::vector<std::vector<double>>& world, const std::vector<char>& tested,
                      Dvh& d) {
         const size_t n = scene_.objects.size();
-        dvh_check(dvh_scene_create(&d.scene), "scene create");
+        d.scene = dvh::Scene();
         for (size_t i = 0; i < n; i++) {
             const auto& m = scene_.objects[i].rest;
-            DvhMesh* mesh = nullptr;
-            dvh_check(dvh_mesh_create(world[i].data(), m.vertices(), m.tris.data(), m.triangles(), &build, &mesh), "create");
-            uint32_t id = 0;
-            DvhStatus status = dvh_scene_add_deformable(d.scene, mesh, 1, 0xffffffffu, &id);
-            dvh_mesh_free(mesh);
-            dvh_check(status, "scene add deformable");
+            const dvh::Mesh mesh(world[i].data(), m.vertices(), m.tris.data(), m.triangles(), build);
+            const uint32_t id = d.scene.add_deformable(mesh, 1, 0xffffffffu);
             d.ids.push_back(id);
             if (d.index.size() <= id) d.index.resize(id + 1, UINT32_MAX);
             d.index[id] = (uint32_t)i;
@@ -310,13 +289,11 @@ private:
         }
         for (size_t i = 0; i < n; i++)
             for (size_t j = i + 1; j < n; j++)
-                if (!tested[i * n + j]) dvh_check(dvh_scene_exclude_pair(d.scene, d.ids[i], d.ids[j]), "scene exclude pair");
+                if (!tested[i * n + j]) d.scene.exclude_pair(d.ids[i], d.ids[j]);
     }
 
     void set_positions(Dvh& d, const std::vector<std::vector<double>>& world) {
-        for (size_t i = 0; i < world.size(); i++)
-            dvh_check(dvh_scene_set_positions(d.scene, d.ids[i], world[i].data(), scene_.objects[i].rest.vertices()),
-                      "scene set positions");
+        for (size_t i = 0; i < world.size(); i++) d.scene.set_positions(d.ids[i], world[i].data(), scene_.objects[i].rest.vertices());
     }
 
     // One FCL configuration's frame, each step timed: new positions for every model, the
@@ -345,13 +322,12 @@ private:
     }
 
     // Every contact of the frame, in object indices.
-    ContactSet collide(Dvh& d, const DvhQueryOptions& query, DvhSceneStats* stats) {
-        DvhSceneStats local;
-        if (stats == nullptr) stats = &local;
-        dvh_check(dvh_scene_collide(d.scene, &query, contacts_, stats), "scene collide");
-        if (stats->truncated) throw std::runtime_error("dvh_scene_collide truncated its result");
-        ContactSet s(dvh_contacts_len(contacts_));
-        const DvhContact* data = dvh_contacts_data(contacts_);
+    ContactSet collide(Dvh& d, const dvh::QueryOptions& query, DvhSceneStats* stats) {
+        const DvhSceneStats got = d.scene.collide(query, contacts_);
+        if (stats != nullptr) *stats = got;
+        if (got.truncated) throw std::runtime_error("dvh_scene_collide truncated its result");
+        const dvh::Span<DvhContact> data = contacts_.view();
+        ContactSet s(data.size());
         for (size_t k = 0; k < s.size(); k++)
             s[k] = ordered(d.index[data[k].object_a], d.index[data[k].object_b], data[k].a, data[k].b);
         if (!d.in_order) std::sort(s.begin(), s.end());  // else already sorted by dvh
@@ -359,9 +335,9 @@ private:
     }
 
     const xc::Scene& scene_;
-    DvhQueryOptions query_one_, query_many_;
+    dvh::QueryOptions query_one_, query_many_;
     Dvh one_, many_;
-    DvhContacts* contacts_ = nullptr;
+    dvh::Contacts contacts_;
     xc::FclBroadPhase<fcl::OBBRSSd> obb_;
     xc::FclBroadPhase<fcl::AABBd> aabb_;
 };
@@ -394,25 +370,20 @@ std::vector<FrameRow> run_scene(xc::Scene& scene, uint32_t threads, Runs runs, s
     };
 
     place(0.0);
-    std::vector<DvhMesh*> dvh_one(n, nullptr), dvh_world(n, nullptr), dvh_local(n, nullptr);
+    std::vector<dvh::Mesh> dvh_one, dvh_world, dvh_local;
     xc::FclSide<fcl::OBBRSSd> obb;
     xc::FclSide<fcl::AABBd> aabb;
-    DvhBuildOptions one_thread = dvh_build_options_default(), many = dvh_build_options_default();
-    one_thread.refit_threads = 1;
-    many.refit_threads = threads;
-    DvhQueryOptions query_one = dvh_query_options_default(), query_many = dvh_query_options_default();
-    query_one.threads = 1;
-    query_many.threads = threads;
+    const dvh::BuildOptions one_thread = dvh::BuildOptions{}.refit_threads(1), many = dvh::BuildOptions{}.refit_threads(threads);
+    const dvh::QueryOptions query_one = dvh::QueryOptions{}.threads(1), query_many = dvh::QueryOptions{}.threads(threads);
     for (size_t i = 0; runs.pairwise && i < n; i++) {
         const auto& m = scene.objects[i].rest;
-        dvh_check(dvh_mesh_create(world[i].data(), m.vertices(), m.tris.data(), m.triangles(), &one_thread, &dvh_one[i]), "create");
-        dvh_check(dvh_mesh_create(world[i].data(), m.vertices(), m.tris.data(), m.triangles(), &many, &dvh_world[i]), "create");
-        dvh_check(dvh_mesh_create(local[i].data(), m.vertices(), m.tris.data(), m.triangles(), &many, &dvh_local[i]), "create");
+        dvh_one.emplace_back(world[i].data(), m.vertices(), m.tris.data(), m.triangles(), one_thread);
+        dvh_world.emplace_back(world[i].data(), m.vertices(), m.tris.data(), m.triangles(), many);
+        dvh_local.emplace_back(local[i].data(), m.vertices(), m.tris.data(), m.triangles(), many);
         obb.build(m.tris.data(), m.triangles(), fcl_world[i]);
         aabb.build(m.tris.data(), m.triangles(), fcl_world[i]);
     }
-    DvhPairs* pairs = dvh_pairs_new();
-    if (pairs == nullptr) throw std::runtime_error("dvh_pairs_new failed");
+    dvh::Pairs pairs;
     std::unique_ptr<SceneRun> whole;
     if (runs.scene) whole = std::make_unique<SceneRun>(scene, world, fcl_world, threads);
 
@@ -433,18 +404,15 @@ std::vector<FrameRow> run_scene(xc::Scene& scene, uint32_t threads, Runs runs, s
         }
         // One dvh configuration: refit every mesh, then query every pair (with poses or not), each
         // timed.
-        auto run_dvh = [&](std::vector<DvhMesh*>& meshes, const std::vector<std::vector<double>>& coords, bool posed,
-                           const DvhQueryOptions& query, std::vector<PairSet>& out, double& refit_ms, double& query_ms) {
+        auto run_dvh = [&](std::vector<dvh::Mesh>& meshes, const std::vector<std::vector<double>>& coords, bool posed,
+                           const dvh::QueryOptions& query, std::vector<PairSet>& out, double& refit_ms, double& query_ms) {
             auto t0 = Clock::now();
-            for (size_t i = 0; i < n; i++)
-                dvh_check(dvh_mesh_refit(meshes[i], coords[i].data(), scene.objects[i].rest.vertices()), "refit");
+            for (size_t i = 0; i < n; i++) meshes[i].refit(coords[i].data(), scene.objects[i].rest.vertices());
             refit_ms = ms_since(t0);
             t0 = Clock::now();
             for (size_t p = 0; p < scene.pairs.size(); p++) {
                 auto [i, j] = scene.pairs[p];
-                dvh_check(dvh_collide(meshes[i], posed ? &dposes[i] : nullptr, meshes[j], posed ? &dposes[j] : nullptr, &query,
-                                      pairs, nullptr),
-                          "collide");
+                dvh::collide(meshes[i], posed ? &dposes[i] : nullptr, meshes[j], posed ? &dposes[j] : nullptr, query, pairs);
                 out[p] = to_set(pairs);
             }
             query_ms = ms_since(t0);
@@ -528,12 +496,6 @@ std::vector<FrameRow> run_scene(xc::Scene& scene, uint32_t threads, Runs runs, s
         std::fflush(stdout);
         rows.push_back(row);
         if (whole) scene_rows.push_back(whole->frame(f, world, fcl_world, &s1, offences));
-    }
-    dvh_pairs_free(pairs);
-    for (size_t i = 0; i < n; i++) {
-        dvh_mesh_free(dvh_one[i]);
-        dvh_mesh_free(dvh_world[i]);
-        dvh_mesh_free(dvh_local[i]);
     }
     return rows;
 }
@@ -760,7 +722,7 @@ int main(int argc, char** argv) {
         }
         return 0;
     }
-    std::printf("dvh %s against FCL %s, judged by CGAL; %s run; dvh threaded: --threads %u%s\n", dvh_version(), FCL_VERSION,
+    std::printf("dvh %s against FCL %s, judged by CGAL; %s run; dvh threaded: --threads %u%s\n", dvh::version(), FCL_VERSION,
                 options.full ? "full" : "short", threads, threads == 0 ? " (every core)" : "");
     std::vector<FrameRow> all_rows;
     std::vector<Summary> sums;
@@ -791,6 +753,9 @@ int main(int argc, char** argv) {
             self = xc::run_self(run_options);
             proximity = xc::run_proximity(run_options);
         }
+    } catch (const dvh::Error& e) {
+        std::fprintf(stderr, "error: dvh: %s: %s\n", dvh::status_name(e.status()), e.what());
+        return 2;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "error: %s\n", e.what());
         return 2;

@@ -18,7 +18,7 @@
 // pair within a distance; its OBBRSS collide time on the same frame (update + collide, or the
 // mesh against itself) is reported for scale, with the reference's time (on every core).
 
-#include <dvh.h>
+#include <dvh.hpp>
 #include <fcl/fcl.h>
 
 #include <algorithm>
@@ -110,31 +110,30 @@ void print_row(const ProximityRow& r) {
     std::fflush(stdout);
 }
 
-PairSet proximity(DvhMesh* a, const DvhPose* pa, DvhMesh* b, const DvhPose* pb, double distance, const DvhQueryOptions& query,
-                  DvhPairs* pairs, DvhQueryStats* stats) {
-    DvhQueryStats local;
-    if (stats == nullptr) stats = &local;
-    dvh_check(dvh_proximity(a, pa, b, pb, distance, &query, pairs, stats), "proximity");
-    if (stats->truncated) throw std::runtime_error("dvh_proximity truncated its result");
+PairSet proximity(const dvh::Mesh& a, const DvhPose* pa, const dvh::Mesh& b, const DvhPose* pb, double distance,
+                  const dvh::QueryOptions& query, dvh::Pairs& pairs, DvhQueryStats* stats) {
+    const DvhQueryStats got = dvh::proximity(a, pa, b, pb, distance, query, pairs);
+    if (stats != nullptr) *stats = got;
+    if (got.truncated) throw std::runtime_error("dvh_proximity truncated its result");
     return to_set(pairs);
 }
 
-PairSet self_proximity(DvhMesh* mesh, double distance, const DvhQueryOptions& query, DvhPairs* pairs, DvhQueryStats* stats) {
-    DvhQueryStats local;
-    if (stats == nullptr) stats = &local;
-    dvh_check(dvh_self_proximity(mesh, distance, &query, pairs, stats), "self proximity");
-    if (stats->truncated) throw std::runtime_error("dvh_self_proximity truncated its result");
+PairSet self_proximity(const dvh::Mesh& mesh, double distance, const dvh::QueryOptions& query, dvh::Pairs& pairs,
+                       DvhQueryStats* stats) {
+    const DvhQueryStats got = dvh::self_proximity(mesh, distance, query, pairs);
+    if (stats != nullptr) *stats = got;
+    if (got.truncated) throw std::runtime_error("dvh_self_proximity truncated its result");
     return to_set(pairs);
 }
 
 struct Setup {
-    DvhBuildOptions one = dvh_build_options_default(), many = dvh_build_options_default();
-    DvhQueryOptions query_one = dvh_query_options_default(), query_many = dvh_query_options_default();
+    dvh::BuildOptions one, many;
+    dvh::QueryOptions query_one, query_many;
     explicit Setup(uint32_t threads) {
-        one.refit_threads = 1;
-        many.refit_threads = threads;
-        query_one.threads = 1;
-        query_many.threads = threads;
+        one.refit_threads(1);
+        many.refit_threads(threads);
+        query_one.threads(1);
+        query_many.threads(threads);
     }
 };
 
@@ -162,27 +161,26 @@ void run_pairs(Scene& scene, int frames, uint32_t threads, ProximityResults& out
     place(0.0);
     const double diag = diagonal(world);
     Setup setup(threads);
-    std::vector<DvhMesh*> one(n, nullptr), many(n, nullptr), posed(n, nullptr);
+    std::vector<dvh::Mesh> one, many, posed;
     FclSide<fcl::OBBRSSd> obb;
     for (size_t i = 0; i < n; i++) {
         const auto& m = scene.objects[i].rest;
-        dvh_check(dvh_mesh_create(world[i].data(), m.vertices(), m.tris.data(), m.triangles(), &setup.one, &one[i]), "create");
-        dvh_check(dvh_mesh_create(world[i].data(), m.vertices(), m.tris.data(), m.triangles(), &setup.many, &many[i]), "create");
-        dvh_check(dvh_mesh_create(local[i].data(), m.vertices(), m.tris.data(), m.triangles(), &setup.many, &posed[i]), "create");
+        one.emplace_back(world[i].data(), m.vertices(), m.tris.data(), m.triangles(), setup.one);
+        many.emplace_back(world[i].data(), m.vertices(), m.tris.data(), m.triangles(), setup.many);
+        posed.emplace_back(local[i].data(), m.vertices(), m.tris.data(), m.triangles(), setup.many);
         obb.build(m.tris.data(), m.triangles(), fcl_world[i]);
     }
-    DvhPairs* pairs = dvh_pairs_new();
-    if (pairs == nullptr) throw std::runtime_error("dvh_pairs_new failed");
+    dvh::Pairs pairs;
 
     for (int f = 0; f < frames; f++) {
         const double t = (double)f / frames;  // the scenes' own clock, as in the pairwise run
         place(t);
         auto t0 = Clock::now();
-        for (size_t i = 0; i < n; i++) dvh_check(dvh_mesh_refit(one[i], world[i].data(), scene.objects[i].rest.vertices()), "refit");
+        for (size_t i = 0; i < n; i++) one[i].refit(world[i].data(), scene.objects[i].rest.vertices());
         const double refit = ms_since(t0);
         for (size_t i = 0; i < n; i++) {
-            dvh_check(dvh_mesh_refit(many[i], world[i].data(), scene.objects[i].rest.vertices()), "refit");
-            dvh_check(dvh_mesh_refit(posed[i], local[i].data(), scene.objects[i].rest.vertices()), "refit");
+            many[i].refit(world[i].data(), scene.objects[i].rest.vertices());
+            posed[i].refit(local[i].data(), scene.objects[i].rest.vertices());
         }
         t0 = Clock::now();
         for (size_t i = 0; i < n; i++) obb.update(i, fcl_world[i]);
@@ -191,7 +189,7 @@ void run_pairs(Scene& scene, int frames, uint32_t threads, ProximityResults& out
         std::vector<PairSet> collide(scene.pairs.size());
         for (size_t p = 0; p < scene.pairs.size(); p++) {
             auto [i, j] = scene.pairs[p];
-            dvh_check(dvh_collide(one[i], nullptr, one[j], nullptr, &setup.query_one, pairs, nullptr), "collide");
+            dvh::collide(one[i], nullptr, one[j], nullptr, setup.query_one, pairs);
             collide[p] = to_set(pairs);
         }
 
@@ -241,12 +239,6 @@ void run_pairs(Scene& scene, int frames, uint32_t threads, ProximityResults& out
             out.rows.push_back(row);
         }
     }
-    dvh_pairs_free(pairs);
-    for (size_t i = 0; i < n; i++) {
-        dvh_mesh_free(one[i]);
-        dvh_mesh_free(many[i]);
-        dvh_mesh_free(posed[i]);
-    }
 }
 
 // One bending mesh against itself.
@@ -261,26 +253,24 @@ void run_self(SelfScene& s, int frames, uint32_t threads, ProximityResults& out)
     place(0.0);
     const double diag = diagonal({pos});
     Setup setup(threads);
-    DvhMesh *one = nullptr, *many = nullptr;
-    dvh_check(dvh_mesh_create(pos.data(), m.vertices(), m.tris.data(), m.triangles(), &setup.one, &one), "create");
-    dvh_check(dvh_mesh_create(pos.data(), m.vertices(), m.tris.data(), m.triangles(), &setup.many, &many), "create");
+    dvh::Mesh one(pos.data(), m.vertices(), m.tris.data(), m.triangles(), setup.one);
+    dvh::Mesh many(pos.data(), m.vertices(), m.tris.data(), m.triangles(), setup.many);
     FclSide<fcl::OBBRSSd> obb;
     obb.build(m.tris.data(), m.triangles(), fpos);
-    DvhPairs* pairs = dvh_pairs_new();
-    if (pairs == nullptr) throw std::runtime_error("dvh_pairs_new failed");
+    dvh::Pairs pairs;
 
     for (int f = 0; f < frames; f++) {
         const double t = (double)(f + 1) / frames;  // towards the most bent, which is the last frame
         place(t);
         auto t0 = Clock::now();
-        dvh_check(dvh_mesh_refit(one, pos.data(), m.vertices()), "refit");
+        one.refit(pos.data(), m.vertices());
         const double refit = ms_since(t0);
-        dvh_check(dvh_mesh_refit(many, pos.data(), m.vertices()), "refit");
+        many.refit(pos.data(), m.vertices());
         t0 = Clock::now();
         obb.update(0, fpos);
         fcl_self(obb, m);
         const double fcl = ms_since(t0);
-        dvh_check(dvh_self_collide(one, &setup.query_one, pairs, nullptr), "self collide");
+        dvh::self_collide(one, setup.query_one, pairs);
         PairSet separate;  // dvh_self_collide's pairs of triangles sharing no vertex
         for (uint64_t k : to_set(pairs))
             if (!share_vertex(m, (uint32_t)(k >> 32), (uint32_t)k)) separate.push_back(k);
@@ -319,9 +309,6 @@ void run_self(SelfScene& s, int frames, uint32_t threads, ProximityResults& out)
             out.rows.push_back(row);
         }
     }
-    dvh_pairs_free(pairs);
-    dvh_mesh_free(one);
-    dvh_mesh_free(many);
 }
 
 void summarize(const std::string& kind, const std::string& scene, ProximityResults& out) {

@@ -9,7 +9,7 @@
 // disagree, and a sample of those they agree on, are also judged one by one, as in the pairwise
 // run, and must agree with the exact set.
 
-#include <dvh.h>
+#include <dvh.hpp>
 #include <fcl/fcl.h>
 
 #include <algorithm>
@@ -31,11 +31,10 @@ namespace {
 const size_t kSample = 20;   // agreed pairs judged per frame
 const size_t kKeep = 200;    // mismatches kept for the report
 
-PairSet dvh_self(DvhMesh* mesh, const DvhQueryOptions& query, DvhPairs* pairs, DvhQueryStats* stats) {
-    DvhQueryStats local;
-    if (stats == nullptr) stats = &local;
-    dvh_check(dvh_self_collide(mesh, &query, pairs, stats), "self collide");
-    if (stats->truncated) throw std::runtime_error("dvh_self_collide truncated its result");
+PairSet dvh_self(const dvh::Mesh& mesh, const dvh::QueryOptions& query, dvh::Pairs& pairs, DvhQueryStats* stats) {
+    const DvhQueryStats got = dvh::self_collide(mesh, query, pairs);
+    if (stats != nullptr) *stats = got;
+    if (got.truncated) throw std::runtime_error("dvh_self_collide truncated its result");
     return to_set(pairs);
 }
 
@@ -48,21 +47,14 @@ void run_scene(SelfScene& s, uint32_t threads, SelfResults& out) {
         for (size_t v = 0; v < fpos.size(); v++) fpos[v] = fcl::Vector3d(pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]);
     };
     place(0.0);
-    DvhBuildOptions one_thread = dvh_build_options_default(), many = dvh_build_options_default();
-    one_thread.refit_threads = 1;
-    many.refit_threads = threads;
-    DvhQueryOptions query_one = dvh_query_options_default(), query_many = dvh_query_options_default();
-    query_one.threads = 1;
-    query_many.threads = threads;
-    DvhMesh *one = nullptr, *threaded = nullptr;
-    dvh_check(dvh_mesh_create(pos.data(), m.vertices(), m.tris.data(), m.triangles(), &one_thread, &one), "create");
-    dvh_check(dvh_mesh_create(pos.data(), m.vertices(), m.tris.data(), m.triangles(), &many, &threaded), "create");
+    const dvh::QueryOptions query_one = dvh::QueryOptions{}.threads(1), query_many = dvh::QueryOptions{}.threads(threads);
+    dvh::Mesh one(pos.data(), m.vertices(), m.tris.data(), m.triangles(), dvh::BuildOptions{}.refit_threads(1));
+    dvh::Mesh threaded(pos.data(), m.vertices(), m.tris.data(), m.triangles(), dvh::BuildOptions{}.refit_threads(threads));
     FclSide<fcl::OBBRSSd> obb;
     FclSide<fcl::AABBd> aabb;
     obb.build(m.tris.data(), m.triangles(), fpos);
     aabb.build(m.tris.data(), m.triangles(), fpos);
-    DvhPairs* pairs = dvh_pairs_new();
-    if (pairs == nullptr) throw std::runtime_error("dvh_pairs_new failed");
+    dvh::Pairs pairs;
 
     for (int f = 0; f < s.frames; f++) {
         SelfRow row;
@@ -73,7 +65,7 @@ void run_scene(SelfScene& s, uint32_t threads, SelfResults& out) {
         place(row.t);
 
         auto t0 = Clock::now();
-        dvh_check(dvh_mesh_refit(one, pos.data(), m.vertices()), "refit");
+        one.refit(pos.data(), m.vertices());
         row.one_refit = ms_since(t0);
         t0 = Clock::now();
         DvhQueryStats stats;
@@ -81,7 +73,7 @@ void run_scene(SelfScene& s, uint32_t threads, SelfResults& out) {
         row.one_query = ms_since(t0);
         row.triangle_tests = stats.triangle_tests;
         t0 = Clock::now();
-        dvh_check(dvh_mesh_refit(threaded, pos.data(), m.vertices()), "refit");
+        threaded.refit(pos.data(), m.vertices());
         row.dvh_refit = ms_since(t0);
         t0 = Clock::now();
         PairSet dvh_many = dvh_self(threaded, query_many, pairs, nullptr);
@@ -193,9 +185,6 @@ void run_scene(SelfScene& s, uint32_t threads, SelfResults& out) {
         std::fflush(stdout);
         out.rows.push_back(row);
     }
-    dvh_pairs_free(pairs);
-    dvh_mesh_free(one);
-    dvh_mesh_free(threaded);
 }
 
 SelfSummary summarize(const SelfScene& s, const std::vector<SelfRow>& rows) {

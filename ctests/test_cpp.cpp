@@ -1,0 +1,748 @@
+// The C++ layer (dvh.hpp): every owner's lifetime and moves, every wrapper against the same call
+// made through the raw C API, the errors (status and message, and a failed call changing
+// nothing), the spans and the options. Built as C++17 and C++20 by ctests/run.sh, under
+// AddressSanitizer (which also catches a handle released twice or never) and
+// UndefinedBehaviorSanitizer.
+#include <dvh.hpp>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+// A check that holds in every build: prints what failed and aborts.
+#define REQUIRE(cond)                                                                      \
+    do {                                                                                   \
+        if (!(cond)) {                                                                     \
+            std::fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond); \
+            std::abort();                                                                  \
+        }                                                                                  \
+    } while (0)
+
+// `statement` must throw dvh::Error with `expected` and a message containing `needle`.
+#define REQUIRE_ERROR(statement, expected, needle)                                                      \
+    do {                                                                                                \
+        bool thrown_ = false;                                                                           \
+        try {                                                                                           \
+            statement;                                                                                  \
+        } catch (const dvh::Error& e_) {                                                                \
+            thrown_ = true;                                                                             \
+            require_error(e_, (expected), (needle), __FILE__, __LINE__, #statement);                    \
+        }                                                                                               \
+        if (!thrown_) {                                                                                 \
+            std::fprintf(stderr, "%s:%d: %s did not throw dvh::Error\n", __FILE__, __LINE__, #statement); \
+            std::abort();                                                                               \
+        }                                                                                               \
+    } while (0)
+
+namespace {
+
+void require_error(const dvh::Error& e, DvhStatus expected, const char* needle, const char* file, int line, const char* what) {
+    if (e.status() != expected || std::strstr(e.what(), needle) == nullptr) {
+        std::fprintf(stderr, "%s:%d: %s threw %s \"%s\", expected %s with \"%s\"\n", file, line, what,
+                     dvh::status_name(e.status()), e.what(), dvh::status_name(expected), needle);
+        std::abort();
+    }
+}
+
+// Every owner is move-only, its moves never throw.
+template <typename T>
+constexpr bool move_only() {
+    return !std::is_copy_constructible_v<T> && !std::is_copy_assignable_v<T> && std::is_nothrow_move_constructible_v<T> &&
+           std::is_nothrow_move_assignable_v<T>;
+}
+static_assert(move_only<dvh::Mesh>() && move_only<dvh::Pairs>() && move_only<dvh::Scene>() && move_only<dvh::Contacts>(),
+              "owners are move-only");
+static_assert(std::is_base_of_v<std::runtime_error, dvh::Error>, "dvh::Error is a std::runtime_error");
+static_assert(!std::is_convertible_v<DvhMesh*, dvh::Mesh>, "adopting a handle is explicit");
+
+// ---- meshes with small integer coordinates (exact in float too) ----
+
+struct Geometry {
+    std::vector<double> positions;       // x, y, z per vertex
+    std::vector<std::uint32_t> triangles;  // three indices per triangle
+    std::size_t vertices() const { return positions.size() / 3; }
+    std::size_t count() const { return triangles.size() / 3; }
+};
+
+int flat(int, int) { return 0; }
+int wave(int i, int j) { return ((i * 3 + j * 5) % 4) - 1; }
+int ridge(int i, int j) { return (i % 3 == 0) ? 2 : (j % 2); }
+
+// A height field over an n x n grid, two triangles per cell.
+Geometry terrain(int n, int x0, int y0, int (*height)(int, int)) {
+    Geometry g;
+    for (int j = 0; j <= n; j++)
+        for (int i = 0; i <= n; i++) {
+            g.positions.push_back(x0 + i);
+            g.positions.push_back(y0 + j);
+            g.positions.push_back(height(i, j));
+        }
+    for (int j = 0; j < n; j++)
+        for (int i = 0; i < n; i++) {
+            std::uint32_t a = (std::uint32_t)(j * (n + 1) + i), b = a + 1, c = a + (std::uint32_t)n + 2, d = a + (std::uint32_t)n + 1;
+            g.triangles.insert(g.triangles.end(), {a, b, c, a, c, d});
+        }
+    return g;
+}
+
+std::uint64_t lcg_state = 12345;
+int lcg_below(int n) {
+    lcg_state = lcg_state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (int)((lcg_state >> 33) % (std::uint64_t)n);
+}
+
+// Independent random triangles with coordinates in [lo, lo + span].
+Geometry soup(std::size_t count, int lo, int span) {
+    Geometry g;
+    for (std::size_t t = 0; t < count; t++) {
+        for (int k = 0; k < 9; k++) g.positions.push_back(lo + lcg_below(span + 1));
+        for (std::uint32_t c = 0; c < 3; c++) g.triangles.push_back((std::uint32_t)(3 * t) + c);
+    }
+    return g;
+}
+
+std::vector<float> to_float(const std::vector<double>& v) { return std::vector<float>(v.begin(), v.end()); }
+
+// `g` moved by (dx, dy, dz).
+std::vector<double> moved(const Geometry& g, double dx, double dy, double dz) {
+    std::vector<double> p = g.positions;
+    for (std::size_t i = 0; i < p.size(); i += 3) {
+        p[i] += dx;
+        p[i + 1] += dy;
+        p[i + 2] += dz;
+    }
+    return p;
+}
+
+DvhPose translation(double x, double y, double z) { return DvhPose{{1, 0, 0, 0, 1, 0, 0, 0, 1}, {x, y, z}}; }
+
+// A quarter turn about z, then a translation.
+DvhPose turned(double x, double y, double z) { return DvhPose{{0, -1, 0, 1, 0, 0, 0, 0, 1}, {x, y, z}}; }
+
+// ---- the raw C API, for the references ----
+
+DvhMesh* c_mesh(const Geometry& g, const DvhBuildOptions* options = nullptr) {
+    DvhMesh* m = nullptr;
+    REQUIRE(dvh_mesh_create(g.positions.data(), g.vertices(), g.triangles.data(), g.count(), options, &m) == DVH_STATUS_OK);
+    return m;
+}
+
+bool same_pair(const DvhPair& x, const DvhPair& y) { return x.a == y.a && x.b == y.b; }
+
+// The wrapper's result equals the C buffer's: the same pairs, in the same order, of the same kind.
+bool same(const dvh::Pairs& pairs, const DvhPairs* c) {
+    dvh::Span<DvhPair> v = pairs.view();
+    if (v.size() != dvh_pairs_len(c) || pairs.size() != v.size() || pairs.kind() != dvh_pairs_kind(c)) return false;
+    for (std::size_t i = 0; i < v.size(); i++)
+        if (!same_pair(v[i], dvh_pairs_data(c)[i])) return false;
+    return true;
+}
+
+std::vector<DvhPair> copy(const dvh::Pairs& pairs) { return std::vector<DvhPair>(pairs.begin(), pairs.end()); }
+
+bool same(const dvh::Pairs& pairs, const std::vector<DvhPair>& expected) {
+    if (pairs.size() != expected.size()) return false;
+    for (std::size_t i = 0; i < expected.size(); i++)
+        if (!same_pair(pairs.view()[i], expected[i])) return false;
+    return true;
+}
+
+bool same(const dvh::Contacts& contacts, const DvhContacts* c) {
+    dvh::Span<DvhContact> v = contacts.view();
+    if (v.size() != dvh_contacts_len(c) || contacts.size() != v.size() || contacts.kind() != dvh_contacts_kind(c)) return false;
+    for (std::size_t i = 0; i < v.size(); i++) {
+        const DvhContact& x = v[i];
+        const DvhContact& y = dvh_contacts_data(c)[i];
+        if (x.object_a != y.object_a || x.object_b != y.object_b || x.a != y.a || x.b != y.b) return false;
+    }
+    return true;
+}
+
+bool same(const DvhQueryStats& x, const DvhQueryStats& y) {
+    return x.bv_tests == y.bv_tests && x.triangle_tests == y.triangle_tests && x.triangle_candidates == y.triangle_candidates &&
+           x.leaf_pairs == y.leaf_pairs && x.pairs == y.pairs && x.nodes_refit == y.nodes_refit && x.truncated == y.truncated &&
+           x.frontier_pairs == y.frontier_pairs;
+}
+
+bool same(const DvhSceneStats& x, const DvhSceneStats& y) {
+    return x.objects == y.objects && x.object_pairs_tested == y.object_pairs_tested &&
+           x.object_pairs_colliding == y.object_pairs_colliding && x.bv_tests == y.bv_tests && x.triangle_tests == y.triangle_tests &&
+           x.nodes_refit == y.nodes_refit && x.contacts == y.contacts && x.truncated == y.truncated;
+}
+
+// ---- the tests ----
+
+void test_version_status_and_messages() {
+    REQUIRE(std::strcmp(dvh::version(), dvh_version()) == 0);
+    REQUIRE(std::strcmp(dvh::status_name(DVH_STATUS_INDEX_OUT_OF_RANGE), "DVH_STATUS_INDEX_OUT_OF_RANGE") == 0);
+    REQUIRE(std::strcmp(dvh::status_name(4242), "DVH_STATUS_UNKNOWN") == 0);
+
+    // The message is the C function's, whole (the wrapper asks for its length first); a success
+    // clears it.
+    REQUIRE(dvh_mesh_validate(nullptr) == DVH_STATUS_NULL_ARGUMENT);
+    char c_message[512];
+    std::size_t length = dvh_last_error_message(c_message, sizeof c_message);
+    REQUIRE(length > 0 && length < sizeof c_message);
+    std::string message = dvh::last_error_message();
+    REQUIRE(message == c_message && message.size() == length);
+    dvh::check(DVH_STATUS_OK);
+    REQUIRE_ERROR(dvh::check(dvh_mesh_validate(nullptr)), DVH_STATUS_NULL_ARGUMENT, c_message);
+    const double t[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    bool hit = false;
+    REQUIRE(dvh_triangles_intersect(t, t, &hit) == DVH_STATUS_OK && hit);
+    REQUIRE(dvh::last_error_message().empty());
+    // A status without a message (none of the library's) still says what it is.
+    REQUIRE_ERROR(dvh::check(DVH_STATUS_BUSY), DVH_STATUS_BUSY, "DVH_STATUS_BUSY");
+    const dvh::Error made(DVH_STATUS_INVALID_ARGUMENT, "made here");
+    REQUIRE(made.status() == DVH_STATUS_INVALID_ARGUMENT && std::strcmp(made.what(), "made here") == 0);
+}
+
+void test_span() {
+    dvh::Span<int> empty;
+    REQUIRE(empty.empty() && empty.size() == 0 && empty.data() == nullptr && empty.begin() == empty.end());
+    const int values[] = {3, 1, 4, 1, 5};
+    dvh::Span<int> s(values, 5);
+    REQUIRE(!s.empty() && s.size() == 5 && s.data() == values && s[2] == 4 && s.end() - s.begin() == 5);
+    int sum = 0;
+    for (int v : s) sum += v;
+    REQUIRE(sum == 14);
+    constexpr dvh::Span<int> compile_time;
+    static_assert(compile_time.empty(), "spans are constexpr");
+#if __cplusplus >= 202002L
+    std::span<const int> standard = s;
+    REQUIRE(standard.data() == values && standard.size() == 5);
+    std::span<const int> none = empty;
+    REQUIRE(none.empty());
+#endif
+}
+
+void test_options() {
+    // The defaults are the C defaults.
+    const DvhBuildOptions c_default = dvh_build_options_default(), c_rigid = dvh_build_options_rigid();
+    const dvh::BuildOptions b;
+    REQUIRE(std::memcmp(&b.c(), &c_default, sizeof c_default) == 0);
+    REQUIRE(std::memcmp(&dvh::BuildOptions::rigid().c(), &c_rigid, sizeof c_rigid) == 0);
+    const DvhQueryOptions c_query = dvh_query_options_default();
+    const dvh::QueryOptions q;
+    REQUIRE(std::memcmp(&q.c(), &c_query, sizeof c_query) == 0);
+
+    // Setters on a variable return it; on a temporary they chain into a value.
+    dvh::BuildOptions o;
+    REQUIRE(&o.tree(DVH_TREE_KIND_BINARY) == &o);
+    o.radius(DVH_RADIUS_KIND_WRAPPED).leftovers(DVH_LEFTOVER_POLICY_EXTRA_RINGS).volume(DVH_VOLUME_KIND_DVH).refit_threads(3);
+    REQUIRE(o.tree() == DVH_TREE_KIND_BINARY && o.radius() == DVH_RADIUS_KIND_WRAPPED &&
+            o.leftovers() == DVH_LEFTOVER_POLICY_EXTRA_RINGS && o.volume() == DVH_VOLUME_KIND_DVH && o.refit_threads() == 3);
+    REQUIRE(o.c().tree == DVH_TREE_KIND_BINARY && o.c().radius == DVH_RADIUS_KIND_WRAPPED &&
+            o.c().leftovers == DVH_LEFTOVER_POLICY_EXTRA_RINGS && o.c().volume == DVH_VOLUME_KIND_DVH && o.c().refit_threads == 3);
+    const dvh::BuildOptions chained = dvh::BuildOptions{}
+                                          .tree(DVH_TREE_KIND_BINARY)
+                                          .radius(DVH_RADIUS_KIND_WRAPPED)
+                                          .leftovers(DVH_LEFTOVER_POLICY_EXTRA_RINGS)
+                                          .volume(DVH_VOLUME_KIND_DVH)
+                                          .refit_threads(3);
+    REQUIRE(std::memcmp(&chained.c(), &o.c(), sizeof o.c()) == 0);
+    const dvh::BuildOptions from_c = c_rigid;
+    REQUIRE(from_c.volume() == DVH_VOLUME_KIND_SBV && from_c.radius() == DVH_RADIUS_KIND_WRAPPED);
+
+    dvh::QueryOptions p;
+    REQUIRE(&p.mode(DVH_QUERY_MODE_DEPTH) == &p);
+    p.max_depth(4).max_pairs(9).budget(77).threads(2);
+    REQUIRE(p.mode() == DVH_QUERY_MODE_DEPTH && p.max_depth() == 4 && p.max_pairs() == 9 && p.budget() == 77 && p.threads() == 2);
+    REQUIRE(p.c().mode == DVH_QUERY_MODE_DEPTH && p.c().max_depth == 4 && p.c().max_pairs == 9 && p.c().budget == 77 &&
+            p.c().threads == 2);
+    const dvh::QueryOptions chained_q = dvh::QueryOptions{}.mode(DVH_QUERY_MODE_DEPTH).max_depth(4).max_pairs(9).budget(77).threads(2);
+    REQUIRE(std::memcmp(&chained_q.c(), &p.c(), sizeof p.c()) == 0);
+    DvhQueryOptions raw = c_query;
+    raw.max_pairs = 5;
+    const dvh::QueryOptions from_raw = raw;
+    REQUIRE(from_raw.max_pairs() == 5);
+
+    // Values out of range are the library's to refuse.
+    const Geometry g = terrain(3, 0, 0, flat);
+    REQUIRE_ERROR(dvh::Mesh(g.positions, g.triangles, dvh::BuildOptions{}.tree(7)), DVH_STATUS_INVALID_ARGUMENT, "options->tree = 7");
+    const dvh::Mesh m(g.positions, g.triangles);
+    dvh::Pairs pairs;
+    REQUIRE_ERROR(dvh::collide(m, nullptr, m, nullptr, dvh::QueryOptions{}.mode(9), pairs), DVH_STATUS_INVALID_ARGUMENT,
+                  "options->mode = 9");
+}
+
+void test_owners() {
+    const Geometry g = terrain(4, 0, 0, wave), h = terrain(4, 1, 1, ridge);
+
+    // Mesh: moves, release, adoption, an owner of none.
+    dvh::Mesh a(g.positions, g.triangles);
+    DvhMesh* raw = a.get();
+    REQUIRE(raw != nullptr && static_cast<bool>(a));
+    dvh::Mesh b(std::move(a));
+    REQUIRE(b.get() == raw && a.get() == nullptr && !a);
+    REQUIRE(a.vertex_count() == 0 && a.triangle_count() == 0 && a.node_count() == 0);
+    REQUIRE_ERROR((void)a.tree_stats(), DVH_STATUS_NULL_ARGUMENT, "`mesh`");
+    REQUIRE_ERROR(a.refit(g.positions), DVH_STATUS_NULL_ARGUMENT, "`mesh`");
+    a = std::move(b);  // into an owner of none
+    REQUIRE(a.get() == raw && !b);
+    dvh::Mesh other(h.positions, h.triangles);
+    a = std::move(other);  // releases the first mesh (a leak or a double release would be reported)
+    REQUIRE(a.get() != raw && a.vertex_count() == h.vertices() && !other);
+    dvh::Mesh& alias = a;
+    DvhMesh* kept = a.get();
+    a = std::move(alias);  // to itself: keeps its mesh
+    REQUIRE(a.get() == kept);
+    DvhMesh* released = a.release();
+    REQUIRE(released == kept && !a);
+    REQUIRE(dvh_mesh_triangle_count(released) == h.count());
+    dvh_mesh_free(released);
+    dvh::Mesh adopted(c_mesh(g));
+    REQUIRE(adopted.triangle_count() == g.count());
+    dvh::Mesh none(nullptr);
+    REQUIRE(!none);
+    // In a container that moves them as it grows.
+    std::vector<dvh::Mesh> meshes;
+    for (int i = 0; i < 9; i++) meshes.emplace_back(moved(g, i, 0, 0), g.triangles);
+    for (const auto& m : meshes) REQUIRE(m.triangle_count() == g.count());
+
+    // Pairs: a result moves with its buffer.
+    const dvh::Mesh ma(g.positions, g.triangles), mb(h.positions, h.triangles);
+    dvh::Pairs p;
+    REQUIRE(p && p.empty() && p.size() == 0 && p.view().empty() && p.kind() == DVH_PAIR_KIND_TRIANGLES);
+    dvh::collide(ma, nullptr, mb, nullptr, dvh::QueryOptions{}, p);
+    REQUIRE(!p.empty());
+    const DvhPair* data = p.view().data();
+    const std::size_t n = p.size();
+    dvh::Pairs q(std::move(p));
+    REQUIRE(q.view().data() == data && q.size() == n && !p && p.size() == 0 && p.view().data() == nullptr);
+    REQUIRE(p.kind() == DVH_PAIR_KIND_TRIANGLES && p.begin() == p.end());
+    REQUIRE_ERROR(dvh::collide(ma, nullptr, mb, nullptr, dvh::QueryOptions{}, p), DVH_STATUS_NULL_ARGUMENT, "`pairs_out`");
+    p = std::move(q);
+    REQUIRE(p.view().data() == data && !q);
+    p = dvh::Pairs();  // releases the filled buffer
+    REQUIRE(p && p.empty());
+    DvhPairs* raw_pairs = p.release();
+    REQUIRE(dvh_collide(ma.get(), nullptr, mb.get(), nullptr, nullptr, raw_pairs, nullptr) == DVH_STATUS_OK);
+    dvh::Pairs adopted_pairs(raw_pairs);
+    REQUIRE(adopted_pairs.size() == n);
+
+    // Contacts and Scene.
+    dvh::Scene scene;
+    DvhScene* raw_scene = scene.get();
+    REQUIRE(raw_scene != nullptr);
+    REQUIRE(scene.add_deformable(ma) == 0 && scene.add_deformable(mb) == 1);
+    dvh::Contacts contacts;
+    REQUIRE(contacts && contacts.empty() && contacts.kind() == DVH_PAIR_KIND_TRIANGLES);
+    scene.collide(dvh::QueryOptions{}, contacts);
+    REQUIRE(contacts.size() == n);
+    const DvhContact* first = contacts.view().data();
+    dvh::Contacts contacts2(std::move(contacts));
+    REQUIRE(contacts2.view().data() == first && !contacts && contacts.size() == 0 && contacts.view().empty());
+    REQUIRE(contacts.begin() == contacts.end() && contacts.kind() == DVH_PAIR_KIND_TRIANGLES);
+    REQUIRE_ERROR(scene.collide(dvh::QueryOptions{}, contacts), DVH_STATUS_NULL_ARGUMENT, "`contacts_out`");
+    contacts = std::move(contacts2);
+    REQUIRE(contacts.view().data() == first);
+    dvh::Scene scene2(std::move(scene));
+    REQUIRE(scene2.get() == raw_scene && !scene);
+    REQUIRE_ERROR(scene.add_deformable(ma), DVH_STATUS_NULL_ARGUMENT, "`scene`");
+    REQUIRE_ERROR(scene.set_lazy_refit(false), DVH_STATUS_NULL_ARGUMENT, "`scene`");
+    scene = std::move(scene2);
+    REQUIRE(scene.get() == raw_scene);
+    scene = dvh::Scene();  // releases the first scene
+    REQUIRE(scene && scene.get() != nullptr);
+    DvhScene* raw_scene2 = scene.release();
+    DvhContacts* raw_contacts = contacts.release();
+    REQUIRE(!scene && !contacts);
+    std::uint32_t id = 99;
+    REQUIRE(dvh_scene_add_deformable(raw_scene2, ma.get(), 1, 1, &id) == DVH_STATUS_OK && id == 0);
+    dvh::Scene adopted_scene(raw_scene2);
+    dvh::Contacts adopted_contacts(raw_contacts);
+    REQUIRE(adopted_contacts.size() == n);  // the result it held
+    adopted_scene.collide(dvh::QueryOptions{}, adopted_contacts);
+    REQUIRE(adopted_contacts.empty());
+    // A scene keeps what it needs of its meshes: they may go first.
+    {
+        dvh::Mesh gone(g.positions, g.triangles);
+        adopted_scene.add_rigid(gone, nullptr);
+    }
+    adopted_scene.collide(dvh::QueryOptions{}, adopted_contacts);
+    REQUIRE(adopted_contacts.size() > 0);
+}
+
+void test_mesh() {
+    const Geometry g = terrain(5, 0, 0, ridge), h = terrain(5, 2, 1, wave);
+    DvhMesh* c_a = c_mesh(g);
+    DvhMesh* c_b = c_mesh(h);
+    DvhPairs* c_pairs = dvh_pairs_new();
+    REQUIRE(dvh_collide(c_a, nullptr, c_b, nullptr, nullptr, c_pairs, nullptr) == DVH_STATUS_OK && dvh_pairs_len(c_pairs) > 0);
+    const dvh::Mesh b(h.positions, h.triangles);
+    dvh::Pairs pairs;
+
+    // Every way to build the same mesh gives the same mesh.
+    std::vector<std::uint16_t> tris16(g.triangles.begin(), g.triangles.end());
+    const std::vector<float> f32 = to_float(g.positions);
+    // Interleaved float vertices (position, normal, uv: 32 bytes), misaligned on purpose.
+    const std::size_t stride = 32;
+    std::vector<unsigned char> storage(g.vertices() * stride + 3);
+    unsigned char* base = storage.data() + 2;
+    for (std::size_t i = 0; i < g.vertices(); i++) {
+        const float v[8] = {f32[3 * i], f32[3 * i + 1], f32[3 * i + 2], 0.0f, 0.0f, 1.0f, 0.5f, 0.25f};
+        std::memcpy(base + i * stride, v, sizeof v);
+    }
+    const float* strided = reinterpret_cast<const float*>(static_cast<const void*>(base));
+    std::vector<dvh::Mesh> ways;
+    ways.emplace_back(g.positions.data(), g.vertices(), g.triangles.data(), g.count());
+    ways.emplace_back(g.positions.data(), g.vertices(), tris16.data(), g.count());
+    ways.emplace_back(f32.data(), g.vertices(), g.triangles.data(), g.count());
+    ways.push_back(dvh::Mesh::from_strided(strided, stride, g.vertices(), g.triangles.data(), g.count()));
+    ways.emplace_back(g.positions, g.triangles);
+    ways.emplace_back(g.positions, tris16);
+    ways.emplace_back(f32, g.triangles);
+    ways.emplace_back(g.positions, g.triangles, dvh::BuildOptions::rigid());
+    ways.emplace_back(f32.data(), g.vertices(), g.triangles.data(), g.count(), dvh::BuildOptions{}.tree(DVH_TREE_KIND_BINARY));
+    for (const auto& m : ways) {
+        REQUIRE(m.vertex_count() == g.vertices() && m.triangle_count() == g.count() && m.node_count() >= 1);
+        m.validate();
+        dvh::collide(m, nullptr, b, nullptr, dvh::QueryOptions{}, pairs);
+        REQUIRE(same(pairs, c_pairs));
+    }
+
+    // The accessors give what the C functions give.
+    const dvh::Mesh& a = ways.front();
+    DvhTreeStats c_tree;
+    REQUIRE(dvh_mesh_tree_stats(c_a, &c_tree) == DVH_STATUS_OK);
+    const DvhTreeStats tree = a.tree_stats();
+    REQUIRE(tree.triangles == c_tree.triangles && tree.rings == c_tree.rings && tree.inner_nodes == c_tree.inner_nodes &&
+            tree.levels == c_tree.levels && tree.max_ring_triangles == c_tree.max_ring_triangles);
+    DvhRefitStats c_refit;
+    REQUIRE(dvh_mesh_last_refit_stats(c_a, &c_refit) == DVH_STATUS_OK);
+    DvhRefitStats refit = a.last_refit_stats();
+    REQUIRE(refit.nodes_refit == c_refit.nodes_refit && refit.distance_evaluations == c_refit.distance_evaluations);
+    REQUIRE(a.node_count() == dvh_mesh_node_count(c_a));
+    for (std::uint32_t node = 0; node < a.node_count(); node++) {
+        const std::uint32_t* c_tris = nullptr;
+        std::size_t c_count = 0;
+        REQUIRE(dvh_mesh_node_triangles(a.get(), node, &c_tris, &c_count) == DVH_STATUS_OK);
+        const dvh::Span<std::uint32_t> tris = a.node_triangles(node);
+        REQUIRE(tris.data() == c_tris && tris.size() == c_count);  // the mesh's own array, not a copy
+    }
+    REQUIRE(a.node_triangles(0).size() == g.count());
+#if __cplusplus >= 202002L
+    const std::span<const std::uint32_t> root = a.node_triangles(0);
+    REQUIRE(root.size() == g.count());
+#endif
+    REQUIRE_ERROR((void)a.node_triangles((std::uint32_t)a.node_count()), DVH_STATUS_INVALID_ARGUMENT, "out of range");
+
+    // Build errors: the status and the library's message.
+    std::vector<std::uint32_t> bad = {0, 1, 2, 2, 1, 999};
+    REQUIRE_ERROR(dvh::Mesh(g.positions.data(), g.vertices(), bad.data(), 2), DVH_STATUS_INDEX_OUT_OF_RANGE,
+                  "triangle 1, corner 2: vertex index 999");
+    REQUIRE_ERROR(dvh::Mesh(g.positions, bad), DVH_STATUS_INDEX_OUT_OF_RANGE, "triangle 1, corner 2: vertex index 999");
+    std::vector<std::uint16_t> bad16 = tris16;
+    bad16[4] = 60000;
+    REQUIRE_ERROR(dvh::Mesh(g.positions, bad16), DVH_STATUS_INDEX_OUT_OF_RANGE, "triangle 1, corner 1: vertex index 60000");
+    std::vector<double> nan_positions = g.positions;
+    nan_positions[3 * 5 + 2] = std::nan("");
+    REQUIRE_ERROR(dvh::Mesh(nan_positions, g.triangles), DVH_STATUS_NON_FINITE_COORDINATE, "vertex 5: coordinate z is NaN");
+    std::vector<float> inf_positions = f32;
+    inf_positions[4] = std::numeric_limits<float>::infinity();
+    REQUIRE_ERROR(dvh::Mesh(inf_positions, g.triangles), DVH_STATUS_NON_FINITE_COORDINATE, "vertex 1: coordinate y is inf");
+    REQUIRE_ERROR((void)dvh::Mesh::from_strided(strided, 8, g.vertices(), g.triangles.data(), g.count()), DVH_STATUS_INVALID_ARGUMENT,
+                  "stride_bytes = 8");
+    REQUIRE_ERROR(dvh::Mesh(static_cast<const double*>(nullptr), 3, g.triangles.data(), 1), DVH_STATUS_NULL_ARGUMENT,
+                  "`positions`");
+    // Vectors: a partial triple is refused here; empty vectors are no vertices or no triangles.
+    std::vector<double> partial = g.positions;
+    partial.push_back(1.0);
+    REQUIRE_ERROR(dvh::Mesh(partial, g.triangles), DVH_STATUS_INVALID_ARGUMENT,
+                  ("positions holds " + std::to_string(partial.size()) + " values, not a multiple of 3").c_str());
+    std::vector<std::uint32_t> partial_tris = {0, 1};
+    REQUIRE_ERROR(dvh::Mesh(g.positions, partial_tris), DVH_STATUS_INVALID_ARGUMENT, "triangles holds 2 values");
+    REQUIRE_ERROR(dvh::Mesh(g.positions, std::vector<std::uint32_t>()), DVH_STATUS_INVALID_ARGUMENT, "no triangles");
+    REQUIRE_ERROR(dvh::Mesh(std::vector<double>(), g.triangles), DVH_STATUS_INDEX_OUT_OF_RANGE, "vertex index");
+
+    // Refits through every overload give what a C refit of the same positions gives.
+    dvh::Mesh r(g.positions, g.triangles);
+    int step = 0;
+    auto refit_and_compare = [&](auto&& refit_with) {
+        step++;
+        const std::vector<double> p = moved(g, step % 2, step % 3 == 0 ? 1 : 0, 0.5 * (step % 4));
+        REQUIRE(dvh_mesh_refit(c_a, p.data(), g.vertices()) == DVH_STATUS_OK);
+        refit_with(p);
+        r.validate();
+        REQUIRE(dvh_collide(c_a, nullptr, c_b, nullptr, nullptr, c_pairs, nullptr) == DVH_STATUS_OK);
+        dvh::collide(r, nullptr, b, nullptr, dvh::QueryOptions{}, pairs);
+        REQUIRE(same(pairs, c_pairs));
+        REQUIRE(r.last_refit_stats().nodes_refit == r.node_count());
+    };
+    refit_and_compare([&](const std::vector<double>& p) { r.refit(p.data(), g.vertices()); });
+    refit_and_compare([&](const std::vector<double>& p) { r.refit(p); });
+    refit_and_compare([&](const std::vector<double>& p) { r.refit(to_float(p).data(), g.vertices()); });
+    refit_and_compare([&](const std::vector<double>& p) { r.refit(to_float(p)); });
+    refit_and_compare([&](const std::vector<double>& p) {
+        const std::vector<float> packed = to_float(p);
+        for (std::size_t i = 0; i < g.vertices(); i++) std::memcpy(base + i * stride, &packed[3 * i], 3 * sizeof(float));
+        r.refit_strided(strided, stride, g.vertices());
+    });
+    REQUIRE(!pairs.empty());
+
+    // A failed refit leaves the mesh as it was: the same answer, the same counters.
+    const std::vector<DvhPair> before = copy(pairs);
+    const DvhRefitStats refit_before = r.last_refit_stats();
+    std::vector<double> nan_refit = g.positions;
+    nan_refit[3 * 4 + 1] = std::nan("");
+    REQUIRE_ERROR(r.refit(nan_refit), DVH_STATUS_NON_FINITE_COORDINATE, "vertex 4: coordinate y is NaN");
+    REQUIRE_ERROR(r.refit(nan_refit.data(), g.vertices() - 1), DVH_STATUS_INVALID_ARGUMENT, "vertex_count");
+    REQUIRE_ERROR(r.refit(std::vector<double>(nan_refit.begin(), nan_refit.end() - 1)), DVH_STATUS_INVALID_ARGUMENT,
+                  "not a multiple of 3");
+    REQUIRE_ERROR(r.refit(to_float(nan_refit)), DVH_STATUS_NON_FINITE_COORDINATE, "vertex 4: coordinate y is NaN");
+    REQUIRE_ERROR(r.refit_strided(strided, 4, g.vertices()), DVH_STATUS_INVALID_ARGUMENT, "stride_bytes = 4");
+    REQUIRE(r.last_refit_stats().nodes_refit == refit_before.nodes_refit &&
+            r.last_refit_stats().distance_evaluations == refit_before.distance_evaluations);
+    r.validate();
+    dvh::collide(r, nullptr, b, nullptr, dvh::QueryOptions{}, pairs);
+    REQUIRE(same(pairs, before));
+
+    dvh_pairs_free(c_pairs);
+    dvh_mesh_free(c_a);
+    dvh_mesh_free(c_b);
+}
+
+void test_queries() {
+    lcg_state = 7;
+    const Geometry g = terrain(6, 0, 0, wave), h = terrain(5, 1, 2, ridge), s = soup(200, 0, 10);
+    const dvh::Mesh a(g.positions, g.triangles), b(h.positions, h.triangles), sm(s.positions, s.triangles);
+    DvhMesh* c_a = c_mesh(g);
+    DvhMesh* c_b = c_mesh(h);
+    DvhMesh* c_s = c_mesh(s);
+    DvhPairs* c_pairs = dvh_pairs_new();
+    dvh::Pairs pairs;
+    const DvhPose pose_a = translation(0, 0, 0.5), pose_b = turned(5, 0, 0);
+    DvhQueryStats c_stats;
+
+    // collide, every mode, with and without poses, against dvh_collide.
+    for (DvhQueryMode mode = DVH_QUERY_MODE_TRIANGLES; mode <= DVH_QUERY_MODE_BUDGET; mode++)
+        for (int posed = 0; posed < 2; posed++) {
+            const DvhPose* pa = posed ? &pose_a : nullptr;
+            const DvhPose* pb = posed ? &pose_b : nullptr;
+            const dvh::QueryOptions o = dvh::QueryOptions{}.mode(mode).max_depth(2).budget(30).threads(1);
+            REQUIRE(dvh_collide(c_a, pa, c_b, pb, &o.c(), c_pairs, &c_stats) == DVH_STATUS_OK);
+            const DvhQueryStats stats = dvh::collide(a, pa, b, pb, o, pairs);
+            REQUIRE(same(pairs, c_pairs) && same(stats, c_stats));
+            REQUIRE(same(dvh::collide(a, pa, b, pb, o), c_pairs));
+            REQUIRE(pairs.kind() == (mode >= DVH_QUERY_MODE_LEAVES ? DVH_PAIR_KIND_NODES : DVH_PAIR_KIND_TRIANGLES));
+        }
+    REQUIRE(dvh_collide(c_a, nullptr, c_b, nullptr, nullptr, c_pairs, nullptr) == DVH_STATUS_OK && dvh_pairs_len(c_pairs) > 2);
+    REQUIRE(same(dvh::collide(a, nullptr, b, nullptr), c_pairs));
+    const DvhQueryStats cut = dvh::collide(a, nullptr, b, nullptr, dvh::QueryOptions{}.max_pairs(2), pairs);
+    REQUIRE(pairs.size() == 2 && cut.truncated);
+
+    // A failed query leaves the buffer as it was.
+    dvh::collide(a, nullptr, b, nullptr, dvh::QueryOptions{}, pairs);
+    const std::vector<DvhPair> before = copy(pairs);
+    REQUIRE(!before.empty());
+    REQUIRE_ERROR(dvh::collide(a, nullptr, b, nullptr, dvh::QueryOptions{}.mode(DVH_QUERY_MODE_BUDGET).budget(0), pairs),
+                  DVH_STATUS_INVALID_ARGUMENT, "options->budget = 0");
+    DvhPose nan_pose = pose_b;
+    nan_pose.translation[2] = std::nan("");
+    REQUIRE_ERROR(dvh::collide(a, nullptr, b, &nan_pose, dvh::QueryOptions{}, pairs), DVH_STATUS_NON_FINITE_COORDINATE,
+                  "pose_b: pose translation[2] is NaN");
+    DvhPose skewed = pose_a;
+    skewed.rotation[0] = 1.1;
+    REQUIRE_ERROR(dvh::collide(a, &skewed, b, nullptr, dvh::QueryOptions{}, pairs), DVH_STATUS_NON_RIGID_POSE, "pose_a");
+    REQUIRE_ERROR((void)dvh::collide(a, &skewed, b, nullptr), DVH_STATUS_NON_RIGID_POSE, "pose_a");
+    REQUIRE_ERROR(dvh::collide(dvh::Mesh(nullptr), nullptr, b, nullptr, dvh::QueryOptions{}, pairs), DVH_STATUS_NULL_ARGUMENT, "`a`");
+    REQUIRE(same(pairs, before));
+
+    // self_collide against dvh_self_collide.
+    for (DvhQueryMode mode = DVH_QUERY_MODE_TRIANGLES; mode <= DVH_QUERY_MODE_BUDGET; mode++) {
+        const dvh::QueryOptions o = dvh::QueryOptions{}.mode(mode).max_depth(2).budget(50).threads(1);
+        REQUIRE(dvh_self_collide(c_s, &o.c(), c_pairs, &c_stats) == DVH_STATUS_OK);
+        REQUIRE(same(dvh::self_collide(sm, o), c_pairs));
+        const DvhQueryStats stats = dvh::self_collide(sm, o, pairs);
+        REQUIRE(same(pairs, c_pairs) && same(stats, c_stats));
+    }
+    REQUIRE(dvh_self_collide(c_s, nullptr, c_pairs, nullptr) == DVH_STATUS_OK && dvh_pairs_len(c_pairs) > 0);
+    REQUIRE(same(dvh::self_collide(sm), c_pairs));
+    REQUIRE(dvh::self_collide(a).empty());  // an intact surface
+    const std::vector<DvhPair> self_before = copy(dvh::self_collide(sm));
+    dvh::self_collide(sm, dvh::QueryOptions{}, pairs);
+    REQUIRE_ERROR(dvh::self_collide(sm, dvh::QueryOptions{}.mode(9), pairs), DVH_STATUS_INVALID_ARGUMENT, "options->mode = 9");
+    REQUIRE(same(pairs, self_before));
+
+    // proximity and self_proximity against dvh_proximity and dvh_self_proximity.
+    for (double distance : {0.0, 0.5, 1.0, 3.0}) {
+        const dvh::QueryOptions o = dvh::QueryOptions{}.threads(1);
+        REQUIRE(dvh_proximity(c_a, &pose_a, c_b, &pose_b, distance, &o.c(), c_pairs, &c_stats) == DVH_STATUS_OK);
+        DvhQueryStats stats = dvh::proximity(a, &pose_a, b, &pose_b, distance, o, pairs);
+        REQUIRE(same(pairs, c_pairs) && same(stats, c_stats));
+        REQUIRE(same(dvh::proximity(a, &pose_a, b, &pose_b, distance), c_pairs));
+        REQUIRE(dvh_self_proximity(c_a, distance, &o.c(), c_pairs, &c_stats) == DVH_STATUS_OK);
+        stats = dvh::self_proximity(a, distance, o, pairs);
+        REQUIRE(same(pairs, c_pairs) && same(stats, c_stats));
+        REQUIRE(same(dvh::self_proximity(a, distance), c_pairs));
+    }
+    REQUIRE(!pairs.empty());
+    const std::vector<DvhPair> near_before = copy(pairs);
+    REQUIRE_ERROR(dvh::proximity(a, nullptr, b, nullptr, -1.0, dvh::QueryOptions{}, pairs), DVH_STATUS_INVALID_ARGUMENT, "distance");
+    REQUIRE_ERROR(dvh::self_proximity(a, std::nan(""), dvh::QueryOptions{}, pairs), DVH_STATUS_INVALID_ARGUMENT, "distance");
+    REQUIRE_ERROR((void)dvh::self_proximity(a, -1.0), DVH_STATUS_INVALID_ARGUMENT, "distance");
+    REQUIRE(same(pairs, near_before));
+
+    // triangles_intersect against dvh_triangles_intersect.
+    lcg_state = 99;
+    int hits = 0;
+    for (int k = 0; k < 500; k++) {
+        std::array<double, 9> t1{}, t2{};
+        for (int c = 0; c < 9; c++) {
+            t1[c] = lcg_below(5) - 2;
+            t2[c] = lcg_below(5) - 2;
+        }
+        bool c_hit = false;
+        REQUIRE(dvh_triangles_intersect(t1.data(), t2.data(), &c_hit) == DVH_STATUS_OK);
+        REQUIRE(dvh::triangles_intersect(t1, t2) == c_hit && dvh::triangles_intersect(t1.data(), t2.data()) == c_hit);
+        hits += c_hit;
+    }
+    REQUIRE(hits > 0 && hits < 500);
+    double t1[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0}, t2[9] = {0};
+    t2[7] = std::nan("");
+    REQUIRE_ERROR((void)dvh::triangles_intersect(t1, t2), DVH_STATUS_NON_FINITE_COORDINATE, "t2[7] is NaN");
+    REQUIRE_ERROR((void)dvh::triangles_intersect(nullptr, t1), DVH_STATUS_NULL_ARGUMENT, "`t1`");
+
+    dvh_pairs_free(c_pairs);
+    dvh_mesh_free(c_a);
+    dvh_mesh_free(c_b);
+    dvh_mesh_free(c_s);
+}
+
+// Every verb of dvh::Scene, each mirrored on a scene driven through the C API: the contacts and
+// counters must be the same after each.
+void test_scene() {
+    const Geometry g = terrain(6, 0, 0, wave), h = terrain(5, 1, 1, ridge);
+    const dvh::Mesh a(g.positions, g.triangles), b(h.positions, h.triangles);
+    dvh::Scene scene;
+    DvhScene* c_scene = nullptr;
+    REQUIRE(dvh_scene_create(&c_scene) == DVH_STATUS_OK);
+    dvh::Contacts contacts;
+    DvhContacts* c_contacts = dvh_contacts_new();
+    std::uint32_t id = 0;
+    const dvh::QueryOptions one = dvh::QueryOptions{}.threads(1);
+    auto compare = [&](const dvh::QueryOptions& o) {
+        DvhSceneStats c_stats;
+        REQUIRE(dvh_scene_collide(c_scene, &o.c(), c_contacts, &c_stats) == DVH_STATUS_OK);
+        const DvhSceneStats stats = scene.collide(o, contacts);
+        REQUIRE(same(contacts, c_contacts) && same(stats, c_stats));
+    };
+
+    const DvhPose near = turned(6, 0, 0.5), far = translation(30, 0, 0);
+    REQUIRE(scene.add_deformable(a) == 0);
+    REQUIRE(dvh_scene_add_deformable(c_scene, a.get(), 1, 0xffffffffu, &id) == DVH_STATUS_OK && id == 0);
+    REQUIRE(scene.add_rigid(b, &near) == 1);
+    REQUIRE(dvh_scene_add_rigid(c_scene, b.get(), &near, 1, 0xffffffffu, &id) == DVH_STATUS_OK && id == 1);
+    REQUIRE(scene.add_rigid(b, &far, 1, 0xffffffffu) == 2);
+    REQUIRE(dvh_scene_add_rigid(c_scene, b.get(), &far, 1, 0xffffffffu, &id) == DVH_STATUS_OK && id == 2);
+    REQUIRE(scene.add_deformable(a, 2, 2) == 3);
+    REQUIRE(dvh_scene_add_deformable(c_scene, a.get(), 2, 2, &id) == DVH_STATUS_OK && id == 3);
+    compare(one);
+    REQUIRE(!contacts.empty());
+
+    // New positions through every overload.
+    std::uint32_t object = 0;
+    int step = 0;
+    auto move_and_compare = [&](auto&& set) {
+        step++;
+        const std::vector<double> p = moved(g, 0.5 * step, step % 2, 1.0 + 0.25 * step);
+        REQUIRE(dvh_scene_set_positions(c_scene, object, p.data(), g.vertices()) == DVH_STATUS_OK);
+        set(p);
+        compare(one);
+    };
+    move_and_compare([&](const std::vector<double>& p) { scene.set_positions(object, p.data(), g.vertices()); });
+    move_and_compare([&](const std::vector<double>& p) { scene.set_positions(object, p); });
+    move_and_compare([&](const std::vector<double>& p) { scene.set_positions(object, to_float(p).data(), g.vertices()); });
+    move_and_compare([&](const std::vector<double>& p) { scene.set_positions(object, to_float(p)); });
+    move_and_compare([&](const std::vector<double>& p) {
+        std::vector<float> padded;  // x, y, z, w
+        for (std::size_t i = 0; i < g.vertices(); i++)
+            padded.insert(padded.end(), {(float)p[3 * i], (float)p[3 * i + 1], (float)p[3 * i + 2], 0.0f});
+        scene.set_positions_strided(object, padded.data(), 4 * sizeof(float), g.vertices());
+    });
+    REQUIRE(!contacts.empty());
+
+    // Poses, every mode, the lazy refit off, exclusions, removal and id reuse.
+    const DvhPose nearer = turned(5, 1, 0.5);
+    scene.set_pose(1, &nearer);
+    REQUIRE(dvh_scene_set_pose(c_scene, 1, &nearer) == DVH_STATUS_OK);
+    compare(one);
+    scene.set_pose(2, nullptr);  // the identity: right on object 0's rest place
+    REQUIRE(dvh_scene_set_pose(c_scene, 2, nullptr) == DVH_STATUS_OK);
+    for (DvhQueryMode mode = DVH_QUERY_MODE_TRIANGLES; mode <= DVH_QUERY_MODE_BUDGET; mode++) {
+        compare(dvh::QueryOptions{}.mode(mode).max_depth(2).budget(30).threads(1));
+        REQUIRE(contacts.kind() == (mode >= DVH_QUERY_MODE_LEAVES ? DVH_PAIR_KIND_NODES : DVH_PAIR_KIND_TRIANGLES));
+    }
+    compare(dvh::QueryOptions{}.max_pairs(3).threads(1));
+    REQUIRE(contacts.size() == 3);
+    scene.set_lazy_refit(false);
+    REQUIRE(dvh_scene_set_lazy_refit(c_scene, false) == DVH_STATUS_OK);
+    object = 3;
+    move_and_compare([&](const std::vector<double>& p) { scene.set_positions(object, p); });
+    scene.exclude_pair(0, 1);
+    REQUIRE(dvh_scene_exclude_pair(c_scene, 0, 1) == DVH_STATUS_OK);
+    compare(one);
+    for (const DvhContact& c : contacts) REQUIRE(!(c.object_a == 0 && c.object_b == 1));
+    scene.remove(2);
+    REQUIRE(dvh_scene_remove(c_scene, 2) == DVH_STATUS_OK);
+    compare(one);
+    REQUIRE(scene.add_rigid(b, &nearer, 1, 1) == 2);
+    REQUIRE(dvh_scene_add_rigid(c_scene, b.get(), &nearer, 1, 1, &id) == DVH_STATUS_OK && id == 2);
+    compare(one);
+    REQUIRE(dvh_scene_collide(c_scene, nullptr, c_contacts, nullptr) == DVH_STATUS_OK);
+    REQUIRE(same(scene.collide(), c_contacts));
+
+    // Errors: the status, the message, and the scene and its last result as they were.
+    REQUIRE(!contacts.empty());
+    const std::vector<DvhContact> kept(contacts.begin(), contacts.end());
+    REQUIRE_ERROR(scene.set_pose(0, nullptr), DVH_STATUS_INVALID_ARGUMENT, "object 0 is deformable");
+    REQUIRE_ERROR(scene.set_pose(9, &near), DVH_STATUS_INVALID_ARGUMENT, "object 9 is not in the scene");
+    DvhPose skewed = near;
+    skewed.rotation[0] = 2.0;
+    REQUIRE_ERROR(scene.set_pose(1, &skewed), DVH_STATUS_NON_RIGID_POSE, "pose");
+    REQUIRE_ERROR(scene.add_rigid(b, &skewed), DVH_STATUS_NON_RIGID_POSE, "pose");
+    std::vector<double> nan_positions = g.positions;
+    nan_positions[3 * 2 + 1] = std::nan("");
+    REQUIRE_ERROR(scene.set_positions(0, nan_positions), DVH_STATUS_NON_FINITE_COORDINATE, "object 0: vertex 2: coordinate y is NaN");
+    REQUIRE_ERROR(scene.set_positions(0, to_float(nan_positions)), DVH_STATUS_NON_FINITE_COORDINATE, "coordinate y is NaN");
+    REQUIRE_ERROR(scene.set_positions(1, h.positions), DVH_STATUS_INVALID_ARGUMENT, "object 1 is rigid");
+    REQUIRE_ERROR(scene.set_positions(0, g.positions.data(), 3), DVH_STATUS_INVALID_ARGUMENT, "vertex_count = 3, but object 0 has");
+    REQUIRE_ERROR(scene.set_positions_strided(0, to_float(g.positions).data(), 8, g.vertices()), DVH_STATUS_INVALID_ARGUMENT,
+                  "stride_bytes = 8");
+    REQUIRE_ERROR(scene.remove(7), DVH_STATUS_INVALID_ARGUMENT, "object 7");
+    REQUIRE_ERROR(scene.exclude_pair(1, 1), DVH_STATUS_INVALID_ARGUMENT, "object 1 was paired with itself");
+    REQUIRE_ERROR(scene.add_deformable(dvh::Mesh(nullptr)), DVH_STATUS_NULL_ARGUMENT, "`mesh`");
+    REQUIRE_ERROR(scene.collide(dvh::QueryOptions{}.mode(9), contacts), DVH_STATUS_INVALID_ARGUMENT, "options->mode = 9");
+    REQUIRE_ERROR((void)scene.collide(dvh::QueryOptions{}.mode(DVH_QUERY_MODE_BUDGET)), DVH_STATUS_INVALID_ARGUMENT,
+                  "options->budget = 0");
+    REQUIRE(contacts.size() == kept.size());
+    for (std::size_t i = 0; i < kept.size(); i++)
+        REQUIRE(std::memcmp(&contacts.view()[i], &kept[i], sizeof(DvhContact)) == 0);
+    compare(one);
+
+    dvh_contacts_free(c_contacts);
+    dvh_scene_free(c_scene);
+}
+
+}  // namespace
+
+int main() {
+    test_version_status_and_messages();
+    test_span();
+    test_options();
+    test_owners();
+    test_mesh();
+    test_queries();
+    test_scene();
+    std::printf("test_cpp (C++%ld): all checks passed\n", (long)(__cplusplus / 100 % 100));
+    return 0;
+}

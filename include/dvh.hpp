@@ -1,0 +1,681 @@
+/*
+ * dvh.hpp: the C++17 layer over dvh.h, header-only.
+ *
+ * Owners that release their handle (dvh::Mesh, dvh::Pairs, dvh::Scene, dvh::Contacts), one
+ * exception, dvh::Error, for every failed call, results viewed in place (dvh::Span), and options
+ * with named setters that chain. Each wrapper calls the dvh.h function it names, whose
+ * documentation (arguments, errors, thread safety) holds for it too.
+ *
+ * Conventions
+ * - A failed call throws dvh::Error with the DvhStatus and the message of
+ *   dvh_last_error_message(), read on the failing thread right after the call; as in C, it
+ *   changes nothing (a failed refit leaves the mesh, a failed query its result buffer, a failed
+ *   scene call the scene as they were).
+ * - Out of memory is a dvh::Error with DVH_STATUS_OUT_OF_MEMORY, whichever call ran out, the
+ *   creation of a result buffer (dvh_pairs_new, dvh_contacts_new returning NULL) included.
+ * - The owners are move-only. A moved-from or released owner holds no handle: get() is null, its
+ *   counts are 0, and a call that needs the handle throws dvh::Error (DVH_STATUS_NULL_ARGUMENT).
+ *   get() lends the handle to the C API; release() gives it up.
+ * - std::vector overloads take three values per vertex (x, y, z) or per triangle; a size that is
+ *   not a multiple of 3 throws dvh::Error (DVH_STATUS_INVALID_ARGUMENT) before any call.
+ * - Poses are dvh.h's DvhPose (`DvhPose{{1, 0, 0, 0, 1, 0, 0, 0, 1}, {x, y, z}}`), passed by
+ *   pointer: nullptr is the identity.
+ * - The option and result types are dvh.h's own, as are its DVH_* constants.
+ */
+#ifndef DVH_HPP
+#define DVH_HPP
+
+#include <dvh.h>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+#if __cplusplus >= 202002L
+#include <span>
+#endif
+
+namespace dvh {
+
+/// The library's version, such as `"0.3.0"` (dvh_version).
+[[nodiscard]] inline const char* version() noexcept { return dvh_version(); }
+
+/// The name of a status code, such as `"DVH_STATUS_NULL_ARGUMENT"` (dvh_status_name).
+[[nodiscard]] inline const char* status_name(DvhStatus status) noexcept { return dvh_status_name(status); }
+
+/// The message of the last failed dvh call on the calling thread, whole whatever its length;
+/// empty after a successful call (dvh_last_error_message).
+[[nodiscard]] inline std::string last_error_message() {
+    const std::size_t length = dvh_last_error_message(nullptr, 0);
+    if (length == 0) return std::string();
+    std::vector<char> buffer(length + 1);
+    const std::size_t full = dvh_last_error_message(buffer.data(), buffer.size());
+    return std::string(buffer.data(), full < length ? full : length);
+}
+
+/// A failed dvh call: the status it returned and what the library said was wrong.
+class Error : public std::runtime_error {
+public:
+    /// An error with `status` (a DVH_STATUS_* code other than DVH_STATUS_OK) and `message`.
+    Error(DvhStatus status, const std::string& message) : std::runtime_error(message), status_(status) {}
+
+    /// The DVH_STATUS_* code. what() is the library's message (dvh_last_error_message), or the
+    /// status's name when there is none.
+    [[nodiscard]] DvhStatus status() const noexcept { return status_; }
+
+private:
+    DvhStatus status_;
+};
+
+namespace detail {
+
+[[noreturn]] inline void fail(DvhStatus status) {
+    std::string message = last_error_message();
+    if (message.empty()) message = status_name(status);
+    throw Error(status, message);
+}
+
+}  // namespace detail
+
+/// Throws dvh::Error when `status` is not DVH_STATUS_OK, with the calling thread's last error
+/// message: call it on the status of a C function right after that function returns.
+inline void check(DvhStatus status) {
+    if (status != DVH_STATUS_OK) detail::fail(status);
+}
+
+/// A read-only view of contiguous elements owned elsewhere (a result buffer, a mesh), valid as
+/// long as they are.
+template <typename T>
+class Span {
+public:
+    /// The type of the elements.
+    using value_type = T;
+    /// The type of sizes and indices.
+    using size_type = std::size_t;
+    /// Iterators are pointers.
+    using iterator = const T*;
+
+    /// An empty view.
+    constexpr Span() noexcept = default;
+    /// The `size` elements at `data` (which may be null when `size` is 0).
+    constexpr Span(const T* data, std::size_t size) noexcept : data_(data), size_(size) {}
+
+    /// The first element (null when there are none).
+    [[nodiscard]] constexpr const T* data() const noexcept { return data_; }
+    /// The number of elements.
+    [[nodiscard]] constexpr std::size_t size() const noexcept { return size_; }
+    /// Are there no elements?
+    [[nodiscard]] constexpr bool empty() const noexcept { return size_ == 0; }
+    /// The first element's position.
+    [[nodiscard]] constexpr const T* begin() const noexcept { return data_; }
+    /// The position past the last element.
+    [[nodiscard]] constexpr const T* end() const noexcept { return data_ + size_; }
+    /// Element `i`, unchecked: `i` must be below size().
+    [[nodiscard]] constexpr const T& operator[](std::size_t i) const noexcept { return data_[i]; }
+
+#if __cplusplus >= 202002L
+    /// The same elements as a std::span.
+    constexpr operator std::span<const T>() const noexcept { return std::span<const T>(data_, size_); }
+#endif
+
+private:
+    const T* data_ = nullptr;
+    std::size_t size_ = 0;
+};
+
+/// Options for building a mesh: a DvhBuildOptions that starts from dvh_build_options_default()
+/// and is set by name, `dvh::BuildOptions{}.volume(DVH_VOLUME_KIND_DVH).refit_threads(1)`.
+class BuildOptions {
+public:
+    /// dvh_build_options_default(): the fastest measured for meshes that deform.
+    BuildOptions() noexcept : c_(dvh_build_options_default()) {}
+    /// The given C options (implicit: a DvhBuildOptions goes wherever options are taken).
+    BuildOptions(const DvhBuildOptions& options) noexcept : c_(options) {}
+    /// dvh_build_options_rigid(): the fastest measured for meshes moved by poses, never refit.
+    [[nodiscard]] static BuildOptions rigid() noexcept { return BuildOptions(dvh_build_options_rigid()); }
+
+    /// Sets how the hierarchy is split: a DVH_TREE_KIND_* value.
+    BuildOptions& tree(DvhTreeKind value) & noexcept {
+        c_.tree = value;
+        return *this;
+    }
+    /// Sets how the hierarchy is split, on a temporary.
+    BuildOptions tree(DvhTreeKind value) && noexcept { return tree(value); }
+    /// A DVH_TREE_KIND_* value.
+    [[nodiscard]] DvhTreeKind tree() const noexcept { return c_.tree; }
+
+    /// Sets how sphere radii are refit: a DVH_RADIUS_KIND_* value.
+    BuildOptions& radius(DvhRadiusKind value) & noexcept {
+        c_.radius = value;
+        return *this;
+    }
+    /// Sets how sphere radii are refit, on a temporary.
+    BuildOptions radius(DvhRadiusKind value) && noexcept { return radius(value); }
+    /// A DVH_RADIUS_KIND_* value.
+    [[nodiscard]] DvhRadiusKind radius() const noexcept { return c_.radius; }
+
+    /// Sets where triangles touching no ring centre go: a DVH_LEFTOVER_POLICY_* value.
+    BuildOptions& leftovers(DvhLeftoverPolicy value) & noexcept {
+        c_.leftovers = value;
+        return *this;
+    }
+    /// Sets where triangles touching no ring centre go, on a temporary.
+    BuildOptions leftovers(DvhLeftoverPolicy value) && noexcept { return leftovers(value); }
+    /// A DVH_LEFTOVER_POLICY_* value.
+    [[nodiscard]] DvhLeftoverPolicy leftovers() const noexcept { return c_.leftovers; }
+
+    /// Sets the bounding volume: a DVH_VOLUME_KIND_* value.
+    BuildOptions& volume(DvhVolumeKind value) & noexcept {
+        c_.volume = value;
+        return *this;
+    }
+    /// Sets the bounding volume, on a temporary.
+    BuildOptions volume(DvhVolumeKind value) && noexcept { return volume(value); }
+    /// A DVH_VOLUME_KIND_* value.
+    [[nodiscard]] DvhVolumeKind volume() const noexcept { return c_.volume; }
+
+    /// Sets the threads each refit may use: 0 for every core, 1 for the calling thread, n for at
+    /// most n.
+    BuildOptions& refit_threads(std::uint32_t value) & noexcept {
+        c_.refit_threads = value;
+        return *this;
+    }
+    /// Sets the threads each refit may use, on a temporary.
+    BuildOptions refit_threads(std::uint32_t value) && noexcept { return refit_threads(value); }
+    /// The threads each refit may use.
+    [[nodiscard]] std::uint32_t refit_threads() const noexcept { return c_.refit_threads; }
+
+    /// The C struct, for the C API.
+    [[nodiscard]] const DvhBuildOptions& c() const noexcept { return c_; }
+
+private:
+    DvhBuildOptions c_;
+};
+
+/// Options for the queries: a DvhQueryOptions that starts from dvh_query_options_default() (every
+/// intersecting triangle pair, no limit, every core) and is set by name,
+/// `dvh::QueryOptions{}.mode(DVH_QUERY_MODE_FIRST_HIT).threads(1)`.
+class QueryOptions {
+public:
+    /// dvh_query_options_default().
+    QueryOptions() noexcept : c_(dvh_query_options_default()) {}
+    /// The given C options (implicit: a DvhQueryOptions goes wherever options are taken).
+    QueryOptions(const DvhQueryOptions& options) noexcept : c_(options) {}
+
+    /// Sets what the query reports: a DVH_QUERY_MODE_* value.
+    QueryOptions& mode(DvhQueryMode value) & noexcept {
+        c_.mode = value;
+        return *this;
+    }
+    /// Sets what the query reports, on a temporary.
+    QueryOptions mode(DvhQueryMode value) && noexcept { return mode(value); }
+    /// A DVH_QUERY_MODE_* value.
+    [[nodiscard]] DvhQueryMode mode() const noexcept { return c_.mode; }
+
+    /// Sets the deepest level descended in DVH_QUERY_MODE_DEPTH (the root is level 0).
+    QueryOptions& max_depth(std::uint32_t value) & noexcept {
+        c_.max_depth = value;
+        return *this;
+    }
+    /// Sets the deepest level descended in DVH_QUERY_MODE_DEPTH, on a temporary.
+    QueryOptions max_depth(std::uint32_t value) && noexcept { return max_depth(value); }
+    /// The deepest level descended in DVH_QUERY_MODE_DEPTH.
+    [[nodiscard]] std::uint32_t max_depth() const noexcept { return c_.max_depth; }
+
+    /// Sets the most pairs reported (0: no limit); the statistics' `truncated` says when it cut.
+    QueryOptions& max_pairs(std::uint64_t value) & noexcept {
+        c_.max_pairs = value;
+        return *this;
+    }
+    /// Sets the most pairs reported, on a temporary.
+    QueryOptions max_pairs(std::uint64_t value) && noexcept { return max_pairs(value); }
+    /// The most pairs reported (0: no limit).
+    [[nodiscard]] std::uint64_t max_pairs() const noexcept { return c_.max_pairs; }
+
+    /// Sets the volume tests allowed in DVH_QUERY_MODE_BUDGET (at least 1 in that mode).
+    QueryOptions& budget(std::uint64_t value) & noexcept {
+        c_.budget = value;
+        return *this;
+    }
+    /// Sets the volume tests allowed in DVH_QUERY_MODE_BUDGET, on a temporary.
+    QueryOptions budget(std::uint64_t value) && noexcept { return budget(value); }
+    /// The volume tests allowed in DVH_QUERY_MODE_BUDGET.
+    [[nodiscard]] std::uint64_t budget() const noexcept { return c_.budget; }
+
+    /// Sets the threads the query may use: 0 for every core, 1 for the calling thread, n for at
+    /// most n. The result is the same whatever the count.
+    QueryOptions& threads(std::uint32_t value) & noexcept {
+        c_.threads = value;
+        return *this;
+    }
+    /// Sets the threads the query may use, on a temporary.
+    QueryOptions threads(std::uint32_t value) && noexcept { return threads(value); }
+    /// The threads the query may use.
+    [[nodiscard]] std::uint32_t threads() const noexcept { return c_.threads; }
+
+    /// The C struct, for the C API.
+    [[nodiscard]] const DvhQueryOptions& c() const noexcept { return c_; }
+
+private:
+    DvhQueryOptions c_;
+};
+
+namespace detail {
+
+inline void free_handle(DvhMesh* handle) noexcept { dvh_mesh_free(handle); }
+inline void free_handle(DvhPairs* handle) noexcept { dvh_pairs_free(handle); }
+inline void free_handle(DvhScene* handle) noexcept { dvh_scene_free(handle); }
+inline void free_handle(DvhContacts* handle) noexcept { dvh_contacts_free(handle); }
+
+// A handle from a C function that writes it to its last argument.
+template <typename Handle, typename Create>
+Handle* created(Create create) {
+    Handle* handle = nullptr;
+    check(create(&handle));
+    return handle;
+}
+
+// A handle from dvh_*_new, which returns NULL when memory ran out.
+template <typename Handle>
+Handle* allocated(Handle* handle) {
+    if (handle == nullptr) fail(DVH_STATUS_OUT_OF_MEMORY);
+    return handle;
+}
+
+// The number of triples in `values`, which must hold a whole number of them.
+template <typename T>
+std::size_t triples(const std::vector<T>& values, const char* what) {
+    if (values.size() % 3 != 0)
+        throw Error(DVH_STATUS_INVALID_ARGUMENT,
+                    std::string(what) + " holds " + std::to_string(values.size()) + " values, not a multiple of 3");
+    return values.size() / 3;
+}
+
+// The elements of `values`, never null: the C API reads a NULL array as a missing argument,
+// where an empty vector means no elements.
+template <typename T>
+const T* elements(const std::vector<T>& values) noexcept {
+    static const T none{};
+    return values.empty() ? &none : values.data();
+}
+
+// What the four owners share: one handle, released by its dvh_*_free when the owner goes.
+template <typename Handle>
+class Owner {
+public:
+    Owner(const Owner&) = delete;
+    Owner& operator=(const Owner&) = delete;
+
+    /// The handle, still owned here: to pass to the C API. Null when the owner holds none.
+    [[nodiscard]] Handle* get() const noexcept { return handle_; }
+    /// Gives the handle up without releasing it (the caller releases it with its dvh_*_free);
+    /// the owner then holds none.
+    [[nodiscard]] Handle* release() noexcept {
+        Handle* handle = handle_;
+        handle_ = nullptr;
+        return handle;
+    }
+    /// Does the owner hold a handle?
+    explicit operator bool() const noexcept { return handle_ != nullptr; }
+
+protected:
+    explicit Owner(Handle* handle) noexcept : handle_(handle) {}
+    Owner(Owner&& other) noexcept : handle_(other.release()) {}
+    Owner& operator=(Owner&& other) noexcept {
+        Handle* taken = other.release();  // first: moving an owner to itself keeps its handle
+        free_handle(handle_);
+        handle_ = taken;
+        return *this;
+    }
+    ~Owner() { free_handle(handle_); }
+
+private:
+    Handle* handle_;
+};
+
+}  // namespace detail
+
+/// A mesh with its hierarchy (DvhMesh), released by dvh_mesh_free. Any number of threads may
+/// query one mesh at once; a refit needs it to themselves.
+class Mesh : public detail::Owner<DvhMesh> {
+public:
+    /// Takes ownership of `mesh`, a mesh from dvh_mesh_create* (or null: an owner of none).
+    explicit Mesh(DvhMesh* mesh) noexcept : Owner(mesh) {}
+
+    /// Builds a mesh from `vertex_count` vertices (x, y, z each) and `triangle_count` triangles
+    /// (three vertex indices each) (dvh_mesh_create). The arrays are copied.
+    Mesh(const double* positions, std::size_t vertex_count, const std::uint32_t* triangles, std::size_t triangle_count,
+         const BuildOptions& options = {})
+        : Owner(detail::created<DvhMesh>([&](DvhMesh** out) {
+              return dvh_mesh_create(positions, vertex_count, triangles, triangle_count, &options.c(), out);
+          })) {}
+
+    /// Builds a mesh with 16-bit triangle indices (dvh_mesh_create_u16).
+    Mesh(const double* positions, std::size_t vertex_count, const std::uint16_t* triangles, std::size_t triangle_count,
+         const BuildOptions& options = {})
+        : Owner(detail::created<DvhMesh>([&](DvhMesh** out) {
+              return dvh_mesh_create_u16(positions, vertex_count, triangles, triangle_count, &options.c(), out);
+          })) {}
+
+    /// Builds a mesh from packed `float` positions, three per vertex (dvh_mesh_create_f32 with a
+    /// 12-byte stride); they are widened to double exactly.
+    Mesh(const float* positions, std::size_t vertex_count, const std::uint32_t* triangles, std::size_t triangle_count,
+         const BuildOptions& options = {})
+        : Owner(create_f32(positions, 3 * sizeof(float), vertex_count, triangles, triangle_count, options)) {}
+
+    /// Builds a mesh from `positions` (x, y, z per vertex) and `triangles` (three indices each).
+    Mesh(const std::vector<double>& positions, const std::vector<std::uint32_t>& triangles, const BuildOptions& options = {})
+        : Mesh(detail::elements(positions), detail::triples(positions, "positions"), detail::elements(triangles),
+               detail::triples(triangles, "triangles"), options) {}
+
+    /// Builds a mesh from `positions` and 16-bit `triangles`.
+    Mesh(const std::vector<double>& positions, const std::vector<std::uint16_t>& triangles, const BuildOptions& options = {})
+        : Mesh(detail::elements(positions), detail::triples(positions, "positions"), detail::elements(triangles),
+               detail::triples(triangles, "triangles"), options) {}
+
+    /// Builds a mesh from packed `float` positions and `triangles`.
+    Mesh(const std::vector<float>& positions, const std::vector<std::uint32_t>& triangles, const BuildOptions& options = {})
+        : Mesh(detail::elements(positions), detail::triples(positions, "positions"), detail::elements(triangles),
+               detail::triples(triangles, "triangles"), options) {}
+
+    /// Builds a mesh from `float` positions at a byte stride, as engines keep vertex buffers:
+    /// vertex `i` is the three floats at `positions + i * stride_bytes` in bytes, no alignment
+    /// required (dvh_mesh_create_f32).
+    [[nodiscard]] static Mesh from_strided(const float* positions, std::size_t stride_bytes, std::size_t vertex_count,
+                                           const std::uint32_t* triangles, std::size_t triangle_count,
+                                           const BuildOptions& options = {}) {
+        return Mesh(create_f32(positions, stride_bytes, vertex_count, triangles, triangle_count, options));
+    }
+
+    /// Takes `other`'s mesh; `other` holds none afterwards.
+    Mesh(Mesh&& other) noexcept = default;
+    /// Releases the mesh held here, then takes `other`'s.
+    Mesh& operator=(Mesh&& other) noexcept = default;
+
+    /// Refits to new positions, as many vertices as at creation (dvh_mesh_refit). On failure
+    /// the mesh is exactly as it was.
+    void refit(const double* positions, std::size_t vertex_count) { check(dvh_mesh_refit(get(), positions, vertex_count)); }
+    /// Refits to `positions` (x, y, z per vertex).
+    void refit(const std::vector<double>& positions) {
+        refit(detail::elements(positions), detail::triples(positions, "positions"));
+    }
+    /// Refits to packed `float` positions (dvh_mesh_refit_f32 with a 12-byte stride).
+    void refit(const float* positions, std::size_t vertex_count) { refit_strided(positions, 3 * sizeof(float), vertex_count); }
+    /// Refits to packed `float` positions.
+    void refit(const std::vector<float>& positions) {
+        refit(detail::elements(positions), detail::triples(positions, "positions"));
+    }
+    /// Refits to `float` positions at a byte stride, as from_strided() reads them
+    /// (dvh_mesh_refit_f32).
+    void refit_strided(const float* positions, std::size_t stride_bytes, std::size_t vertex_count) {
+        check(dvh_mesh_refit_f32(get(), positions, stride_bytes, vertex_count));
+    }
+
+    /// The number of vertices (dvh_mesh_vertex_count).
+    [[nodiscard]] std::size_t vertex_count() const noexcept { return dvh_mesh_vertex_count(get()); }
+    /// The number of triangles (dvh_mesh_triangle_count).
+    [[nodiscard]] std::size_t triangle_count() const noexcept { return dvh_mesh_triangle_count(get()); }
+    /// The number of nodes of the hierarchy, leaves included; node 0 is the root
+    /// (dvh_mesh_node_count).
+    [[nodiscard]] std::size_t node_count() const noexcept { return dvh_mesh_node_count(get()); }
+
+    /// The shape of the hierarchy (dvh_mesh_tree_stats).
+    [[nodiscard]] DvhTreeStats tree_stats() const {
+        DvhTreeStats stats{};
+        check(dvh_mesh_tree_stats(get(), &stats));
+        return stats;
+    }
+    /// The counters of the last refit, or of the build (dvh_mesh_last_refit_stats).
+    [[nodiscard]] DvhRefitStats last_refit_stats() const {
+        DvhRefitStats stats{};
+        check(dvh_mesh_last_refit_stats(get(), &stats));
+        return stats;
+    }
+    /// The triangles below `node`, to expand the node pairs of the coarse query modes; owned by
+    /// the mesh, valid while it lives (dvh_mesh_node_triangles).
+    [[nodiscard]] Span<std::uint32_t> node_triangles(std::uint32_t node) const {
+        const std::uint32_t* triangles = nullptr;
+        std::size_t count = 0;
+        check(dvh_mesh_node_triangles(get(), node, &triangles, &count));
+        return Span<std::uint32_t>(triangles, count);
+    }
+    /// Checks every invariant of the hierarchy; slow, for tests and bug reports
+    /// (dvh_mesh_validate: DVH_STATUS_INVARIANT_BROKEN would be a bug in dvh).
+    void validate() const { check(dvh_mesh_validate(get())); }
+
+private:
+    static DvhMesh* create_f32(const float* positions, std::size_t stride_bytes, std::size_t vertex_count,
+                               const std::uint32_t* triangles, std::size_t triangle_count, const BuildOptions& options) {
+        return detail::created<DvhMesh>([&](DvhMesh** out) {
+            return dvh_mesh_create_f32(positions, stride_bytes, vertex_count, triangles, triangle_count, &options.c(), out);
+        });
+    }
+};
+
+/// A reusable result buffer of the queries (DvhPairs), released by dvh_pairs_free. Use one per
+/// thread; once it has grown to a scene's needs, queries into it allocate nothing.
+class Pairs : public detail::Owner<DvhPairs> {
+public:
+    /// A new, empty buffer (dvh_pairs_new).
+    Pairs() : Owner(detail::allocated(dvh_pairs_new())) {}
+    /// Takes ownership of `pairs`, a buffer from dvh_pairs_new (or null: an owner of none).
+    explicit Pairs(DvhPairs* pairs) noexcept : Owner(pairs) {}
+    /// Takes `other`'s buffer; `other` holds none afterwards.
+    Pairs(Pairs&& other) noexcept = default;
+    /// Releases the buffer held here, then takes `other`'s.
+    Pairs& operator=(Pairs&& other) noexcept = default;
+
+    /// The pairs of the last successful query into the buffer, sorted by `a` then `b`; valid
+    /// until the next query into it (dvh_pairs_data, dvh_pairs_len).
+    [[nodiscard]] Span<DvhPair> view() const noexcept { return Span<DvhPair>(dvh_pairs_data(get()), dvh_pairs_len(get())); }
+    /// What the indices refer to: DVH_PAIR_KIND_TRIANGLES or DVH_PAIR_KIND_NODES (dvh_pairs_kind).
+    [[nodiscard]] DvhPairKind kind() const noexcept { return dvh_pairs_kind(get()); }
+    /// The number of pairs (dvh_pairs_len).
+    [[nodiscard]] std::size_t size() const noexcept { return dvh_pairs_len(get()); }
+    /// Are there no pairs?
+    [[nodiscard]] bool empty() const noexcept { return size() == 0; }
+    /// The first pair's position, as view().begin().
+    [[nodiscard]] const DvhPair* begin() const noexcept { return view().begin(); }
+    /// The position past the last pair, as view().end().
+    [[nodiscard]] const DvhPair* end() const noexcept { return view().end(); }
+};
+
+/// A reusable result buffer of scene queries (DvhContacts), released by dvh_contacts_free. Use
+/// one per thread.
+class Contacts : public detail::Owner<DvhContacts> {
+public:
+    /// A new, empty buffer (dvh_contacts_new).
+    Contacts() : Owner(detail::allocated(dvh_contacts_new())) {}
+    /// Takes ownership of `contacts`, a buffer from dvh_contacts_new (or null: an owner of none).
+    explicit Contacts(DvhContacts* contacts) noexcept : Owner(contacts) {}
+    /// Takes `other`'s buffer; `other` holds none afterwards.
+    Contacts(Contacts&& other) noexcept = default;
+    /// Releases the buffer held here, then takes `other`'s.
+    Contacts& operator=(Contacts&& other) noexcept = default;
+
+    /// The contacts of the last successful query into the buffer, sorted by
+    /// `(object_a, object_b, a, b)`; valid until the next query into it (dvh_contacts_data,
+    /// dvh_contacts_len).
+    [[nodiscard]] Span<DvhContact> view() const noexcept {
+        return Span<DvhContact>(dvh_contacts_data(get()), dvh_contacts_len(get()));
+    }
+    /// What `a` and `b` refer to: DVH_PAIR_KIND_TRIANGLES or DVH_PAIR_KIND_NODES
+    /// (dvh_contacts_kind).
+    [[nodiscard]] DvhPairKind kind() const noexcept { return dvh_contacts_kind(get()); }
+    /// The number of contacts (dvh_contacts_len).
+    [[nodiscard]] std::size_t size() const noexcept { return dvh_contacts_len(get()); }
+    /// Are there no contacts?
+    [[nodiscard]] bool empty() const noexcept { return size() == 0; }
+    /// The first contact's position, as view().begin().
+    [[nodiscard]] const DvhContact* begin() const noexcept { return view().begin(); }
+    /// The position past the last contact, as view().end().
+    [[nodiscard]] const DvhContact* end() const noexcept { return view().end(); }
+};
+
+/// Objects queried together (DvhScene), released by dvh_scene_free: rigid ones placed by poses,
+/// deformable ones with positions of their own. Each object copies what it needs of its mesh,
+/// which may then be refit or destroyed. Every call needs the scene to itself.
+class Scene : public detail::Owner<DvhScene> {
+public:
+    /// A new, empty scene (dvh_scene_create).
+    Scene() : Owner(detail::created<DvhScene>([](DvhScene** out) { return dvh_scene_create(out); })) {}
+    /// Takes ownership of `scene`, a scene from dvh_scene_create (or null: an owner of none).
+    explicit Scene(DvhScene* scene) noexcept : Owner(scene) {}
+    /// Takes `other`'s scene; `other` holds none afterwards.
+    Scene(Scene&& other) noexcept = default;
+    /// Releases the scene held here, then takes `other`'s.
+    Scene& operator=(Scene&& other) noexcept = default;
+
+    /// Adds a rigid object, `mesh`'s current positions placed by `pose` (nullptr: the identity),
+    /// and returns its id (dvh_scene_add_rigid). Objects `i` and `j` are tested when
+    /// `group_i & mask_j` and `group_j & mask_i` are both non-zero; by default an object is in
+    /// group 1 and tested against every group.
+    std::uint32_t add_rigid(const Mesh& mesh, const DvhPose* pose = nullptr, std::uint32_t group = 1,
+                            std::uint32_t mask = 0xffffffffu) {
+        std::uint32_t object = 0;
+        check(dvh_scene_add_rigid(get(), mesh.get(), pose, group, mask, &object));
+        return object;
+    }
+    /// Adds a deformable object, `mesh`'s current positions as world coordinates, and returns
+    /// its id (dvh_scene_add_deformable); groups and masks as for add_rigid().
+    std::uint32_t add_deformable(const Mesh& mesh, std::uint32_t group = 1, std::uint32_t mask = 0xffffffffu) {
+        std::uint32_t object = 0;
+        check(dvh_scene_add_deformable(get(), mesh.get(), group, mask, &object));
+        return object;
+    }
+    /// Places rigid object `object` by `pose` (nullptr: the identity) (dvh_scene_set_pose).
+    void set_pose(std::uint32_t object, const DvhPose* pose) { check(dvh_scene_set_pose(get(), object, pose)); }
+    /// Gives deformable object `object` new world positions, as many vertices as its mesh; they
+    /// are checked now and refit by the next query that needs them (dvh_scene_set_positions).
+    void set_positions(std::uint32_t object, const double* positions, std::size_t vertex_count) {
+        check(dvh_scene_set_positions(get(), object, positions, vertex_count));
+    }
+    /// Gives deformable object `object` the new world `positions` (x, y, z per vertex).
+    void set_positions(std::uint32_t object, const std::vector<double>& positions) {
+        set_positions(object, detail::elements(positions), detail::triples(positions, "positions"));
+    }
+    /// Gives deformable object `object` packed `float` positions (dvh_scene_set_positions_f32
+    /// with a 12-byte stride).
+    void set_positions(std::uint32_t object, const float* positions, std::size_t vertex_count) {
+        set_positions_strided(object, positions, 3 * sizeof(float), vertex_count);
+    }
+    /// Gives deformable object `object` packed `float` positions.
+    void set_positions(std::uint32_t object, const std::vector<float>& positions) {
+        set_positions(object, detail::elements(positions), detail::triples(positions, "positions"));
+    }
+    /// Gives deformable object `object` `float` positions at a byte stride, as
+    /// Mesh::from_strided() reads them (dvh_scene_set_positions_f32).
+    void set_positions_strided(std::uint32_t object, const float* positions, std::size_t stride_bytes,
+                               std::size_t vertex_count) {
+        check(dvh_scene_set_positions_f32(get(), object, positions, stride_bytes, vertex_count));
+    }
+    /// Removes object `object` and its pair exclusions; its id may be given to a later object
+    /// (dvh_scene_remove).
+    void remove(std::uint32_t object) { check(dvh_scene_remove(get(), object)); }
+    /// Never tests objects `object_a` and `object_b` against each other (dvh_scene_exclude_pair).
+    void exclude_pair(std::uint32_t object_a, std::uint32_t object_b) {
+        check(dvh_scene_exclude_pair(get(), object_a, object_b));
+    }
+    /// Whether queries refit box volumes block by block as traversals reach them (true, the
+    /// default) or every deformable object they need whole (dvh_scene_set_lazy_refit). The
+    /// contacts are the same either way.
+    void set_lazy_refit(bool lazy) { check(dvh_scene_set_lazy_refit(get(), lazy)); }
+
+    /// Every contact of the frame into `contacts`, replacing what it held; returns the counters
+    /// (dvh_scene_collide). On failure `contacts` is unchanged.
+    DvhSceneStats collide(const QueryOptions& options, Contacts& contacts) {
+        DvhSceneStats stats{};
+        check(dvh_scene_collide(get(), &options.c(), contacts.get(), &stats));
+        return stats;
+    }
+    /// Every contact of the frame, in a new buffer.
+    [[nodiscard]] Contacts collide(const QueryOptions& options = {}) {
+        Contacts contacts;
+        collide(options, contacts);
+        return contacts;
+    }
+};
+
+/// What intersects between mesh `a` placed by `pose_a` and mesh `b` placed by `pose_b` (nullptr:
+/// the identity), as `options` asks, into `pairs`, replacing what it held; returns the counters
+/// (dvh_collide). On failure `pairs` is unchanged.
+inline DvhQueryStats collide(const Mesh& a, const DvhPose* pose_a, const Mesh& b, const DvhPose* pose_b,
+                             const QueryOptions& options, Pairs& pairs) {
+    DvhQueryStats stats{};
+    check(dvh_collide(a.get(), pose_a, b.get(), pose_b, &options.c(), pairs.get(), &stats));
+    return stats;
+}
+
+/// What intersects between `a` and `b`, placed by their poses, in a new buffer.
+[[nodiscard]] inline Pairs collide(const Mesh& a, const DvhPose* pose_a, const Mesh& b, const DvhPose* pose_b,
+                                   const QueryOptions& options = {}) {
+    Pairs pairs;
+    collide(a, pose_a, b, pose_b, options, pairs);
+    return pairs;
+}
+
+/// The pairs `(a, b)`, `a < b`, of one mesh's triangles that intersect beyond the vertices and
+/// edges they share, into `pairs`; returns the counters (dvh_self_collide).
+inline DvhQueryStats self_collide(const Mesh& mesh, const QueryOptions& options, Pairs& pairs) {
+    DvhQueryStats stats{};
+    check(dvh_self_collide(mesh.get(), &options.c(), pairs.get(), &stats));
+    return stats;
+}
+
+/// One mesh's self-intersections, in a new buffer.
+[[nodiscard]] inline Pairs self_collide(const Mesh& mesh, const QueryOptions& options = {}) {
+    Pairs pairs;
+    self_collide(mesh, options, pairs);
+    return pairs;
+}
+
+/// Every triangle pair of `a` and `b`, placed by their poses, at distance `<= distance`, decided
+/// exactly, into `pairs`; returns the counters (dvh_proximity).
+inline DvhQueryStats proximity(const Mesh& a, const DvhPose* pose_a, const Mesh& b, const DvhPose* pose_b, double distance,
+                               const QueryOptions& options, Pairs& pairs) {
+    DvhQueryStats stats{};
+    check(dvh_proximity(a.get(), pose_a, b.get(), pose_b, distance, &options.c(), pairs.get(), &stats));
+    return stats;
+}
+
+/// Every triangle pair of `a` and `b` within `distance`, in a new buffer.
+[[nodiscard]] inline Pairs proximity(const Mesh& a, const DvhPose* pose_a, const Mesh& b, const DvhPose* pose_b,
+                                     double distance, const QueryOptions& options = {}) {
+    Pairs pairs;
+    proximity(a, pose_a, b, pose_b, distance, options, pairs);
+    return pairs;
+}
+
+/// The pairs `(a, b)`, `a < b`, of one mesh's triangles sharing no vertex at distance
+/// `<= distance`, into `pairs`; returns the counters (dvh_self_proximity).
+inline DvhQueryStats self_proximity(const Mesh& mesh, double distance, const QueryOptions& options, Pairs& pairs) {
+    DvhQueryStats stats{};
+    check(dvh_self_proximity(mesh.get(), distance, &options.c(), pairs.get(), &stats));
+    return stats;
+}
+
+/// One mesh's triangle pairs sharing no vertex within `distance`, in a new buffer.
+[[nodiscard]] inline Pairs self_proximity(const Mesh& mesh, double distance, const QueryOptions& options = {}) {
+    Pairs pairs;
+    self_proximity(mesh, distance, options, pairs);
+    return pairs;
+}
+
+/// Do the closed triangles `t1` and `t2` (9 doubles each: three corners, x, y, z) share a point?
+/// Exact for every finite input (dvh_triangles_intersect).
+[[nodiscard]] inline bool triangles_intersect(const double* t1, const double* t2) {
+    bool result = false;
+    check(dvh_triangles_intersect(t1, t2, &result));
+    return result;
+}
+
+/// Do the closed triangles `t1` and `t2` share a point?
+[[nodiscard]] inline bool triangles_intersect(const std::array<double, 9>& t1, const std::array<double, 9>& t2) {
+    return triangles_intersect(t1.data(), t2.data());
+}
+
+}  // namespace dvh
+
+#endif  // DVH_HPP
