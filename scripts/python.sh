@@ -5,11 +5,15 @@
 # `import dvh`, the pytest suite (every query against brute force, the errors, the arrays, the
 # GIL, `python -m dvh check`) and the README's Python example, run on the installed package.
 #
-#   scripts/python.sh      about 3 minutes from a clean build on 2 cores, 40 seconds once built
+#   scripts/python.sh          about 3 minutes from a clean build on 2 cores, 40 seconds once built
+#   scripts/python.sh --full   and the peer benchmark's quick run, without the peers (they are
+#                              skipped when not installed), so that it keeps working; 20 s more
 #
 # PYTHON names the interpreter (default python3); DVH_PYTHON_VENV keeps the environment in that
 # directory instead of a temporary one.
 set -euo pipefail
+full=false
+[ "${1:-}" = "--full" ] && full=true
 cd "$(dirname "$0")/.."
 root=$PWD
 python=${PYTHON:-python3}
@@ -30,4 +34,7 @@ cd "$work"
 awk '/^```python$/{on=1; next} /^```$/{on=0} on' "$root/README.md" > readme.py
 test -s readme.py
 "$venv/bin/python" readme.py >/dev/null
+if $full; then
+    "$venv/bin/python" "$root/python/bench/peers.py" --quick >/dev/null
+fi
 echo "Python package tests passed"

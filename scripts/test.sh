@@ -57,7 +57,7 @@ step "Python package"
 # A fresh virtual environment, `pip install ./python`, the pytest suite and the README's example.
 # After the C steps: its release build of the library (maturin's settings) and theirs replace
 # each other in target/, so it runs once the last of theirs is done.
-scripts/python.sh
+if $full; then scripts/python.sh --full; else scripts/python.sh; fi
 
 step "demo"
 # The build `cargo test` made (the README's command builds it in release: --full runs that).

@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """dvh's Python layer against the Python peers, measured in the same run.
 
-1. self-intersection: dvh.self_collide against libigl's Python routines, on CGAL's demo meshes;
+1. self-intersection: dvh.self_collide against libigl's Python routines and CGAL's
+   Polygon_mesh_processing::self_intersections (cgal_self.cpp, built here when g++ and CGAL's
+   headers are installed), on CGAL's demo meshes;
 2. two deforming meshes: dvh.collide against python-fcl, trimesh's CollisionManager and libigl;
 3. the per-call overhead of the Python layer over the raw cffi call;
 4. the cost of handing a million-pair result to NumPy.
@@ -23,8 +25,11 @@ import itertools
 import json
 import os
 import platform
+import shutil
+import subprocess
 import sys
 import tarfile
+import tempfile
 import time
 from datetime import datetime, timezone
 from importlib import metadata
@@ -176,7 +181,7 @@ def raw_mesh(V, F):
 
 def interleaved(fns: dict, reps: int, warmup: int = 1) -> dict:
     """{name: [seconds] * reps}: each round runs every function once, the order rotated so that
-    none always runs first or after the same neighbour."""
+    none always runs first (right after a warm cache or a neighbour's garbage)."""
     names = list(fns)
     for n in names:
         for _ in range(warmup):
@@ -226,6 +231,48 @@ def table(header, rows) -> str:
 # 1. Self-intersection
 
 
+CGAL_SELF = "CGAL PMP::self_intersections"
+
+
+def build_cgal_self():
+    """cgal_self.cpp compiled (once per source version, into the temporary directory), or None
+    with a note when g++ or CGAL's headers are missing."""
+    src = os.path.join(os.path.dirname(os.path.abspath(__file__)), "cgal_self.cpp")
+    if shutil.which("g++") is None or not os.path.isdir("/usr/include/CGAL"):
+        note("g++ or CGAL's headers (libcgal-dev) missing: CGAL's self_intersections is skipped")
+        return None
+    with open(src, "rb") as f:
+        tag = hashlib.sha256(f.read()).hexdigest()[:12]
+    binary = os.path.join(tempfile.gettempdir(), f"dvh-bench-cgal-self-{tag}")
+    if not os.path.exists(binary):
+        progress("  building cgal_self.cpp (CGAL's headers: about 15 s)")
+        r = subprocess.run(["g++", "-O2", "-std=c++17", src, "-o", binary, "-lgmp", "-lmpfr"],
+                           capture_output=True, text=True)
+        if r.returncode != 0:
+            note(f"cgal_self.cpp did not build: CGAL's self_intersections is skipped\n{r.stderr[-2000:]}")
+            return None
+    return binary
+
+
+def cgal_self(binary, V, F, reps: int):
+    """(pairs, median seconds) of CGAL's self_intersections on the mesh, timed inside the
+    program around the call alone (no file reading), or None when CGAL cannot read the mesh."""
+    with tempfile.NamedTemporaryFile("w", suffix=".off", delete=False) as f:
+        f.write(f"OFF\n{len(V)} {len(F)} 0\n")
+        np.savetxt(f, V, fmt="%.17g")
+        np.savetxt(f, np.column_stack([np.full(len(F), 3), F]), fmt="%d")
+        path = f.name
+    try:
+        r = subprocess.run([binary, path, str(reps)], capture_output=True, text=True)
+    finally:
+        os.unlink(path)
+    if r.returncode != 0:
+        note(f"CGAL's self_intersections: {r.stderr.strip()}")
+        return None
+    _faces, pairs, median_ms = r.stdout.split()
+    return int(pairs), float(median_ms) / 1e3
+
+
 IGL_FIND = "igl.predicates.find_self_intersections"
 IGL_CGAL = "igl.copyleft.cgal.remesh_self_intersections(detect_only=True)"
 
@@ -236,6 +283,7 @@ def bench_self(meshes: dict, reps: int):
         note("libigl is not installed (pip install libigl): the self-intersection peers are skipped")
     elif igl_cgal is None:
         note("this libigl has no igl.copyleft.cgal module: remesh_self_intersections is skipped")
+    cgal_binary = build_cgal_self()
     raw, rows = {}, []
     for label, (V, F) in meshes.items():
         progress(f"  {label}: {len(F)} triangles")
@@ -262,6 +310,7 @@ def bench_self(meshes: dict, reps: int):
             fns[IGL_CGAL] = lambda: igl_cgal.remesh_self_intersections(V, F, detect_only=True)
             results[IGL_CGAL] = igl_cgal.remesh_self_intersections(V, F, detect_only=True)[2]
         times = interleaved(fns, reps)
+        cgal = cgal_self(cgal_binary, V, F, reps) if cgal_binary else None
         # Both libigl routines report each pair once as (lower, higher) after sorting the row;
         # they skip the shared vertex/edge of neighbours as dvh does, so the sets compare.
         agree = {}
@@ -271,7 +320,8 @@ def bench_self(meshes: dict, reps: int):
                 agree[name] = {"pairs": int(len(pair_keys(np.sort(np.asarray(p), axis=1)))),
                                "not_in_dvh": extra, "missing_from_peer": missing}
         raw[label] = {"triangles": int(len(F)), "dvh_pairs": int(len(results["dvh"])),
-                      "agreement": agree, "seconds": times}
+                      "agreement": agree, "seconds": times,
+                      "cgal": None if cgal is None else {"pairs": cgal[0], "median_seconds": cgal[1]}}
         ref = med(times["dvh build+query"])
         row = [label, len(F), len(results["dvh"])]
         for name in (IGL_FIND, IGL_CGAL):
@@ -287,18 +337,28 @@ def bench_self(meshes: dict, reps: int):
             t = med(times[name]) if name in times else float("nan")
             row.append(f"{ms(t)} ({ratio(t, ref)} / {ratio(t, med(times['dvh refit+query']))})"
                        if name in times else "—")
+        if cgal is None:
+            row += ["—", "—"]
+        else:
+            same = "same count" if cgal[0] == len(results["dvh"]) else "differs"
+            row += [f"{cgal[0]} ({same})",
+                    f"{ms(cgal[1])} ({ratio(cgal[1], ref)} / {ratio(cgal[1], med(times['dvh refit+query']))})"]
         rows.append(row)
     header = ["mesh", "triangles", "dvh pairs", f"`{IGL_FIND}` pairs", f"`{IGL_CGAL}` pairs",
               "dvh `Mesh()` ms", "dvh build+query ms", "dvh refit+query ms", "dvh query ms",
               f"`{IGL_FIND}` ms (× build+query / × refit+query)",
-              f"`{IGL_CGAL}` ms (× build+query / × refit+query)"]
+              f"`{IGL_CGAL}` ms (× build+query / × refit+query)",
+              f"{CGAL_SELF} pairs", f"{CGAL_SELF} ms (× build+query / × refit+query)"]
     md = (f"### 1. Self-intersection (`dvh.self_collide`), median of {reps}\n\n"
           + table(header, rows)
           + "\n\nPeer pairs: the count, then `same` when the set equals dvh's, else +(pairs only the "
           "peer reports)/−(pairs only dvh reports). build+query: a new `dvh.Mesh` and its first "
           "`self_collide` (which also analyses the mesh's shape once), the like for like with "
           "libigl, whose calls build their tree each time. refit+query: the frame of a deforming "
-          "mesh, whose tree and shape analysis persist. query: `self_collide` again, same positions.")
+          "mesh, whose tree and shape analysis persist. query: `self_collide` again, same positions. "
+          f"{CGAL_SELF}: Epick, sequential, on a Surface_mesh, timed in C++ around the call alone "
+          "(its boxes are built inside the call, like build+query without the mesh's build); its "
+          "pairs are compared by count.")
     return md, raw
 
 
