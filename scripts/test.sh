@@ -8,14 +8,16 @@
 #                            UndefinedBehaviorSanitizer, the header as C and C++, the C++
 #                            layer's tests, the install, the Python package in a fresh virtual
 #                            environment (and Python through ctypes), a short cross-check
-#                            against FCL judged by CGAL, and the demo (about 9 minutes from a clean build on 2 cores,
-#                            plus the package installs on a new machine; about 4 once built)
+#                            against FCL judged by CGAL, and the demo (about 12 minutes from
+#                            a clean build on 2 cores, plus the package installs on a new
+#                            machine; about 5 once built)
 #   scripts/test.sh --full   all of that and the long runs: the C tests under valgrind, the
 #                            soak, the benchmark runner's tests and short runs (every method and
 #                            knob, its scenes checked against the cross-check's), the cross-check
 #                            on one thread as well as on every core, the criterion benchmarks'
-#                            build, the demo's release build, and the whole fuzz corpus replayed
-#                            (about 40 minutes; what CI runs)
+#                            build, the demo's release build, the Python benchmark script's
+#                            quick run, and the whole fuzz corpus replayed (about 45 minutes;
+#                            what CI runs)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 full=false
