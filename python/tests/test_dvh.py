@@ -306,3 +306,15 @@ def test_queries_release_the_gil():
 
 def test_version_and_package_metadata():
     assert dvh.version() == dvh.__version__ and dvh.__version__.count(".") == 2
+
+
+def test_scene_groups_and_masks_filter_pairs():
+    p, t = uv_sphere(6)
+    m = dvh.Mesh(p, t)
+    scene = dvh.Scene()
+    a = scene.add_deformable(m)  # group 1, every group in its mask
+    b = scene.add_rigid(m, exact_pose(1), group=2, mask=2)  # ignores group 1
+    c = scene.add_rigid(m, exact_pose(2), group=4)
+    objects = {(int(x), int(y)) for x, y, _, _ in scene.collide()}
+    # a-b: b's mask ignores group 1; b-c: b's mask ignores group 4; a-c: both allow, and touch.
+    assert objects == {(a, c)}

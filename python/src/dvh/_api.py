@@ -572,7 +572,8 @@ def triangles_intersect(t1, t2) -> bool:
 class Scene:
     """A set of objects (rigid or deformable, sharing meshes) queried together: a broad phase
     over the objects, then the exact query on every pair that can collide. Objects ``i`` and
-    ``j`` are tested when ``group_i & mask_j`` and ``group_j & mask_i`` are both non-zero.
+    ``j`` are tested when ``group_i & mask_j`` and ``group_j & mask_i`` are both non-zero; by
+    default an object is in group 1 and its mask takes every group (as in the C++ layer).
 
     A rigid object keeps the mesh's current positions as local coordinates, moved by its pose; a
     deformable one is refit from :meth:`set_positions`. The scene copies what it needs: the mesh
@@ -590,7 +591,7 @@ class Scene:
             raise MemoryError("dvh_contacts_new: out of memory")
         self._contacts = ffi.gc(contacts, lib.dvh_contacts_free)
 
-    def add_rigid(self, mesh: Mesh, pose=None, group: int = _U32_MAX, mask: int = _U32_MAX) -> int:
+    def add_rigid(self, mesh: Mesh, pose=None, group: int = 1, mask: int = _U32_MAX) -> int:
         """Adds a rigid object placed by ``pose`` (4x4 or 3x4; None: the identity); returns its id."""
         p = _mesh("mesh", mesh)
         k = _pose("pose", pose)
@@ -599,7 +600,7 @@ class Scene:
         _raise_for(lib.dvh_scene_add_rigid(self._ptr, p, k, g, m, out))
         return int(out[0])
 
-    def add_deformable(self, mesh: Mesh, group: int = _U32_MAX, mask: int = _U32_MAX) -> int:
+    def add_deformable(self, mesh: Mesh, group: int = 1, mask: int = _U32_MAX) -> int:
         """Adds a deformable object, at the mesh's current positions; returns its id."""
         p = _mesh("mesh", mesh)
         g, m = _count("group", group, _U32_MAX), _count("mask", mask, _U32_MAX)
