@@ -36,7 +36,8 @@
 //! - **Many objects.** A [`Scene`] of rigid and deformable objects sharing meshes, with groups,
 //!   masks and exclusions; [`Scene::collide`] reports [`Contacts`] and [`SceneStats`].
 //! - **The exact predicates on their own.** [`exact`]: [`exact::triangles_intersect`],
-//!   [`exact::triangles_within`], [`exact::orient3d`].
+//!   [`exact::triangles_within`], [`exact::orient3d`]; and for primitives moving over a step,
+//!   [`exact::vertex_face_impact`] and [`exact::edge_edge_impact`] (whether and first when).
 //! - **Failures.** Every fallible call returns an [`Error`] that says what was wrong, and
 //!   changes nothing when it fails.
 //! - **From C and other languages.** The C ABI is declared in `include/dvh.h` (the library

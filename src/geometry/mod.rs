@@ -3,6 +3,7 @@
 
 pub mod aabb;
 pub mod adjacent;
+pub(crate) mod ccd;
 pub mod distance;
 pub mod polygon;
 pub mod pose;

@@ -1,0 +1,277 @@
+//! The exact continuous tests, filtered: floating-point tests that can only say "no contact",
+//! then exact rational arithmetic on what they cannot decide.
+//!
+//! 1. Boxes: the primitives' corners at the start and the end bound everything they sweep
+//!    (each point's path is a segment, each primitive stays in the hull of its corners), so
+//!    disjoint boxes of the start and end positions mean no contact. Exact: only comparisons.
+//! 2. Coplanarity: contact needs the orientation determinant f(t) = det(u(t), v(t), w(t)) to
+//!    vanish. f is trilinear in three linearly moving vectors, so its Bernstein coefficients on
+//!    [0, 1] are averages of the eight determinants det(u_i, v_j, w_k), i, j, k in {start, end};
+//!    when all four are certainly of one strict sign (each determinant evaluated as Shewchuk's
+//!    orient3d is, with his error bound), f has no root and there is no contact.
+//! 3. Exact: when f is not identically zero, contact can only happen at its roots, tried in
+//!    increasing order against the whole [`Condition`]; when the motion is coplanar throughout,
+//!    every root of every polynomial of the condition is a candidate (as the oracle does).
+
+use super::condition::{Condition, edge_edge, moving, vertex_face};
+use super::poly::{Root, one};
+use crate::geometry::predicates::Point;
+use num_rational::BigRational;
+use num_traits::Zero;
+use std::cmp::Ordering;
+
+/// Which test: a point against a triangle, or a segment against a segment.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub(crate) enum Primitive {
+    VertexFace,
+    EdgeEdge,
+}
+
+/// The earliest time in [0, 1] at which the primitives meet, rounded down to a double, or
+/// `None`. `start` and `end` hold the four points: the vertex and the triangle's corners, or
+/// edge a's ends and edge b's. Every coordinate must be finite.
+pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> Option<f64> {
+    let split = match kind {
+        Primitive::VertexFace => 1,
+        Primitive::EdgeEdge => 2,
+    };
+    if boxes_apart(start, end, split) || never_coplanar(kind, start, end) {
+        return None;
+    }
+    let m: Vec<_> = (0..4).map(|i| moving(&start[i], &end[i])).collect();
+    let condition = match kind {
+        Primitive::VertexFace => vertex_face(&m[0], [&m[1], &m[2], &m[3]]),
+        Primitive::EdgeEdge => edge_edge([&m[0], &m[1]], [&m[2], &m[3]]),
+    };
+    earliest(&condition)
+}
+
+/// Are the boxes of points `..split` and `split..`, over both times, disjoint on some axis?
+fn boxes_apart(start: &[Point; 4], end: &[Point; 4], split: usize) -> bool {
+    (0..3).any(|k| {
+        let range = |r: std::ops::Range<usize>| {
+            r.flat_map(|i| [start[i][k], end[i][k]])
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                    (lo.min(x), hi.max(x))
+                })
+        };
+        let (a, b) = (range(0..split), range(split..4));
+        a.1 < b.0 || b.1 < a.0
+    })
+}
+
+/// The vectors whose determinant is the coplanarity polynomial, at one time: for vertex-face
+/// (B - A, C - A, P - A), for edge-edge (a1 - a0, b0 - a0, b1 - a0).
+fn vectors(kind: Primitive, p: &[Point; 4]) -> [[f64; 3]; 3] {
+    let d = |i: usize, j: usize| [0, 1, 2].map(|k| p[i][k] - p[j][k]);
+    match kind {
+        Primitive::VertexFace => [d(2, 1), d(3, 1), d(0, 1)],
+        Primitive::EdgeEdge => [d(1, 0), d(2, 0), d(3, 0)],
+    }
+}
+
+/// det(u, v, w) in the order Shewchuk's orient3d computes it, and its permanent.
+fn det(u: &[f64; 3], v: &[f64; 3], w: &[f64; 3]) -> (f64, f64) {
+    let (vxwy, wxvy) = (v[0] * w[1], w[0] * v[1]);
+    let (wxuy, uxwy) = (w[0] * u[1], u[0] * w[1]);
+    let (uxvy, vxuy) = (u[0] * v[1], v[0] * u[1]);
+    let d = u[2] * (vxwy - wxvy) + v[2] * (wxuy - uxwy) + w[2] * (uxvy - vxuy);
+    let perm = (vxwy.abs() + wxvy.abs()) * u[2].abs()
+        + (wxuy.abs() + uxwy.abs()) * v[2].abs()
+        + (uxvy.abs() + vxuy.abs()) * w[2].abs();
+    (d, perm)
+}
+
+/// Is f certainly without a root in [0, 1]? Only when every Bernstein coefficient is certainly
+/// non-zero and all share one sign; never when the floating-point numbers leave the range
+/// where the error bound holds (overflow, or products small enough to lose bits).
+fn never_coplanar(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> bool {
+    // Shewchuk's orient3d bound is (7 + 56 eps) eps times the permanent; 8 eps covers it, and
+    // the sums below add at most 3 eps of their terms' magnitude.
+    const EPS: f64 = f64::EPSILON / 2.0;
+    const BOUND: f64 = 8.0 * EPS;
+    const SMALLEST: f64 = 1e-250;
+    const LARGEST: f64 = 1e250;
+    let ends = [vectors(kind, start), vectors(kind, end)];
+    let mut sign = 0i8;
+    for m in 0..4 {
+        let (mut sum, mut err, mut mag) = (0.0f64, 0.0f64, 0.0f64);
+        for (i, j, k) in [
+            (0, 0, 0),
+            (1, 0, 0),
+            (0, 1, 0),
+            (0, 0, 1),
+            (1, 1, 0),
+            (1, 0, 1),
+            (0, 1, 1),
+            (1, 1, 1),
+        ] {
+            if i + j + k != m {
+                continue;
+            }
+            let (d, perm) = det(&ends[i][0], &ends[j][1], &ends[k][2]);
+            if !(perm.is_finite() && perm < LARGEST) || (perm != 0.0 && perm < SMALLEST) {
+                return false;
+            }
+            sum += d;
+            err += BOUND * perm;
+            mag += d.abs();
+        }
+        let err = (err + 3.0 * EPS * mag) * (1.0 + 4.0 * EPS);
+        let s = if sum > err {
+            1
+        } else if sum < -err {
+            -1
+        } else {
+            return false;
+        };
+        if sign != 0 && s != sign {
+            return false;
+        }
+        sign = s;
+    }
+    true
+}
+
+/// The earliest time the condition holds, trying the coplanarity polynomial's roots (or, when
+/// it vanishes identically, every polynomial's) in increasing order.
+fn earliest(c: &Condition) -> Option<f64> {
+    let (zero, one) = (BigRational::zero(), one());
+    let f = &c.polys[0];
+    let mut candidates: Vec<Root> = if f.is_zero() {
+        let at_zero: Vec<Ordering> = c.polys.iter().map(|p| p.sign_at(&zero)).collect();
+        if (c.holds)(&at_zero) {
+            return Some(0.0);
+        }
+        c.polys
+            .iter()
+            .filter(|p| !p.is_zero())
+            .flat_map(|p| p.roots_in(&zero, &one))
+            .collect()
+    } else {
+        f.roots_in(&zero, &one)
+    };
+    candidates.sort_by(|a, b| a.cmp(b));
+    for mut r in candidates {
+        let signs: Vec<Ordering> = c.polys.iter().map(|p| r.sign_of(p)).collect();
+        if (c.holds)(&signs) {
+            return Some(r.floor_f64());
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixtures::Rng;
+    use crate::geometry::ccd::oracle::{edge_edge_toi, vertex_face_toi};
+
+    type Prim = [[f64; 3]; 4];
+
+    fn random_case(rng: &mut Rng, case: usize, grid: u64) -> (Prim, Prim) {
+        let mut coord = || (rng.next_u64() % (2 * grid + 1)) as f64 / grid as f64 - 1.0;
+        let mut s: Prim = [[0.0; 3]; 4];
+        let mut e: Prim = [[0.0; 3]; 4];
+        for i in 0..4 {
+            for k in 0..3 {
+                s[i][k] = coord();
+                e[i][k] = if case.is_multiple_of(5) {
+                    s[i][k]
+                } else {
+                    coord()
+                };
+            }
+        }
+        match case % 6 {
+            // Coplanar throughout.
+            1 => (0..4).for_each(|i| {
+                s[i][2] = 0.0;
+                e[i][2] = 0.0;
+            }),
+            // A corner shared at the start, or repeated (degenerate triangle or edge).
+            2 => {
+                s[0] = s[1];
+            }
+            3 => {
+                s[2] = s[3];
+                e[2] = e[3];
+            }
+            // Parallel edges moving together.
+            4 => {
+                let d = [0, 1, 2].map(|k| s[1][k] - s[0][k]);
+                s[3] = [0, 1, 2].map(|k| s[2][k] + d[k]);
+                e[3] = [0, 1, 2].map(|k| e[2][k] + (e[1][k] - e[0][k]));
+            }
+            _ => {}
+        }
+        (s, e)
+    }
+
+    #[test]
+    fn the_filtered_test_is_the_oracle() {
+        let mut rng = Rng::new(0xf117_e4ed);
+        let (mut hits, mut filtered) = (0, 0);
+        for case in 0..400 {
+            let grid = [2, 4, 1 << 20][case % 3];
+            let (s, e) = random_case(&mut rng, case, grid);
+            for kind in [Primitive::VertexFace, Primitive::EdgeEdge] {
+                let want = match kind {
+                    Primitive::VertexFace => vertex_face_toi(&s, &e),
+                    Primitive::EdgeEdge => edge_edge_toi(&s, &e),
+                };
+                let got = time_of_impact(kind, &s, &e);
+                assert_eq!(got, want, "case {case} {kind:?}: {s:?} -> {e:?}");
+                hits += usize::from(got.is_some());
+                filtered += usize::from(
+                    boxes_apart(&s, &e, if kind == Primitive::VertexFace { 1 } else { 2 })
+                        || never_coplanar(kind, &s, &e),
+                );
+            }
+        }
+        // Both answers and both filters are exercised.
+        assert!(hits > 80 && filtered > 80, "{hits} {filtered}");
+    }
+
+    #[test]
+    fn extreme_scales_and_far_from_the_origin() {
+        let mut rng = Rng::new(0x005c_a1e5);
+        for case in 0..120 {
+            let (s, e) = random_case(&mut rng, case, 4);
+            let base = (
+                time_of_impact(Primitive::VertexFace, &s, &e),
+                time_of_impact(Primitive::EdgeEdge, &s, &e),
+            );
+            for (scale, shift) in [
+                (2f64.powi(-1060), 0.0),
+                (2f64.powi(-520), 0.0),
+                (2f64.powi(990), 0.0),
+                (1.0, 2f64.powi(50)),
+                (2f64.powi(-30), -1e6),
+            ] {
+                let f = |p: &Prim| p.map(|v| v.map(|x| x * scale + shift));
+                let (fs, fe) = (f(&s), f(&e));
+                let got = (
+                    time_of_impact(Primitive::VertexFace, &fs, &fe),
+                    time_of_impact(Primitive::EdgeEdge, &fs, &fe),
+                );
+                // Exact scalings and shifts keep every answer; the oracle decides the rest.
+                let exact_map = fs
+                    .iter()
+                    .chain(fe.iter())
+                    .flatten()
+                    .zip(s.iter().chain(e.iter()).flatten())
+                    .all(|(&y, &x)| (y - shift) / scale == x);
+                if exact_map {
+                    assert_eq!(got, base, "case {case} x{scale:e} +{shift:e}");
+                } else {
+                    assert_eq!(
+                        got,
+                        (vertex_face_toi(&fs, &fe), edge_edge_toi(&fs, &fe)),
+                        "case {case}"
+                    );
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,7 @@
+//! Continuous collision of linearly moving points, triangles and segments, decided exactly.
+
+pub(crate) mod condition;
+pub(crate) mod exact;
+#[cfg(test)]
+pub(crate) mod oracle;
+pub(crate) mod poly;
