@@ -16,19 +16,44 @@
 use super::poly::Poly;
 use std::cmp::Ordering;
 
-/// A point moving linearly: one polynomial of degree at most 1 per coordinate.
-pub(crate) type Moving = [Poly; 3];
-
-pub(crate) fn moving(start: &[f64; 3], end: &[f64; 3]) -> Moving {
-    [0, 1, 2].map(|k| Poly::motion(start[k], end[k]))
+/// The arithmetic the polynomials are built in: exact rationals ([`Poly`]), or floating-point
+/// intervals that enclose them.
+pub(crate) trait Ring: Sized {
+    /// `start + t (end - start)`.
+    fn motion(start: f64, end: f64) -> Self;
+    fn add(&self, o: &Self) -> Self;
+    fn sub(&self, o: &Self) -> Self;
+    fn mul(&self, o: &Self) -> Self;
 }
 
-fn minus(a: &Moving, b: &Moving) -> Moving {
+impl Ring for Poly {
+    fn motion(start: f64, end: f64) -> Poly {
+        Poly::motion(start, end)
+    }
+    fn add(&self, o: &Poly) -> Poly {
+        Poly::add(self, o)
+    }
+    fn sub(&self, o: &Poly) -> Poly {
+        Poly::sub(self, o)
+    }
+    fn mul(&self, o: &Poly) -> Poly {
+        Poly::mul(self, o)
+    }
+}
+
+/// A point moving linearly: one polynomial of degree at most 1 per coordinate.
+pub(crate) type Moving<P> = [P; 3];
+
+pub(crate) fn moving<P: Ring>(start: &[f64; 3], end: &[f64; 3]) -> Moving<P> {
+    [0, 1, 2].map(|k| P::motion(start[k], end[k]))
+}
+
+fn minus<P: Ring>(a: &Moving<P>, b: &Moving<P>) -> Moving<P> {
     [0, 1, 2].map(|k| a[k].sub(&b[k]))
 }
 
 /// `u · (v × w)`.
-fn det3(u: &Moving, v: &Moving, w: &Moving) -> Poly {
+fn det3<P: Ring>(u: &Moving<P>, v: &Moving<P>, w: &Moving<P>) -> P {
     let cross = [
         v[1].mul(&w[2]).sub(&v[2].mul(&w[1])),
         v[2].mul(&w[0]).sub(&v[0].mul(&w[2])),
@@ -40,38 +65,146 @@ fn det3(u: &Moving, v: &Moving, w: &Moving) -> Poly {
 }
 
 /// The orientation of `(u, v, w)` projected on axes `i`, `j`.
-fn orient2d(u: &Moving, v: &Moving, w: &Moving, i: usize, j: usize) -> Poly {
+fn orient2d<P: Ring>(u: &Moving<P>, v: &Moving<P>, w: &Moving<P>, i: usize, j: usize) -> P {
     let (a, b) = (v[i].sub(&u[i]), w[j].sub(&u[j]));
     let (c, d) = (v[j].sub(&u[j]), w[i].sub(&u[i]));
     a.mul(&b).sub(&c.mul(&d))
 }
 
-const PROJECTIONS: [(usize, usize); 3] = [(0, 1), (1, 2), (2, 0)];
+/// The axis projections, in the order the conditions list their orientations.
+pub(crate) const PROJECTIONS: [(usize, usize); 3] = [(0, 1), (1, 2), (2, 0)];
+
+/// For each projection, the component of the primitives' plane normal along the projection's
+/// missing axis: the triangle's projected orientation (vertex-face), or the projected cross
+/// product of the two edges' directions (edge-edge). Where it is non-zero the projection is
+/// one-to-one on the plane, the projected triangle is proper (or the projected edges are not
+/// parallel), and that projection's orientations alone decide contact of coplanar primitives.
+pub(crate) fn projection_normals<P: Ring>(edges: bool, m: [&Moving<P>; 4]) -> [P; 3] {
+    PROJECTIONS.map(|(i, j)| {
+        if edges {
+            let (da, db) = (minus(m[1], m[0]), minus(m[3], m[2]));
+            da[i].mul(&db[j]).sub(&da[j].mul(&db[i]))
+        } else {
+            orient2d(m[1], m[2], m[3], i, j)
+        }
+    })
+}
+
+/// A truth value that may be unknown (when signs are only enclosed).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub(crate) enum Tri {
+    No,
+    Maybe,
+    Yes,
+}
+
+impl Tri {
+    pub(crate) fn and(self, o: Tri) -> Tri {
+        match (self, o) {
+            (Tri::No, _) | (_, Tri::No) => Tri::No,
+            (Tri::Yes, Tri::Yes) => Tri::Yes,
+            _ => Tri::Maybe,
+        }
+    }
+    fn or(self, o: Tri) -> Tri {
+        match (self, o) {
+            (Tri::Yes, _) | (_, Tri::Yes) => Tri::Yes,
+            (Tri::No, Tri::No) => Tri::No,
+            _ => Tri::Maybe,
+        }
+    }
+    fn all(it: impl IntoIterator<Item = Tri>) -> Tri {
+        it.into_iter().fold(Tri::Yes, Tri::and)
+    }
+    fn any(it: impl IntoIterator<Item = Tri>) -> Tri {
+        it.into_iter().fold(Tri::No, Tri::or)
+    }
+}
+
+/// The signs a value may have: exactly one for an exact value, several for an enclosure.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub(crate) struct Signs {
+    pub neg: bool,
+    pub zero: bool,
+    pub pos: bool,
+}
+
+impl Signs {
+    /// The sign of an exact value.
+    pub(crate) fn exact(o: Ordering) -> Signs {
+        Signs {
+            neg: o.is_lt(),
+            zero: o.is_eq(),
+            pos: o.is_gt(),
+        }
+    }
+    /// The signs of a value in `[lo, hi]`.
+    pub(crate) fn within(lo: f64, hi: f64) -> Signs {
+        Signs {
+            neg: lo < 0.0,
+            zero: lo <= 0.0 && hi >= 0.0,
+            pos: hi > 0.0,
+        }
+    }
+    fn ge(self) -> Tri {
+        Tri::of(!self.neg, self.zero || self.pos)
+    }
+    fn le(self) -> Tri {
+        Tri::of(!self.pos, self.zero || self.neg)
+    }
+    fn eq(self) -> Tri {
+        Tri::of(!self.neg && !self.pos, self.zero)
+    }
+}
+
+impl Tri {
+    /// `Yes` when certain, `No` when impossible, else `Maybe`.
+    fn of(certain: bool, possible: bool) -> Tri {
+        if certain {
+            Tri::Yes
+        } else if possible {
+            Tri::Maybe
+        } else {
+            Tri::No
+        }
+    }
+}
 
 /// A contact condition: polynomials and a test of their signs.
-pub(crate) struct Condition {
+pub(crate) struct Condition<P> {
     /// The polynomials; the first is the coplanarity determinant.
-    pub polys: Vec<Poly>,
-    /// Does contact hold, given each polynomial's sign?
-    pub holds: fn(&[Ordering]) -> bool,
+    pub polys: Vec<P>,
+    /// Does contact hold, given the signs each polynomial may have?
+    pub holds: fn(&[Signs]) -> Tri,
 }
 
-fn all_of_one_sign(s: &[Ordering]) -> bool {
-    s.iter().all(|x| x.is_ge()) || s.iter().all(|x| x.is_le())
+pub(crate) fn all_of_one_sign(s: &[Signs]) -> Tri {
+    Tri::all(s.iter().map(|x| x.ge())).or(Tri::all(s.iter().map(|x| x.le())))
 }
 
-fn apart_or_on(a: Ordering, b: Ordering) -> bool {
-    (a.is_ge() && b.is_le()) || (a.is_le() && b.is_ge())
+pub(crate) fn apart_or_on(a: Signs, b: Signs) -> Tri {
+    a.ge().and(b.le()).or(a.le().and(b.ge()))
+}
+
+/// Some of `c` is at least zero and some at most zero.
+fn straddles(c: &[Signs]) -> Tri {
+    Tri::any(c.iter().map(|x| x.ge())).and(Tri::any(c.iter().map(|x| x.le())))
+}
+
+/// The coplanarity determinant of the four moving points: for vertex-face (point, corners)
+/// det(B - A, C - A, P - A), for edge-edge (a0, a1, b0, b1) det(a1 - a0, b0 - a0, b1 - a0).
+pub(crate) fn coplanarity<P: Ring>(edges: bool, m: [&Moving<P>; 4]) -> P {
+    if edges {
+        det3(&minus(m[1], m[0]), &minus(m[2], m[0]), &minus(m[3], m[0]))
+    } else {
+        det3(&minus(m[2], m[1]), &minus(m[3], m[1]), &minus(m[0], m[1]))
+    }
 }
 
 /// Polynomials of vertex-face contact: [orientation, 3 × 3 edge orientations, 3 × 3 coordinate
 /// differences point - corner].
-pub(crate) fn vertex_face(p: &Moving, t: [&Moving; 3]) -> Condition {
-    let mut polys = vec![det3(
-        &minus(t[1], t[0]),
-        &minus(t[2], t[0]),
-        &minus(p, t[0]),
-    )];
+pub(crate) fn vertex_face<P: Ring>(p: &Moving<P>, t: [&Moving<P>; 3]) -> Condition<P> {
+    let mut polys = vec![coplanarity(false, [p, t[0], t[1], t[2]])];
     for (i, j) in PROJECTIONS {
         for e in 0..3 {
             polys.push(orient2d(t[e], t[(e + 1) % 3], p, i, j));
@@ -82,24 +215,19 @@ pub(crate) fn vertex_face(p: &Moving, t: [&Moving; 3]) -> Condition {
             polys.push(p[k].sub(&c[k]));
         }
     }
-    fn holds(s: &[Ordering]) -> bool {
+    fn holds(s: &[Signs]) -> Tri {
         let (o, d) = (&s[1..10], &s[10..19]);
-        s[0].is_eq()
-            && o.chunks(3).all(all_of_one_sign)
-            && d.chunks(3)
-                .all(|c| c.iter().any(|x| x.is_ge()) && c.iter().any(|x| x.is_le()))
+        s[0].eq()
+            .and(Tri::all(o.chunks(3).map(all_of_one_sign)))
+            .and(Tri::all(d.chunks(3).map(straddles)))
     }
     Condition { polys, holds }
 }
 
 /// Polynomials of edge-edge contact: [orientation, 3 × 4 orientations, 3 × 4 coordinate
 /// differences a_i - b_j].
-pub(crate) fn edge_edge(a: [&Moving; 2], b: [&Moving; 2]) -> Condition {
-    let mut polys = vec![det3(
-        &minus(a[1], a[0]),
-        &minus(b[0], a[0]),
-        &minus(b[1], a[0]),
-    )];
+pub(crate) fn edge_edge<P: Ring>(a: [&Moving<P>; 2], b: [&Moving<P>; 2]) -> Condition<P> {
+    let mut polys = vec![coplanarity(true, [a[0], a[1], b[0], b[1]])];
     for (i, j) in PROJECTIONS {
         polys.push(orient2d(a[0], a[1], b[0], i, j));
         polys.push(orient2d(a[0], a[1], b[1], i, j));
@@ -113,13 +241,13 @@ pub(crate) fn edge_edge(a: [&Moving; 2], b: [&Moving; 2]) -> Condition {
             }
         }
     }
-    fn holds(s: &[Ordering]) -> bool {
+    fn holds(s: &[Signs]) -> Tri {
         let (o, d) = (&s[1..13], &s[13..25]);
-        s[0].is_eq()
-            && o.chunks(4)
-                .all(|c| apart_or_on(c[0], c[1]) && apart_or_on(c[2], c[3]))
-            && d.chunks(4)
-                .all(|c| c.iter().any(|x| x.is_ge()) && c.iter().any(|x| x.is_le()))
+        s[0].eq()
+            .and(Tri::all(o.chunks(4).map(|c| {
+                apart_or_on(c[0], c[1]).and(apart_or_on(c[2], c[3]))
+            })))
+            .and(Tri::all(d.chunks(4).map(straddles)))
     }
     Condition { polys, holds }
 }

@@ -9,16 +9,21 @@
 //!    [0, 1] are averages of the eight determinants det(u_i, v_j, w_k), i, j, k in {start, end};
 //!    when all four are certainly of one strict sign (each determinant evaluated as Shewchuk's
 //!    orient3d is, with his error bound), f has no root and there is no contact.
-//! 3. Exact: when f is not identically zero, contact can only happen at its roots, tried in
+//! 3. Intervals: the condition's polynomials with floating-point interval coefficients, f's
+//!    roots enclosed by bisection and certified simple, the condition judged over each
+//!    enclosure in increasing order ([`super::interval`]); it answers when all of it is certain.
+//! 4. Exact: when f is not identically zero, contact can only happen at its roots, tried in
 //!    increasing order against the whole [`Condition`]; when the motion is coplanar throughout,
 //!    every root of every polynomial of the condition is a candidate (as the oracle does).
 
-use super::condition::{Condition, edge_edge, moving, vertex_face};
-use super::poly::{Root, one};
+use super::condition::{
+    Condition, Moving, Signs, Tri, coplanarity, edge_edge, moving, vertex_face,
+};
+use super::interval::{self, Answer};
+use super::poly::{Poly, Root, one, rational};
 use crate::geometry::predicates::Point;
 use num_rational::BigRational;
 use num_traits::Zero;
-use std::cmp::Ordering;
 
 /// Which test: a point against a triangle, or a segment against a segment.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -38,7 +43,19 @@ pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 
     if boxes_apart(start, end, split) || never_coplanar(kind, start, end) {
         return None;
     }
-    let m: Vec<_> = (0..4).map(|i| moving(&start[i], &end[i])).collect();
+    let exact_motion =
+        || -> Vec<Moving<Poly>> { (0..4).map(|i| moving(&start[i], &end[i])).collect() };
+    match interval::time_of_impact(kind, start, end) {
+        Answer::Decided(toi) => return toi,
+        Answer::ContactIn(lo, hi) => {
+            // Only the time is left to round: the exact cubic's root in (lo, hi).
+            let m = exact_motion();
+            let f = coplanarity(kind == Primitive::EdgeEdge, [&m[0], &m[1], &m[2], &m[3]]);
+            return Some(Root::isolated(f, rational(lo), rational(hi)).floor_f64());
+        }
+        Answer::Unknown => {}
+    }
+    let m = exact_motion();
     let condition = match kind {
         Primitive::VertexFace => vertex_face(&m[0], [&m[1], &m[2], &m[3]]),
         Primitive::EdgeEdge => edge_edge([&m[0], &m[1]], [&m[2], &m[3]]),
@@ -135,12 +152,16 @@ fn never_coplanar(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> bool
 
 /// The earliest time the condition holds, trying the coplanarity polynomial's roots (or, when
 /// it vanishes identically, every polynomial's) in increasing order.
-fn earliest(c: &Condition) -> Option<f64> {
+fn earliest(c: &Condition<Poly>) -> Option<f64> {
     let (zero, one) = (BigRational::zero(), one());
     let f = &c.polys[0];
     let mut candidates: Vec<Root> = if f.is_zero() {
-        let at_zero: Vec<Ordering> = c.polys.iter().map(|p| p.sign_at(&zero)).collect();
-        if (c.holds)(&at_zero) {
+        let at_zero: Vec<Signs> = c
+            .polys
+            .iter()
+            .map(|p| Signs::exact(p.sign_at(&zero)))
+            .collect();
+        if (c.holds)(&at_zero) == Tri::Yes {
             return Some(0.0);
         }
         c.polys
@@ -153,8 +174,8 @@ fn earliest(c: &Condition) -> Option<f64> {
     };
     candidates.sort_by(|a, b| a.cmp(b));
     for mut r in candidates {
-        let signs: Vec<Ordering> = c.polys.iter().map(|p| r.sign_of(p)).collect();
-        if (c.holds)(&signs) {
+        let signs: Vec<Signs> = c.polys.iter().map(|p| Signs::exact(r.sign_of(p))).collect();
+        if (c.holds)(&signs) == Tri::Yes {
             return Some(r.floor_f64());
         }
     }
@@ -231,6 +252,43 @@ mod tests {
         }
         // Both answers and both filters are exercised.
         assert!(hits > 80 && filtered > 80, "{hits} {filtered}");
+    }
+
+    #[test]
+    fn the_interval_path_decides_general_contacts_and_agrees() {
+        let mut rng = Rng::new(0x1e7e_4a15);
+        let (mut decided, mut contacts) = (0, 0);
+        for case in 0..400 {
+            // General position: fine grids, no constructed degeneracy.
+            let (s, e) = random_case(&mut rng, 6 * case, 1 << 20);
+            for kind in [Primitive::VertexFace, Primitive::EdgeEdge] {
+                let want = match kind {
+                    Primitive::VertexFace => vertex_face_toi(&s, &e),
+                    Primitive::EdgeEdge => edge_edge_toi(&s, &e),
+                };
+                contacts += usize::from(want.is_some());
+                match interval::time_of_impact(kind, &s, &e) {
+                    Answer::Decided(got) => {
+                        assert_eq!(got, want, "case {case} {kind:?}: {s:?} -> {e:?}");
+                        decided += usize::from(want.is_some());
+                    }
+                    Answer::ContactIn(lo, hi) => {
+                        let w = want.expect("contact");
+                        assert!(
+                            lo <= w && w <= hi,
+                            "case {case} {kind:?}: {w} not in [{lo}, {hi}]"
+                        );
+                        decided += 1;
+                    }
+                    Answer::Unknown => {}
+                }
+            }
+        }
+        // In general position every contact is decided without rationals.
+        assert!(
+            contacts > 50 && decided == contacts,
+            "{decided} of {contacts}"
+        );
     }
 
     #[test]

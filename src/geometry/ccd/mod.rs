@@ -2,6 +2,7 @@
 
 pub(crate) mod condition;
 pub(crate) mod exact;
+pub(crate) mod interval;
 #[cfg(test)]
 pub(crate) mod oracle;
 pub(crate) mod poly;

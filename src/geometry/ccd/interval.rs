@@ -1,0 +1,312 @@
+//! The floating-point path of the exact continuous tests: the contact condition's polynomials
+//! built with intervals that certainly enclose their exact coefficients, the coplanarity
+//! polynomial's roots enclosed by bisection, and the condition judged over each enclosure.
+//! It answers only when every step is certain; otherwise it says so, and the exact rational
+//! path decides (a root at t = 0 or 1, a double root, motion coplanar throughout, a contact
+//! exactly on an edge or a corner).
+
+use super::condition::{
+    Condition, Moving, Ring, Signs, Tri, all_of_one_sign, apart_or_on, edge_edge, moving,
+    projection_normals, vertex_face,
+};
+use super::exact::Primitive;
+use crate::geometry::predicates::Point;
+
+/// A closed interval of reals, `lo <= hi`, or everything (when a NaN appeared).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Interval {
+    lo: f64,
+    hi: f64,
+}
+
+impl Interval {
+    fn new(lo: f64, hi: f64) -> Interval {
+        if lo.is_nan() || hi.is_nan() {
+            Interval {
+                lo: f64::NEG_INFINITY,
+                hi: f64::INFINITY,
+            }
+        } else {
+            Interval { lo, hi }
+        }
+    }
+
+    fn point(x: f64) -> Interval {
+        Interval { lo: x, hi: x }
+    }
+
+    /// Each bound is rounded to nearest and then moved one double outwards, which covers the
+    /// rounding (at most half the spacing on the side it went).
+    fn widened(lo: f64, hi: f64) -> Interval {
+        Interval::new(lo.next_down(), hi.next_up())
+    }
+
+    fn is_point(self) -> bool {
+        self.lo == self.hi
+    }
+
+    fn add(self, o: Interval) -> Interval {
+        if self.is_point() && o.is_point() {
+            // Exact sums stay points (TwoSum's error term is zero): degenerate projections
+            // then keep their exactly-zero orientations.
+            let (a, b) = (self.lo, o.lo);
+            let s = a + b;
+            let bb = s - a;
+            if s.is_finite() && (a - (s - bb)) + (b - bb) == 0.0 {
+                return Interval::point(s);
+            }
+        }
+        Interval::widened(self.lo + o.lo, self.hi + o.hi)
+    }
+
+    fn sub(self, o: Interval) -> Interval {
+        self.add(Interval {
+            lo: -o.hi,
+            hi: -o.lo,
+        })
+    }
+
+    fn mul(self, o: Interval) -> Interval {
+        if self.is_point() && o.is_point() {
+            let p = self.lo * o.lo;
+            // Exact products stay points (the fused multiply-add's residue is zero).
+            if p.is_finite()
+                && self.lo.mul_add(o.lo, -p) == 0.0
+                && (p != 0.0 || self.lo == 0.0 || o.lo == 0.0)
+            {
+                return Interval::point(p);
+            }
+        }
+        let p = [
+            self.lo * o.lo,
+            self.lo * o.hi,
+            self.hi * o.lo,
+            self.hi * o.hi,
+        ];
+        if p.iter().any(|x| x.is_nan()) {
+            return Interval::new(f64::NAN, f64::NAN);
+        }
+        let lo = p.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = p.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        Interval::widened(lo, hi)
+    }
+
+    fn signs(self) -> Signs {
+        Signs::within(self.lo, self.hi)
+    }
+
+    /// Certainly positive (1), certainly negative (-1), or unknown (0).
+    fn sign(self) -> i8 {
+        if self.lo > 0.0 {
+            1
+        } else if self.hi < 0.0 {
+            -1
+        } else {
+            0
+        }
+    }
+}
+
+/// A polynomial in t with interval coefficients, lowest degree first.
+#[derive(Clone, Debug)]
+pub(crate) struct IPoly(Vec<Interval>);
+
+impl Ring for IPoly {
+    fn motion(start: f64, end: f64) -> IPoly {
+        IPoly(vec![
+            Interval::point(start),
+            Interval::point(end).sub(Interval::point(start)),
+        ])
+    }
+
+    fn add(&self, o: &IPoly) -> IPoly {
+        let n = self.0.len().max(o.0.len());
+        let z = Interval::point(0.0);
+        IPoly(
+            (0..n)
+                .map(|i| {
+                    self.0
+                        .get(i)
+                        .copied()
+                        .unwrap_or(z)
+                        .add(o.0.get(i).copied().unwrap_or(z))
+                })
+                .collect(),
+        )
+    }
+
+    fn sub(&self, o: &IPoly) -> IPoly {
+        let n = self.0.len().max(o.0.len());
+        let z = Interval::point(0.0);
+        IPoly(
+            (0..n)
+                .map(|i| {
+                    self.0
+                        .get(i)
+                        .copied()
+                        .unwrap_or(z)
+                        .sub(o.0.get(i).copied().unwrap_or(z))
+                })
+                .collect(),
+        )
+    }
+
+    fn mul(&self, o: &IPoly) -> IPoly {
+        if self.0.is_empty() || o.0.is_empty() {
+            return IPoly(Vec::new());
+        }
+        let mut c = vec![Interval::point(0.0); self.0.len() + o.0.len() - 1];
+        for (i, a) in self.0.iter().enumerate() {
+            for (j, b) in o.0.iter().enumerate() {
+                c[i + j] = c[i + j].add(a.mul(*b));
+            }
+        }
+        IPoly(c)
+    }
+}
+
+impl IPoly {
+    /// An enclosure of the values over `t` (Horner in intervals).
+    fn eval(&self, t: Interval) -> Interval {
+        let mut v = Interval::point(0.0);
+        for c in self.0.iter().rev() {
+            v = v.mul(t).add(*c);
+        }
+        v
+    }
+
+    fn derivative(&self) -> IPoly {
+        IPoly(
+            self.0
+                .iter()
+                .enumerate()
+                .skip(1)
+                .map(|(i, c)| c.mul(Interval::point(i as f64)))
+                .collect(),
+        )
+    }
+}
+
+/// What the floating-point path found.
+pub(crate) enum Answer {
+    /// Certain: the earliest contact time rounded down, or none.
+    Decided(Option<f64>),
+    /// Certain contact, at the coplanarity polynomial's only root in `(lo, hi)` (where it has
+    /// non-zero values of opposite signs), too close to a double for the intervals to round.
+    ContactIn(f64, f64),
+    /// Something was too close to call: the exact path must decide.
+    Unknown,
+}
+
+/// Cells narrower than this that may hold a root without being certified send the query to
+/// the exact path; so does a search that opens more cells than `MAX_CELLS`.
+const MIN_CELL: f64 = 1.0 / (1u64 << 30) as f64;
+const MAX_CELLS: usize = 400;
+
+/// The floating-point path of [`super::exact::time_of_impact`].
+pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> Answer {
+    let m: Vec<Moving<IPoly>> = (0..4).map(|i| moving(&start[i], &end[i])).collect();
+    let c = match kind {
+        Primitive::VertexFace => vertex_face(&m[0], [&m[1], &m[2], &m[3]]),
+        Primitive::EdgeEdge => edge_edge([&m[0], &m[1]], [&m[2], &m[3]]),
+    };
+    let edges = kind == Primitive::EdgeEdge;
+    let normals = projection_normals(edges, [&m[0], &m[1], &m[2], &m[3]]);
+    let f = &c.polys[0];
+    let df = f.derivative();
+    // Depth-first, left half first: cells come out in increasing t.
+    let mut stack = vec![(0.0f64, 1.0f64)];
+    let mut opened = 0;
+    while let Some((a, b)) = stack.pop() {
+        opened += 1;
+        if opened > MAX_CELLS {
+            return Answer::Unknown;
+        }
+        if f.eval(Interval::new(a, b)).sign() != 0 {
+            continue; // no root here
+        }
+        let (fa, fb) = (
+            f.eval(Interval::point(a)).sign(),
+            f.eval(Interval::point(b)).sign(),
+        );
+        if fa != 0 && fb != 0 && fa != fb && df.eval(Interval::new(a, b)).sign() != 0 {
+            // Exactly one root, simple, strictly inside.
+            match at_root(&c, &normals, edges, a, b, fa) {
+                Answer::Decided(None) => continue,
+                answer => return answer,
+            }
+        }
+        if b - a < MIN_CELL {
+            return Answer::Unknown;
+        }
+        let mid = 0.5 * (a + b);
+        stack.push((mid, b));
+        stack.push((a, mid));
+    }
+    Answer::Decided(None)
+}
+
+/// The condition at the one root of `f` in `(a, b)`, where `f(a)` has sign `fa`: contact
+/// (with its time rounded down), none (`Decided(None)`), or unknown.
+///
+/// At a root of f the primitives are coplanar, and a projection whose normal component is
+/// certainly non-zero over the enclosure decides by its orientations alone (the other
+/// projections may be degenerate there, their orientations vanishing with f).
+fn at_root(
+    c: &Condition<IPoly>,
+    normals: &[IPoly; 3],
+    edges: bool,
+    mut a: f64,
+    mut b: f64,
+    fa: i8,
+) -> Answer {
+    let f = &c.polys[0];
+    // Narrow the root's enclosure while the condition over it is undecided; once it is
+    // decided, only the time remains to be narrowed, down to adjacent doubles.
+    let mut decided = false;
+    loop {
+        if !decided {
+            let t = Interval::new(a, b);
+            let verdict =
+                (0..3)
+                    .find(|&q| normals[q].eval(t).sign() != 0)
+                    .map_or(Tri::Maybe, |q| {
+                        let s = |k: usize| c.polys[k].eval(t).signs();
+                        if edges {
+                            // Layout of `edge_edge`: 4 orientations per projection after f.
+                            let o = 1 + 4 * q;
+                            apart_or_on(s(o), s(o + 1)).and(apart_or_on(s(o + 2), s(o + 3)))
+                        } else {
+                            // Layout of `vertex_face`: 3 orientations per projection after f.
+                            let o = 1 + 3 * q;
+                            all_of_one_sign(&[s(o), s(o + 1), s(o + 2)])
+                        }
+                    });
+            match verdict {
+                Tri::No => return Answer::Decided(None),
+                Tri::Yes => decided = true,
+                Tri::Maybe => {}
+            }
+        }
+        if b == a.next_up() {
+            // The root lies strictly between adjacent doubles: a is the largest below it.
+            return if decided {
+                Answer::Decided(Some(a))
+            } else {
+                Answer::Unknown
+            };
+        }
+        let mid = a + 0.5 * (b - a);
+        let mid = if mid <= a || mid >= b {
+            a.next_up()
+        } else {
+            mid
+        };
+        match f.eval(Interval::point(mid)).sign() {
+            0 if decided => return Answer::ContactIn(a, b),
+            0 => return Answer::Unknown,
+            s if s == fa => a = mid,
+            _ => b = mid,
+        }
+    }
+}
