@@ -153,25 +153,36 @@ fn never_coplanar(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> bool
 /// The earliest time the condition holds, trying the coplanarity polynomial's roots (or, when
 /// it vanishes identically, every polynomial's) in increasing order.
 fn earliest(c: &Condition<Poly>) -> Option<f64> {
-    let (zero, one) = (BigRational::zero(), one());
     let f = &c.polys[0];
-    let mut candidates: Vec<Root> = if f.is_zero() {
-        let at_zero: Vec<Signs> = c
-            .polys
-            .iter()
-            .map(|p| Signs::exact(p.sign_at(&zero)))
-            .collect();
-        if (c.holds)(&at_zero) == Tri::Yes {
-            return Some(0.0);
-        }
-        c.polys
-            .iter()
-            .filter(|p| !p.is_zero())
-            .flat_map(|p| p.roots_in(&zero, &one))
-            .collect()
-    } else {
-        f.roots_in(&zero, &one)
-    };
+    if f.is_zero() {
+        return earliest_of_every_candidate(c);
+    }
+    first_holding(c, f.roots_in(&BigRational::zero(), &one()))
+}
+
+/// The earliest time the condition holds, trying 0 and every root of every polynomial: the
+/// contact times form a closed set whose truth changes only at such roots. (The oracle.)
+pub(crate) fn earliest_of_every_candidate(c: &Condition<Poly>) -> Option<f64> {
+    let (zero, one) = (BigRational::zero(), one());
+    let at_zero: Vec<Signs> = c
+        .polys
+        .iter()
+        .map(|p| Signs::exact(p.sign_at(&zero)))
+        .collect();
+    if (c.holds)(&at_zero) == Tri::Yes {
+        return Some(0.0);
+    }
+    let candidates = c
+        .polys
+        .iter()
+        .filter(|p| !p.is_zero())
+        .flat_map(|p| p.roots_in(&zero, &one))
+        .collect();
+    first_holding(c, candidates)
+}
+
+/// The earliest of the candidate times at which the condition holds, rounded down.
+pub(crate) fn first_holding(c: &Condition<Poly>, mut candidates: Vec<Root>) -> Option<f64> {
     candidates.sort_by(|a, b| a.cmp(b));
     for mut r in candidates {
         let signs: Vec<Signs> = c.polys.iter().map(|p| Signs::exact(r.sign_of(p))).collect();

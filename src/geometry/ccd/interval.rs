@@ -120,35 +120,11 @@ impl Ring for IPoly {
     }
 
     fn add(&self, o: &IPoly) -> IPoly {
-        let n = self.0.len().max(o.0.len());
-        let z = Interval::point(0.0);
-        IPoly(
-            (0..n)
-                .map(|i| {
-                    self.0
-                        .get(i)
-                        .copied()
-                        .unwrap_or(z)
-                        .add(o.0.get(i).copied().unwrap_or(z))
-                })
-                .collect(),
-        )
+        self.zip(o, Interval::add)
     }
 
     fn sub(&self, o: &IPoly) -> IPoly {
-        let n = self.0.len().max(o.0.len());
-        let z = Interval::point(0.0);
-        IPoly(
-            (0..n)
-                .map(|i| {
-                    self.0
-                        .get(i)
-                        .copied()
-                        .unwrap_or(z)
-                        .sub(o.0.get(i).copied().unwrap_or(z))
-                })
-                .collect(),
-        )
+        self.zip(o, Interval::sub)
     }
 
     fn mul(&self, o: &IPoly) -> IPoly {
@@ -166,6 +142,17 @@ impl Ring for IPoly {
 }
 
 impl IPoly {
+    /// Coefficient by coefficient, the shorter padded with zeros.
+    fn zip(&self, o: &IPoly, op: fn(Interval, Interval) -> Interval) -> IPoly {
+        let z = Interval::point(0.0);
+        let at = |p: &IPoly, i: usize| p.0.get(i).copied().unwrap_or(z);
+        IPoly(
+            (0..self.0.len().max(o.0.len()))
+                .map(|i| op(at(self, i), at(o, i)))
+                .collect(),
+        )
+    }
+
     /// An enclosure of the values over `t` (Horner in intervals).
     fn eval(&self, t: Interval) -> Interval {
         let mut v = Interval::point(0.0);

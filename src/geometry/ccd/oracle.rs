@@ -1,56 +1,30 @@
 //! The reference answer of the continuous tests, in exact rational arithmetic: slow, simple,
 //! and exact for every finite double input. What the filtered tests are checked against.
 //!
-//! The truth of a [`Condition`] is constant between consecutive roots of its polynomials, and
+//! The truth of a contact condition is constant between consecutive roots of its polynomials, and
 //! the set of contact times is closed; so the earliest contact, when there is one, is 0 or a
 //! root of one of them. Every such candidate is tried, in increasing order.
 
-use super::condition::{Condition, Moving, Signs, Tri, edge_edge, moving, vertex_face};
+use super::condition::{Moving, edge_edge, moving, vertex_face};
+use super::exact::earliest_of_every_candidate;
+use super::poly::Poly;
 #[cfg(test)]
 use super::poly::floor_f64;
-use super::poly::{Poly, Root, one};
+#[cfg(test)]
 use num_rational::BigRational;
-use num_traits::Zero;
-
-/// The earliest time in [0, 1] at which the condition holds, rounded down to a double.
-fn earliest(c: &Condition<Poly>) -> Option<f64> {
-    let (zero, one) = (BigRational::zero(), one());
-    let at_zero: Vec<Signs> = c
-        .polys
-        .iter()
-        .map(|p| Signs::exact(p.sign_at(&zero)))
-        .collect();
-    if (c.holds)(&at_zero) == Tri::Yes {
-        return Some(0.0);
-    }
-    let mut candidates: Vec<Root> = c
-        .polys
-        .iter()
-        .filter(|p| !p.is_zero())
-        .flat_map(|p| p.roots_in(&zero, &one))
-        .collect();
-    candidates.sort_by(|a, b| a.cmp(b));
-    for mut r in candidates {
-        let signs: Vec<Signs> = c.polys.iter().map(|p| Signs::exact(r.sign_of(p))).collect();
-        if (c.holds)(&signs) == Tri::Yes {
-            return Some(r.floor_f64());
-        }
-    }
-    None
-}
 
 /// Does the point `start[0] → end[0]` meet the closed triangle `start[1..4] → end[1..4]` for
 /// some t in [0, 1], and when first (rounded down)?
 pub(crate) fn vertex_face_toi(start: &[[f64; 3]; 4], end: &[[f64; 3]; 4]) -> Option<f64> {
     let m: Vec<Moving<Poly>> = (0..4).map(|i| moving(&start[i], &end[i])).collect();
-    earliest(&vertex_face(&m[0], [&m[1], &m[2], &m[3]]))
+    earliest_of_every_candidate(&vertex_face(&m[0], [&m[1], &m[2], &m[3]]))
 }
 
 /// Do the closed segments `start[0..2] → end[0..2]` and `start[2..4] → end[2..4]` share a point
 /// for some t in [0, 1], and when first (rounded down)?
 pub(crate) fn edge_edge_toi(start: &[[f64; 3]; 4], end: &[[f64; 3]; 4]) -> Option<f64> {
     let m: Vec<Moving<Poly>> = (0..4).map(|i| moving(&start[i], &end[i])).collect();
-    earliest(&edge_edge([&m[0], &m[1]], [&m[2], &m[3]]))
+    earliest_of_every_candidate(&edge_edge([&m[0], &m[1]], [&m[2], &m[3]]))
 }
 
 #[cfg(test)]
