@@ -16,11 +16,10 @@
 //!    increasing order against the whole [`Condition`]; when the motion is coplanar throughout,
 //!    every root of every polynomial of the condition is a candidate (as the oracle does).
 
-use super::condition::{
-    Condition, Moving, Signs, Tri, coplanarity, edge_edge, moving, vertex_face,
-};
+use super::condition::{Condition, Moving, Signs, Tri, edge_edge, moving, vertex_face};
 use super::interval::{self, Answer};
-use super::poly::{Poly, Root, one, rational};
+use super::poly::{Poly, Root, one};
+use super::scaled;
 use crate::geometry::predicates::Point;
 use num_rational::BigRational;
 use num_traits::Zero;
@@ -47,11 +46,9 @@ pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 
         || -> Vec<Moving<Poly>> { (0..4).map(|i| moving(&start[i], &end[i])).collect() };
     match interval::time_of_impact(kind, start, end) {
         Answer::Decided(toi) => return toi,
-        Answer::ContactIn(lo, hi) => {
-            // Only the time is left to round: the exact cubic's root in (lo, hi).
-            let m = exact_motion();
-            let f = coplanarity(kind == Primitive::EdgeEdge, [&m[0], &m[1], &m[2], &m[3]]);
-            return Some(Root::isolated(f, rational(lo), rational(hi)).floor_f64());
+        Answer::ContactIn(lo, hi, at_lo) => {
+            // Only the time is left to round: the cubic's sign at doubles between, in integers.
+            return Some(scaled::floor_root(kind, start, end, lo, hi, at_lo));
         }
         Answer::Unknown => {}
     }
@@ -283,7 +280,7 @@ mod tests {
                         assert_eq!(got, want, "case {case} {kind:?}: {s:?} -> {e:?}");
                         decided += usize::from(want.is_some());
                     }
-                    Answer::ContactIn(lo, hi) => {
+                    Answer::ContactIn(lo, hi, _) => {
                         let w = want.expect("contact");
                         assert!(
                             lo <= w && w <= hi,

@@ -179,8 +179,9 @@ pub(crate) enum Answer {
     /// Certain: the earliest contact time rounded down, or none.
     Decided(Option<f64>),
     /// Certain contact, at the coplanarity polynomial's only root in `(lo, hi)` (where it has
-    /// non-zero values of opposite signs), too close to a double for the intervals to round.
-    ContactIn(f64, f64),
+    /// non-zero values of opposite signs, this one at `lo`), too close to a double for the
+    /// intervals to round.
+    ContactIn(f64, f64, std::cmp::Ordering),
     /// Something was too close to call: the exact path must decide.
     Unknown,
 }
@@ -290,7 +291,17 @@ fn at_root(
             mid
         };
         match f.eval(Interval::point(mid)).sign() {
-            0 if decided => return Answer::ContactIn(a, b),
+            0 if decided => {
+                return Answer::ContactIn(
+                    a,
+                    b,
+                    if fa > 0 {
+                        std::cmp::Ordering::Greater
+                    } else {
+                        std::cmp::Ordering::Less
+                    },
+                );
+            }
             0 => return Answer::Unknown,
             s if s == fa => a = mid,
             _ => b = mid,

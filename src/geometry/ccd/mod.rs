@@ -6,3 +6,4 @@ pub(crate) mod interval;
 #[cfg(test)]
 pub(crate) mod oracle;
 pub(crate) mod poly;
+pub(crate) mod scaled;

@@ -259,13 +259,6 @@ pub(crate) struct Root {
 }
 
 impl Root {
-    /// The root of `p` in `(lo, hi)`, which the caller knows to be its only one there, with
-    /// `p(lo)` and `p(hi)` non-zero and of opposite signs.
-    pub(crate) fn isolated(p: Poly, lo: BigRational, hi: BigRational) -> Root {
-        debug_assert!(p.sign_at(&lo) != p.sign_at(&hi) && !p.sign_at(&lo).is_eq());
-        Root { poly: p, lo, hi }
-    }
-
     fn exact(p: &Poly, x: BigRational) -> Root {
         Root {
             poly: p.clone(),
