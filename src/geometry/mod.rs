@@ -5,6 +5,7 @@ pub mod aabb;
 pub mod adjacent;
 pub(crate) mod ccd;
 pub mod distance;
+pub(crate) mod interval;
 pub mod polygon;
 pub mod pose;
 pub mod predicates;

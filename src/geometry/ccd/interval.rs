@@ -10,85 +10,13 @@ use super::condition::{
     projection_normals, vertex_face,
 };
 use super::exact::Primitive;
+use crate::geometry::interval::Interval;
 use crate::geometry::predicates::Point;
 
-/// A closed interval of reals, `lo <= hi`, or everything (when a NaN appeared).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Interval {
-    lo: f64,
-    hi: f64,
-}
-
+/// Enclosures: the signs the enclosed value may have, and its sign when certain.
 impl Interval {
     fn new(lo: f64, hi: f64) -> Interval {
-        if lo.is_nan() || hi.is_nan() {
-            Interval {
-                lo: f64::NEG_INFINITY,
-                hi: f64::INFINITY,
-            }
-        } else {
-            Interval { lo, hi }
-        }
-    }
-
-    fn point(x: f64) -> Interval {
-        Interval { lo: x, hi: x }
-    }
-
-    /// Each bound is rounded to nearest and then moved one double outwards, which covers the
-    /// rounding (at most half the spacing on the side it went).
-    fn widened(lo: f64, hi: f64) -> Interval {
-        Interval::new(lo.next_down(), hi.next_up())
-    }
-
-    fn is_point(self) -> bool {
-        self.lo == self.hi
-    }
-
-    fn add(self, o: Interval) -> Interval {
-        if self.is_point() && o.is_point() {
-            // Exact sums stay points (TwoSum's error term is zero): degenerate projections
-            // then keep their exactly-zero orientations.
-            let (a, b) = (self.lo, o.lo);
-            let s = a + b;
-            let bb = s - a;
-            if s.is_finite() && (a - (s - bb)) + (b - bb) == 0.0 {
-                return Interval::point(s);
-            }
-        }
-        Interval::widened(self.lo + o.lo, self.hi + o.hi)
-    }
-
-    fn sub(self, o: Interval) -> Interval {
-        self.add(Interval {
-            lo: -o.hi,
-            hi: -o.lo,
-        })
-    }
-
-    fn mul(self, o: Interval) -> Interval {
-        if self.is_point() && o.is_point() {
-            let p = self.lo * o.lo;
-            // Exact products stay points (the fused multiply-add's residue is zero).
-            if p.is_finite()
-                && self.lo.mul_add(o.lo, -p) == 0.0
-                && (p != 0.0 || self.lo == 0.0 || o.lo == 0.0)
-            {
-                return Interval::point(p);
-            }
-        }
-        let p = [
-            self.lo * o.lo,
-            self.lo * o.hi,
-            self.hi * o.lo,
-            self.hi * o.hi,
-        ];
-        if p.iter().any(|x| x.is_nan()) {
-            return Interval::new(f64::NAN, f64::NAN);
-        }
-        let lo = p.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = p.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        Interval::widened(lo, hi)
+        Interval { lo, hi }
     }
 
     fn signs(self) -> Signs {
@@ -115,16 +43,16 @@ impl Ring for IPoly {
     fn motion(start: f64, end: f64) -> IPoly {
         IPoly(vec![
             Interval::point(start),
-            Interval::point(end).sub(Interval::point(start)),
+            Interval::point(end) - Interval::point(start),
         ])
     }
 
     fn add(&self, o: &IPoly) -> IPoly {
-        self.zip(o, Interval::add)
+        self.zip(o, |a, b| a + b)
     }
 
     fn sub(&self, o: &IPoly) -> IPoly {
-        self.zip(o, Interval::sub)
+        self.zip(o, |a, b| a - b)
     }
 
     fn mul(&self, o: &IPoly) -> IPoly {
@@ -134,7 +62,7 @@ impl Ring for IPoly {
         let mut c = vec![Interval::point(0.0); self.0.len() + o.0.len() - 1];
         for (i, a) in self.0.iter().enumerate() {
             for (j, b) in o.0.iter().enumerate() {
-                c[i + j] = c[i + j].add(a.mul(*b));
+                c[i + j] = c[i + j] + *a * *b;
             }
         }
         IPoly(c)
@@ -157,7 +85,7 @@ impl IPoly {
     fn eval(&self, t: Interval) -> Interval {
         let mut v = Interval::point(0.0);
         for c in self.0.iter().rev() {
-            v = v.mul(t).add(*c);
+            v = v * t + *c;
         }
         v
     }
@@ -168,7 +96,7 @@ impl IPoly {
                 .iter()
                 .enumerate()
                 .skip(1)
-                .map(|(i, c)| c.mul(Interval::point(i as f64)))
+                .map(|(i, c)| *c * Interval::point(i as f64))
                 .collect(),
         )
     }
