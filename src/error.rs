@@ -11,6 +11,15 @@ pub enum Side {
     B,
 }
 
+/// Which positions of a motion an error is about ([`crate::Mesh::refit_motion`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Instant {
+    /// The positions at the start of the step (t = 0).
+    Start,
+    /// The positions at the end of the step (t = 1).
+    End,
+}
+
 /// Everything that can go wrong when building, refitting or querying.
 ///
 /// A call that returns an error has changed nothing: meshes and result buffers are exactly as
@@ -136,6 +145,13 @@ pub enum Error {
         /// The error, as for a mesh.
         error: Box<Error>,
     },
+    /// What was wrong with the start or the end positions of a motion.
+    Motion {
+        /// Which positions.
+        instant: Instant,
+        /// The error, as for a refit.
+        error: Box<Error>,
+    },
 }
 
 impl fmt::Display for Error {
@@ -236,6 +252,14 @@ impl fmt::Display for Error {
                 "object {object} was paired with itself: a pair needs two objects"
             ),
             Error::Object { object, ref error } => write!(f, "object {object}: {error}"),
+            Error::Motion { instant, ref error } => write!(
+                f,
+                "{} positions: {error}",
+                match instant {
+                    Instant::Start => "start",
+                    Instant::End => "end",
+                }
+            ),
         }
     }
 }

@@ -29,7 +29,8 @@
 //! assert_eq!(orient3d(&floor[0], &floor[1], &floor[2], &[0.2, 0.2, -1.0]), 1);
 //! ```
 
-use crate::geometry::ccd::exact::{Primitive, time_of_impact};
+use crate::geometry::ccd::exact::Primitive;
+use crate::geometry::ccd::{CcdMode, time_of_impact};
 use crate::geometry::{distance, predicates, tri_tri};
 use crate::{Error, Result};
 
@@ -92,8 +93,19 @@ pub fn orient3d(a: &Point, b: &Point, c: &Point, d: &Point) -> i8 {
 /// # Ok::<(), dvh::Error>(())
 /// ```
 pub fn vertex_face_impact(start: &[Point; 4], end: &[Point; 4]) -> Result<Option<f64>> {
+    vertex_face_impact_with(start, end, CcdMode::Exact)
+}
+
+/// [`vertex_face_impact`], decided as `mode` says: [`CcdMode::Conservative`] stays in floating
+/// point, never misses a contact and never reports a later time, but may report primitives
+/// that come within rounding error of contact.
+pub fn vertex_face_impact_with(
+    start: &[Point; 4],
+    end: &[Point; 4],
+    mode: CcdMode,
+) -> Result<Option<f64>> {
     check_finite(start, end)?;
-    Ok(time_of_impact(Primitive::VertexFace, start, end))
+    Ok(time_of_impact(Primitive::VertexFace, start, end, mode))
 }
 
 /// Do two segments moving with their ends in straight lines share a point during the step,
@@ -103,8 +115,17 @@ pub fn vertex_face_impact(start: &[Point; 4], end: &[Point; 4]) -> Result<Option
 ///
 /// Returns and errors as [`vertex_face_impact`].
 pub fn edge_edge_impact(start: &[Point; 4], end: &[Point; 4]) -> Result<Option<f64>> {
+    edge_edge_impact_with(start, end, CcdMode::Exact)
+}
+
+/// [`edge_edge_impact`], decided as `mode` says (see [`vertex_face_impact_with`]).
+pub fn edge_edge_impact_with(
+    start: &[Point; 4],
+    end: &[Point; 4],
+    mode: CcdMode,
+) -> Result<Option<f64>> {
     check_finite(start, end)?;
-    Ok(time_of_impact(Primitive::EdgeEdge, start, end))
+    Ok(time_of_impact(Primitive::EdgeEdge, start, end, mode))
 }
 
 fn check_finite(start: &[Point; 4], end: &[Point; 4]) -> Result<()> {

@@ -67,9 +67,10 @@ mod threads;
 mod tree;
 mod volume;
 
-pub use error::{Error, Result, Side};
+pub use error::{Error, Instant, Result, Side};
 pub use geometry::MAX_POSED_MAGNITUDE;
 pub use geometry::aabb::Aabb;
+pub use geometry::ccd::CcdMode;
 pub use geometry::pose::{Pose, RIGIDITY_TOLERANCE};
 pub use geometry::sphere::Sphere;
 pub use mesh::{
@@ -77,8 +78,9 @@ pub use mesh::{
     RefitStats, TreeStats,
 };
 pub use query::{
-    Pair, PairKind, Pairs, QueryMode, QueryOptions, QueryStats, brute_force, collide, proximity,
-    self_collide, self_proximity,
+    CcdOptions, CcdStats, Impact, ImpactKind, Impacts, Pair, PairKind, Pairs, QueryMode,
+    QueryOptions, QueryStats, brute_force, collide, continuous_collide, proximity, self_collide,
+    self_continuous_collide, self_proximity,
 };
 pub use scene::{Contact, Contacts, Scene, SceneStats};
 pub use tree::TreeKind;

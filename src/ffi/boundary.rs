@@ -74,7 +74,7 @@ fn status_of(e: &Error) -> DvhStatus {
         Error::UnknownObject { .. } | Error::WrongObjectKind { .. } | Error::SameObject { .. } => {
             DVH_STATUS_INVALID_ARGUMENT
         }
-        Error::Object { error, .. } => status_of(error),
+        Error::Object { error, .. } | Error::Motion { error, .. } => status_of(error),
     }
 }
 

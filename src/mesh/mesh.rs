@@ -59,6 +59,8 @@ pub(super) struct Topology {
     pub blocks: std::sync::OnceLock<Blocks>,
     /// The nodes' patches for self-collision; found on first use.
     pub patches: std::sync::OnceLock<Patches>,
+    /// Who owns each vertex, edge and triangle in continuous collision; found on first use.
+    pub features: std::sync::OnceLock<super::features::Features>,
 }
 
 impl Topology {
@@ -106,6 +108,8 @@ pub struct Mesh {
     /// Stacks for the wrapped-radius search, one per refit thread, sized at build so refits
     /// never allocate.
     pub(super) scratch: Vec<Vec<u32>>,
+    /// The start of the step, when the mesh was last given a motion.
+    pub(super) motion: super::motion::Motion,
 }
 
 /// Everything but the scratch space (the spare positions a refit writes before it knows they are
@@ -122,6 +126,7 @@ impl std::fmt::Debug for Mesh {
             .field("max_abs", &self.max_abs)
             .field("safe", &self.in_fast_range)
             .field("last_refit", &self.last_refit)
+            .field("moving", &self.motion.moving)
             .finish_non_exhaustive()
     }
 }
@@ -214,7 +219,12 @@ impl Mesh {
             + heap_bytes(&self.topology.tree.leaf_of_ring)
             + heap_bytes(&self.topology.tree.subtrees)
             + self.topology.blocks.get().map_or(0, Blocks::heap_bytes)
-            + self.topology.patches.get().map_or(0, Patches::heap_bytes);
+            + self.topology.patches.get().map_or(0, Patches::heap_bytes)
+            + self
+                .topology
+                .features
+                .get()
+                .map_or(0, super::features::Features::heap_bytes);
         self.state_bytes()
             + heap_bytes(&self.topology.triangles)
             + self.topology.rings.heap_bytes()
@@ -238,6 +248,13 @@ impl Mesh {
             + volumes
             + scratch
             + self.patch_cache.heap_bytes()
+            + self.motion.heap_bytes()
+    }
+
+    /// Number of edges: pairs of distinct vertices joined by a side of some triangle, each
+    /// counted once (what continuous collision tests edge against edge). Found on first use.
+    pub fn edge_count(&self) -> usize {
+        self.features().edge_count
     }
 
     /// Counters of the last refit (or of the build's initial fit).
@@ -315,6 +332,17 @@ impl Mesh {
     /// The nodes' patches for self-collision, found on first use.
     pub(crate) fn patches(&self) -> &Patches {
         self.topology.patches.get_or_init(|| Patches::new(self))
+    }
+
+    /// Who owns each vertex, edge and triangle in continuous collision, found on first use.
+    pub(crate) fn features(&self) -> &super::features::Features {
+        self.topology.features.get_or_init(|| {
+            super::features::Features::new(
+                &self.topology.triangles,
+                &self.topology.rings,
+                self.positions.len(),
+            )
+        })
     }
 
     /// Do the two meshes share one copy of their triangles, rings and tree?

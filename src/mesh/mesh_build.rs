@@ -89,6 +89,7 @@ impl Mesh {
                 tree,
                 blocks: Default::default(),
                 patches: Default::default(),
+                features: Default::default(),
             }),
             options: *options,
             volumes,
@@ -98,6 +99,7 @@ impl Mesh {
             state: super::mesh::next_state(),
             patch_cache: Default::default(),
             scratch,
+            motion: Default::default(),
         };
         mesh.last_refit = mesh.update_volumes();
         Ok(mesh)

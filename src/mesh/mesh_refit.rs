@@ -89,8 +89,9 @@ impl Mesh {
     }
 
     /// Makes the checked positions in the spare buffer current.
-    fn install(&mut self, extent: Extent) {
+    pub(super) fn install(&mut self, extent: Extent) {
         std::mem::swap(&mut self.positions, &mut self.spare);
+        self.motion.moving = false;
         self.max_abs = extent.max_abs;
         self.in_fast_range = extent.in_fast_range;
         self.state = super::mesh::next_state();

@@ -246,6 +246,13 @@ impl Mesh {
                     .flat_map(|r| self.topology.rings.all_vertices(r))
             };
             let exact_box = Aabb::of_points(below().map(|v| &self.positions[v as usize]));
+            // A moving mesh's volumes hold the start positions too.
+            let mut swept_box = exact_box;
+            if self.motion.moving {
+                for v in below() {
+                    swept_box.grow(&self.motion.start[v as usize]);
+                }
+            }
             match &self.volumes {
                 Volumes::Dvh {
                     centre_vertex,
@@ -286,8 +293,8 @@ impl Mesh {
                 }
                 Volumes::Aabb { boxes } => {
                     ensure!(
-                        boxes[i] == exact_box,
-                        "node {i}: box {:?} is not the box of its vertices {exact_box:?}",
+                        boxes[i] == swept_box,
+                        "node {i}: box {:?} is not the box of its vertices {swept_box:?}",
                         boxes[i]
                     );
                 }
@@ -314,6 +321,14 @@ impl Mesh {
                 "node {i}: vertex {v} at distance {d:e} outside radius {:e}",
                 s.radius
             );
+            if self.motion.moving {
+                let d = distance_squared(&s.centre, &self.motion.start[v as usize]).sqrt();
+                ensure!(
+                    d <= s.radius,
+                    "node {i}: vertex {v} at the start of the motion at distance {d:e} outside radius {:e}",
+                    s.radius
+                );
+            }
         }
         Ok(())
     }

@@ -1,11 +1,13 @@
 //! Meshes and their hierarchies: input checks, 1-rings, build, refit, validation.
 
+mod features;
 mod input;
 #[allow(clippy::module_inception)]
 mod mesh;
 mod mesh_build;
 mod mesh_refit;
 mod mesh_validation;
+mod motion;
 mod options;
 mod patches;
 pub(crate) mod rings;

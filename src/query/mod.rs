@@ -4,6 +4,7 @@
 
 mod brute_force;
 mod collide;
+mod continuous;
 mod engine;
 mod options;
 mod pairs;
@@ -15,6 +16,9 @@ mod testing;
 pub use brute_force::brute_force;
 pub use collide::collide;
 pub(crate) use collide::collide_lazy;
+pub use continuous::{
+    CcdOptions, CcdStats, Impact, ImpactKind, Impacts, continuous_collide, self_continuous_collide,
+};
 pub use options::{QueryMode, QueryOptions};
 pub(crate) use pairs::result_buffer;
 pub use pairs::{Pair, PairKind, Pairs, QueryStats};

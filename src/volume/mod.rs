@@ -6,6 +6,7 @@ mod boxes;
 mod dvh_centres;
 mod fit;
 mod lazy;
+mod motion;
 mod spheres;
 
 use crate::geometry::aabb::Aabb;

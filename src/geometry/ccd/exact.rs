@@ -50,7 +50,7 @@ pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 
             // Only the time is left to round: the cubic's sign at doubles between, in integers.
             return Some(scaled::floor_root(kind, start, end, lo, hi, at_lo));
         }
-        Answer::Unknown => {}
+        Answer::Unknown(_) => {}
     }
     let m = exact_motion();
     let condition = match kind {
@@ -58,6 +58,29 @@ pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 
         Primitive::EdgeEdge => edge_edge([&m[0], &m[1]], [&m[2], &m[3]]),
     };
     earliest(&condition)
+}
+
+/// [`time_of_impact`] in floating point only: the same filters and interval search, and where
+/// they cannot decide, a contact reported at the start of the first time span they could not
+/// settle. Never misses a contact, and its time is never later than the exact one's; what it
+/// reports without a contact came within the intervals' rounding error of one (coplanar and
+/// touching to within it).
+pub(crate) fn conservative_time_of_impact(
+    kind: Primitive,
+    start: &[Point; 4],
+    end: &[Point; 4],
+) -> Option<f64> {
+    let split = match kind {
+        Primitive::VertexFace => 1,
+        Primitive::EdgeEdge => 2,
+    };
+    if boxes_apart(start, end, split) || never_coplanar(kind, start, end) {
+        return None;
+    }
+    match interval::time_of_impact(kind, start, end) {
+        Answer::Decided(toi) => toi,
+        Answer::ContactIn(lo, _, _) | Answer::Unknown(lo) => Some(lo),
+    }
 }
 
 /// Are the boxes of points `..split` and `split..`, over both times, disjoint on some axis?
@@ -288,7 +311,7 @@ mod tests {
                         );
                         decided += 1;
                     }
-                    Answer::Unknown => {}
+                    Answer::Unknown(_) => {}
                 }
             }
         }

@@ -110,8 +110,9 @@ pub(crate) enum Answer {
     /// non-zero values of opposite signs, this one at `lo`), too close to a double for the
     /// intervals to round.
     ContactIn(f64, f64, std::cmp::Ordering),
-    /// Something was too close to call: the exact path must decide.
-    Unknown,
+    /// Something was too close to call: the exact path must decide. No contact comes before
+    /// the time given (the start of the first time span the search could not settle).
+    Unknown(f64),
 }
 
 /// Cells narrower than this that may hold a root without being certified send the query to
@@ -136,10 +137,18 @@ pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 
     while let Some((a, b)) = stack.pop() {
         opened += 1;
         if opened > MAX_CELLS {
-            return Answer::Unknown;
+            return Answer::Unknown(a);
         }
-        if f.eval(Interval::new(a, b)).sign() != 0 {
+        let cell = Interval::new(a, b);
+        if f.eval(cell).sign() != 0 {
             continue; // no root here
+        }
+        // Every polynomial of the condition over the cell: where some projection certainly
+        // keeps the primitives apart (say a vertex beside a triangle while both stay in one
+        // plane, as in a flat sheet), nothing in the cell can touch, root of f or not.
+        let signs: Vec<Signs> = c.polys.iter().map(|p| p.eval(cell).signs()).collect();
+        if (c.holds)(&signs) == Tri::No {
+            continue;
         }
         let (fa, fb) = (
             f.eval(Interval::point(a)).sign(),
@@ -149,11 +158,12 @@ pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 
             // Exactly one root, simple, strictly inside.
             match at_root(&c, &normals, edges, a, b, fa) {
                 Answer::Decided(None) => continue,
+                Answer::Unknown(_) => return Answer::Unknown(a),
                 answer => return answer,
             }
         }
         if b - a < MIN_CELL {
-            return Answer::Unknown;
+            return Answer::Unknown(a);
         }
         let mid = 0.5 * (a + b);
         stack.push((mid, b));
@@ -209,7 +219,7 @@ fn at_root(
             return if decided {
                 Answer::Decided(Some(a))
             } else {
-                Answer::Unknown
+                Answer::Unknown(a)
             };
         }
         let mid = a + 0.5 * (b - a);
@@ -230,7 +240,7 @@ fn at_root(
                     },
                 );
             }
-            0 => return Answer::Unknown,
+            0 => return Answer::Unknown(a),
             s if s == fa => a = mid,
             _ => b = mid,
         }

@@ -1,0 +1,239 @@
+use super::*;
+use crate::fixtures::oracle::continuous_brute_force;
+use crate::fixtures::{MeshData, Rng, grid, icosphere, torus};
+use crate::{BuildOptions, CcdMode, Error, Instant, Mesh, VolumeKind};
+
+fn build(m: &MeshData, volume: VolumeKind) -> Mesh {
+    Mesh::new(
+        &m.positions,
+        &m.triangles,
+        &BuildOptions::default().with_volume(volume),
+    )
+    .unwrap()
+}
+
+/// `rest` moved by `shift` and jittered by up to `jitter` per coordinate.
+fn moved(rest: &[f64], shift: [f64; 3], jitter: f64, rng: &mut Rng) -> Vec<f64> {
+    rest.iter()
+        .enumerate()
+        .map(|(i, x)| x + shift[i % 3] + rng.range(-jitter, jitter))
+        .collect()
+}
+
+fn run(a: &Mesh, b: Option<&Mesh>, options: &CcdOptions, out: &mut Impacts) -> CcdStats {
+    match b {
+        Some(b) => continuous_collide(a, b, options, out).unwrap(),
+        None => self_continuous_collide(a, options, out).unwrap(),
+    }
+}
+
+/// The query against brute force, with every option that must not change the answer, and
+/// against the options that cut it.
+fn check(a: &Mesh, b: Option<&Mesh>, what: &str) -> usize {
+    let mut out = Impacts::new();
+    let mut expected_by_mode = Vec::new();
+    for mode in [CcdMode::Exact, CcdMode::Conservative] {
+        let expected = continuous_brute_force(a, b, mode);
+        for threads in [1, 2] {
+            let options = CcdOptions::default().with_mode(mode).with_threads(threads);
+            let stats = run(a, b, &options, &mut out);
+            assert_eq!(
+                out.as_slice(),
+                &expected[..],
+                "{what}: {mode:?}, {threads} threads"
+            );
+            assert!(!stats.truncated);
+            assert_eq!(stats.impacts, expected.len() as u64);
+            let earliest = expected.iter().map(|i| i.toi).fold(f64::INFINITY, f64::min);
+            assert_eq!(stats.earliest_toi, earliest);
+            // The earliest alone: the first of the earliest in the result's order.
+            let first = expected
+                .iter()
+                .min_by(|x, y| (x.toi, x.key()).partial_cmp(&(y.toi, y.key())).unwrap());
+            run(a, b, &options.with_earliest_only(true), &mut out);
+            assert_eq!(out.as_slice().first(), first, "{what}: earliest only");
+            assert!(out.len() <= 1);
+            if expected.len() > 3 {
+                let stats = run(a, b, &options.with_max_impacts(Some(3)), &mut out);
+                assert!(stats.truncated && out.len() == 3, "{what}");
+                assert!(out.iter().all(|i| expected.contains(i)));
+            }
+        }
+        expected_by_mode.push(expected);
+    }
+    // Conservative: never misses, never later.
+    let (exact, conservative) = (&expected_by_mode[0], &expected_by_mode[1]);
+    for i in exact {
+        let c = conservative
+            .iter()
+            .find(|c| c.key() == i.key())
+            .unwrap_or_else(|| panic!("{what}: conservative missed {i:?}"));
+        assert!(c.toi <= i.toi, "{what}: {c:?} later than {i:?}");
+    }
+    exact.len()
+}
+
+#[test]
+fn two_meshes_equal_brute_force() {
+    let mut rng = Rng::new(17);
+    let s = icosphere(1);
+    let t = torus(0.5, 0.2, 12, 6);
+    let mut found = 0;
+    for volume in [VolumeKind::Aabb, VolumeKind::Dvh, VolumeKind::Sbv] {
+        let mut a = build(&s, volume);
+        let mut b = build(&t, volume);
+        for trial in 0..3 {
+            let from = moved(
+                &s.positions,
+                [-1.6, 0.1 * trial as f64, 0.0],
+                0.02,
+                &mut rng,
+            );
+            let to = moved(&s.positions, [1.6, -0.1, 0.05], 0.02, &mut rng);
+            a.refit_motion(&from, &to).unwrap();
+            let from_b = moved(&t.positions, [0.0; 3], 0.03, &mut rng);
+            let to_b = moved(&t.positions, [0.0, 0.0, 0.1], 0.03, &mut rng);
+            b.refit_motion(&from_b, &to_b).unwrap();
+            a.validate().unwrap();
+            found += check(&a, Some(&b), &format!("{volume:?} {trial}"));
+            found += check(&b, Some(&a), &format!("{volume:?} {trial} swapped"));
+        }
+        // A stationary mesh: contact at the end positions only.
+        b.refit(&t.positions).unwrap();
+        assert!(!b.is_moving() && a.is_moving());
+        check(&a, Some(&b), &format!("{volume:?}, b still"));
+    }
+    assert!(
+        found > 100,
+        "the meshes pass through each other ({found} impacts)"
+    );
+}
+
+#[test]
+fn one_mesh_equals_brute_force() {
+    let mut rng = Rng::new(5);
+    let t = torus(0.5, 0.2, 16, 8);
+    let g = grid(8, 1.0);
+    let mut found = 0;
+    for volume in [VolumeKind::Aabb, VolumeKind::Dvh, VolumeKind::Sbv] {
+        let mut m = build(&t, volume);
+        for trial in 0..3 {
+            let jitter = 0.03 + 0.03 * trial as f64;
+            let from = moved(&t.positions, [0.0; 3], jitter, &mut rng);
+            let to = moved(&t.positions, [0.0; 3], jitter, &mut rng);
+            m.refit_motion(&from, &to).unwrap();
+            found += check(&m, None, &format!("torus {volume:?} {trial}"));
+        }
+        // A flat sheet folding over itself: every neighbour coplanar at the start.
+        let mut sheet = build(&g, volume);
+        let folded: Vec<f64> = g
+            .positions
+            .chunks_exact(3)
+            .flat_map(|p| {
+                let (x, y) = (p[0], p[1]);
+                if x > 0.5 {
+                    [1.0 - x + 0.03 * y, y, 0.02 - 0.05 * (x - 0.5)]
+                } else {
+                    [x, y, 0.0]
+                }
+            })
+            .collect();
+        sheet.refit_motion(&g.positions, &folded).unwrap();
+        found += check(&sheet, None, &format!("sheet {volume:?}"));
+        // Still: neighbours touch, nothing else does.
+        sheet.refit(&g.positions).unwrap();
+        check(&sheet, None, &format!("flat sheet {volume:?}"));
+    }
+    assert!(
+        found > 20,
+        "the meshes pass through themselves ({found} impacts)"
+    );
+}
+
+#[test]
+fn threads_and_limits_give_one_answer_on_larger_meshes() {
+    let mut rng = Rng::new(23);
+    let s = icosphere(3);
+    let g = grid(40, 2.0);
+    let mut a = build(&s, VolumeKind::Aabb);
+    let mut b = build(&g, VolumeKind::Dvh);
+    let from = moved(&s.positions, [1.0, 1.0, 0.8], 0.005, &mut rng);
+    let to = moved(&s.positions, [1.0, 1.0, -0.8], 0.005, &mut rng);
+    a.refit_motion(&from, &to).unwrap();
+    let from_b = moved(&g.positions, [0.0; 3], 0.001, &mut rng);
+    let to_b = moved(&g.positions, [0.0, 0.0, 0.02], 0.001, &mut rng);
+    b.refit_motion(&from_b, &to_b).unwrap();
+    let mut one = Impacts::new();
+    let mut two = Impacts::new();
+    let base = CcdOptions::default();
+    for options in [
+        base,
+        base.with_max_impacts(Some(50)),
+        base.with_earliest_only(true),
+        base.with_mode(CcdMode::Conservative),
+    ] {
+        let s1 = run(&a, Some(&b), &options.with_threads(1), &mut one);
+        let s2 = run(&a, Some(&b), &options.with_threads(2), &mut two);
+        assert_eq!(one.as_slice(), two.as_slice(), "{options:?}");
+        assert_eq!(s1.truncated, s2.truncated);
+        assert!(!one.is_empty());
+    }
+    run(&a, Some(&b), &base, &mut one);
+    assert!(one.len() > 50, "{}", one.len());
+    let mut self_one = Impacts::new();
+    let mut self_two = Impacts::new();
+    run(&b, None, &base.with_threads(1), &mut self_one);
+    run(&b, None, &base.with_threads(2), &mut self_two);
+    assert_eq!(self_one.as_slice(), self_two.as_slice());
+}
+
+#[test]
+fn a_failed_motion_changes_nothing() {
+    let t = torus(0.5, 0.2, 8, 4);
+    let mut m = build(&t, VolumeKind::Dvh);
+    let moved_up: Vec<f64> = t.positions.iter().map(|x| x + 0.5).collect();
+    m.refit_motion(&t.positions, &moved_up).unwrap();
+    let before = format!("{m:?}");
+    let start = m.start_positions().to_vec();
+    let mut bad = t.positions.clone();
+    bad[7] = f64::NAN;
+    let e = m.refit_motion(&bad, &moved_up).unwrap_err();
+    assert!(
+        matches!(&e, Error::Motion { instant: Instant::Start, error } if matches!(**error, Error::NonFiniteCoordinate { vertex: 2, axis: 1, .. })),
+        "{e}"
+    );
+    assert_eq!(
+        e.to_string(),
+        "start positions: vertex 2: coordinate y is NaN, not a finite number"
+    );
+    let e = m.refit_motion(&t.positions, &bad).unwrap_err();
+    assert!(
+        matches!(
+            &e,
+            Error::Motion {
+                instant: Instant::End,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let e = m.refit_motion(&t.positions, &bad[..6]).unwrap_err();
+    assert!(e.to_string().starts_with("end positions: "), "{e}");
+    let e = m.refit_motion(&bad[..5], &t.positions).unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("start positions: position array has 5"),
+        "{e}"
+    );
+    assert_eq!(format!("{m:?}"), before);
+    assert_eq!(m.start_positions(), &start[..]);
+    assert!(m.is_moving());
+}
+
+#[test]
+fn edges_are_counted_once() {
+    let t = torus(0.5, 0.2, 8, 4);
+    let m = build(&t, VolumeKind::Aabb);
+    // A closed torus: E = 3T/2.
+    assert_eq!(m.edge_count(), 3 * m.triangle_count() / 2);
+}
