@@ -166,28 +166,24 @@ impl Job<'_, '_> {
         );
         let (oa, ob) = (a.owned[ta as usize], b.owned[tb as usize]);
         for (k, &v) in ca.iter().enumerate() {
-            if oa & (1 << k) != 0 {
-                if !(self.one_mesh && cb.contains(&v)) {
-                    let hit = self.test(Primitive::VertexFace, a, [v], b, cb);
-                    let impact = (ImpactKind::VertexFace, v, 0, tb, 0);
-                    if self.report(w, hit, impact, limit) {
-                        return true;
-                    }
+            if oa & (1 << k) != 0 && !(self.one_mesh && cb.contains(&v)) {
+                let hit = self.test(Primitive::VertexFace, a, [v], b, cb);
+                let impact = (ImpactKind::VertexFace, v, 0, tb, 0);
+                if self.report(w, hit, impact, limit) {
+                    return true;
                 }
             }
         }
         for (k, &v) in cb.iter().enumerate() {
-            if ob & (1 << k) != 0 {
-                if !(self.one_mesh && ca.contains(&v)) {
-                    let hit = self.test(Primitive::VertexFace, b, [v], a, ca);
-                    let impact = if self.one_mesh {
-                        (ImpactKind::VertexFace, v, 0, ta, 0)
-                    } else {
-                        (ImpactKind::FaceVertex, ta, 0, v, 0)
-                    };
-                    if self.report(w, hit, impact, limit) {
-                        return true;
-                    }
+            if ob & (1 << k) != 0 && !(self.one_mesh && ca.contains(&v)) {
+                let hit = self.test(Primitive::VertexFace, b, [v], a, ca);
+                let impact = if self.one_mesh {
+                    (ImpactKind::VertexFace, v, 0, ta, 0)
+                } else {
+                    (ImpactKind::FaceVertex, ta, 0, v, 0)
+                };
+                if self.report(w, hit, impact, limit) {
+                    return true;
                 }
             }
         }
