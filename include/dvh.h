@@ -55,6 +55,12 @@
 typedef struct DvhContacts DvhContacts;
 
 /**
+ * A reusable result buffer for the continuous queries. Opaque; created by `dvh_impacts_new`,
+ * released by `dvh_impacts_free`. Use one per thread.
+ */
+typedef struct DvhImpacts DvhImpacts;
+
+/**
  * A mesh with its hierarchy: topology, current positions, 1-rings, spheres. Opaque; created by
  * `dvh_mesh_create`, released by `dvh_mesh_free`.
  */
@@ -77,6 +83,103 @@ typedef struct DvhScene DvhScene;
  * `dvh_last_error_message` gives the details of a failure.
  */
 typedef uint32_t DvhStatus;
+
+/**
+ * How a continuous test decides (`DvhCcdOptions.mode`).
+ */
+typedef uint32_t DvhCcdMode;
+
+/**
+ * Options for `dvh_ccd_vertex_face`, `dvh_ccd_edge_edge` (which read `mode` only),
+ * `dvh_continuous_collide` and `dvh_self_continuous_collide`; start from
+ * `dvh_ccd_options_default()` (all fields zero). Grows like `DvhBuildOptions`.
+ */
+typedef struct DvhCcdOptions {
+  /**
+   * A `DVH_CCD_MODE_*` value.
+   */
+  DvhCcdMode mode;
+  /**
+   * Threads, as `DvhQueryOptions.threads`: 0 for every core, 1 for the calling thread. The
+   * impacts are the same, in the same order, whatever the count.
+   */
+  uint32_t threads;
+  /**
+   * Stop once this many impacts are found (0: no limit); `DvhCcdStats.truncated` then says so.
+   */
+  uint64_t max_impacts;
+  /**
+   * Report only the earliest impact (of several at that time, the first in the result's
+   * order): much cheaper than the whole list, since pairs that cannot meet before the
+   * earliest impact found so far are not tested.
+   */
+  bool earliest_only;
+} DvhCcdOptions;
+
+/**
+ * Counters of one continuous query.
+ */
+typedef struct DvhCcdStats {
+  /**
+   * Volume pairs tested by the traversal over the motion.
+   */
+  uint64_t bv_tests;
+  /**
+   * Primitive pairs (vertex-face, edge-edge) given to the continuous test.
+   */
+  uint64_t primitive_tests;
+  /**
+   * Impacts reported.
+   */
+  uint64_t impacts;
+  /**
+   * The earliest time of the impacts reported; INFINITY when there are none.
+   */
+  double earliest_toi;
+  /**
+   * Did `max_impacts` stop the query before every impact was found?
+   */
+  bool truncated;
+} DvhCcdStats;
+
+/**
+ * Which primitives of a `DvhImpact` meet.
+ */
+typedef uint32_t DvhImpactKind;
+
+/**
+ * Two primitives that meet during the step, and the earliest time they do. Results are sorted
+ * by `(kind, a0, a1, b0, b1)`.
+ */
+typedef struct DvhImpact {
+  /**
+   * A `DVH_IMPACT_KIND_*` value.
+   */
+  DvhImpactKind kind;
+  /**
+   * VERTEX_FACE: a vertex of the first mesh; FACE_VERTEX: a triangle of the first mesh;
+   * EDGE_EDGE: the edge's lower vertex.
+   */
+  uint32_t a0;
+  /**
+   * EDGE_EDGE: the first edge's higher vertex; 0 otherwise.
+   */
+  uint32_t a1;
+  /**
+   * VERTEX_FACE: a triangle of the second mesh; FACE_VERTEX: a vertex of the second mesh;
+   * EDGE_EDGE: the second edge's lower vertex.
+   */
+  uint32_t b0;
+  /**
+   * EDGE_EDGE: the second edge's higher vertex; 0 otherwise.
+   */
+  uint32_t b1;
+  /**
+   * The earliest time of impact in [0, 1], rounded down to a double (in
+   * `DVH_CCD_MODE_CONSERVATIVE`, a time no later than that).
+   */
+  double toi;
+} DvhImpact;
 
 /**
  * How the hierarchy above the 1-rings is split: a `DVH_TREE_KIND_*` value.
@@ -493,6 +596,37 @@ typedef struct DvhContact {
  */
 #define DVH_PAIR_KIND_NODES 1
 
+/**
+ * Exact for every finite input: a floating-point filter, then exact arithmetic where it cannot
+ * decide; the time of impact is the earliest contact rounded down to a double. The default.
+ */
+#define DVH_CCD_MODE_EXACT 0
+
+/**
+ * Floating point only: never misses a contact and never reports a later time than the exact
+ * mode, but may report primitives that come within rounding error of contact (coplanar and
+ * touching to within the error of interval arithmetic on their coordinates), at the start of
+ * the time span it could not settle. Bounded time per test.
+ */
+#define DVH_CCD_MODE_CONSERVATIVE 1
+
+/**
+ * A vertex of the first mesh (`a0`) against a triangle of the second (`b0`).
+ */
+#define DVH_IMPACT_KIND_VERTEX_FACE 0
+
+/**
+ * A triangle of the first mesh (`a0`) against a vertex of the second (`b0`); not reported by
+ * self queries.
+ */
+#define DVH_IMPACT_KIND_FACE_VERTEX 1
+
+/**
+ * An edge of the first mesh (`a0 < a1`) against an edge of the second (`b0 < b1`); in self
+ * queries `(a0, a1) < (b0, b1)`.
+ */
+#define DVH_IMPACT_KIND_EDGE_EDGE 2
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -524,6 +658,167 @@ size_t dvh_last_error_message(char *buffer, size_t capacity);
  * Thread safety: any thread, any time.
  */
 const char *dvh_version(void);
+
+/**
+ * The default continuous options: exact, every core, no impact limit, every impact (all
+ * fields zero).
+ *
+ * Thread safety: any thread, any time.
+ */
+struct DvhCcdOptions dvh_ccd_options_default(void);
+
+/**
+ * Does a point moving in a straight line meet a moving triangle during the step t in [0, 1],
+ * and when first? `start` and `end` hold 12 doubles each: the point, then the triangle's three
+ * corners (`x, y, z` each), at t = 0 and t = 1. The triangle is closed; one of zero area is
+ * the segment or point it covers. Writes whether they meet to `*hit_out` and, on a hit, the
+ * earliest time of contact rounded down to a double to `*toi_out` unless it is NULL. `options`
+ * (NULL: the defaults) gives the mode; its other fields are ignored. Exact for every finite
+ * input in `DVH_CCD_MODE_EXACT`.
+ *
+ * Errors: NULL_ARGUMENT (`start`, `end`, `hit_out`); INVALID_ARGUMENT (misaligned, a mode out of
+ * range); NON_FINITE_COORDINATE (naming the array and index).
+ *
+ * Thread safety: any thread, any time.
+ *
+ * # Safety
+ * `start` and `end` point to 12 readable doubles each; `options` is NULL or readable;
+ * `hit_out` is NULL or writable; `toi_out` is NULL or writable.
+ */
+DvhStatus dvh_ccd_vertex_face(const double *start,
+                              const double *end,
+                              const struct DvhCcdOptions *options,
+                              bool *hit_out,
+                              double *toi_out);
+
+/**
+ * Do two segments moving with their ends in straight lines share a point during the step, and
+ * when first? `start` and `end` hold 12 doubles each: edge a's two ends, then edge b's. The
+ * segments are closed (a zero-length one is its point); parallel, collinear and overlapping
+ * segments are decided like any others. Outputs, errors and thread safety as
+ * `dvh_ccd_vertex_face`.
+ *
+ * # Safety
+ * As `dvh_ccd_vertex_face`.
+ */
+DvhStatus dvh_ccd_edge_edge(const double *start,
+                            const double *end,
+                            const struct DvhCcdOptions *options,
+                            bool *hit_out,
+                            double *toi_out);
+
+/**
+ * Gives a mesh a motion over one step: every vertex moves in a straight line from its position
+ * in `start` (t = 0) to its position in `end` (t = 1), `x, y, z` per vertex, the vertex count
+ * of its creation. The volumes are refit to hold every vertex's whole path, for
+ * `dvh_continuous_collide` and `dvh_self_continuous_collide`; the mesh's positions become
+ * `end` (the discrete queries see the end of the step). A plain `dvh_mesh_refit` makes the
+ * mesh stationary again.
+ *
+ * Errors: NULL_ARGUMENT; INVALID_ARGUMENT (a different vertex count, misaligned arrays);
+ * NON_FINITE_COORDINATE (the message says which array, vertex and axis). On failure the mesh
+ * is exactly as it was.
+ *
+ * Thread safety: as `dvh_mesh_refit` (exclusive access; BUSY otherwise).
+ *
+ * # Safety
+ * `mesh` is NULL or a live mesh; `start` and `end` each point to `3 * vertex_count` readable
+ * doubles.
+ */
+DvhStatus dvh_mesh_refit_motion(struct DvhMesh *mesh,
+                                const double *start,
+                                const double *end,
+                                size_t vertex_count);
+
+/**
+ * Every vertex-face and edge-edge pair of meshes `a` and `b` that meets while each moves
+ * through its last motion (`dvh_mesh_refit_motion`; a mesh refit without one stays still),
+ * with the earliest time it does: each vertex of `a` against each triangle of `b`
+ * (VERTEX_FACE), each triangle of `a` against each vertex of `b` (FACE_VERTEX), each edge of
+ * `a` against each edge of `b` (EDGE_EDGE; an edge is a pair of distinct vertices joined by a
+ * triangle side, reported once however many triangles share it). Vertices of no triangle are
+ * not tested. `options` NULL means the defaults (exact, every impact, every core).
+ *
+ * On success the impacts replace the contents of `impacts_out`, sorted by
+ * `(kind, a0, a1, b0, b1)`, and the counters go to `*stats_out` unless it is NULL; on failure
+ * neither changes.
+ *
+ * Errors: NULL_ARGUMENT (`a`, `b`, `impacts_out`); INVALID_ARGUMENT (a mode out of range, a
+ * pointer that is not a live handle); BUSY; OUT_OF_MEMORY (set `max_impacts`); INTERNAL_PANIC.
+ *
+ * Thread safety: `a` and `b` are only read: any number of threads may query them at once, each
+ * with its own `impacts_out`; no refit of either may run meanwhile (BUSY).
+ *
+ * # Safety
+ * `a` and `b` are NULL or live meshes; `options` is NULL or readable; `impacts_out` is NULL or
+ * a live buffer; `stats_out` is NULL or writable.
+ */
+DvhStatus dvh_continuous_collide(const struct DvhMesh *a,
+                                 const struct DvhMesh *b,
+                                 const struct DvhCcdOptions *options,
+                                 struct DvhImpacts *impacts_out,
+                                 struct DvhCcdStats *stats_out);
+
+/**
+ * Every pair of one mesh's primitives that meets during its last motion, with the earliest
+ * time: each vertex against each triangle that does not contain it (VERTEX_FACE, the vertex in
+ * `a0`), each pair of edges that share no vertex (EDGE_EDGE, `(a0, a1) < (b0, b1)`). No
+ * FACE_VERTEX impacts. Otherwise as `dvh_continuous_collide`.
+ *
+ * Errors: NULL_ARGUMENT (`mesh`, `impacts_out`); INVALID_ARGUMENT; BUSY; OUT_OF_MEMORY;
+ * INTERNAL_PANIC.
+ *
+ * Thread safety: as `dvh_continuous_collide`.
+ *
+ * # Safety
+ * `mesh` is NULL or a live mesh; `options` is NULL or readable; `impacts_out` is NULL or a
+ * live buffer; `stats_out` is NULL or writable.
+ */
+DvhStatus dvh_self_continuous_collide(const struct DvhMesh *mesh,
+                                      const struct DvhCcdOptions *options,
+                                      struct DvhImpacts *impacts_out,
+                                      struct DvhCcdStats *stats_out);
+
+/**
+ * A new, empty impact buffer, or NULL when memory ran out. Owned by the caller, released with
+ * `dvh_impacts_free`. It keeps the scratch space of the queries that use it.
+ *
+ * Thread safety: any thread; a buffer must be used by one thread at a time.
+ */
+struct DvhImpacts *dvh_impacts_new(void);
+
+/**
+ * Number of impacts of the last successful query into `impacts` (0 for NULL or a new buffer).
+ *
+ * Thread safety: not alongside a query writing the same buffer (0 then).
+ *
+ * # Safety
+ * `impacts` is NULL or a live buffer.
+ */
+size_t dvh_impacts_len(const struct DvhImpacts *impacts);
+
+/**
+ * The impacts of the last successful query into `impacts`: `dvh_impacts_len(impacts)` entries,
+ * sorted by `(kind, a0, a1, b0, b1)`. NULL when there are none. Owned by the buffer; valid until
+ * the next query into it or `dvh_impacts_free`.
+ *
+ * Thread safety: as `dvh_impacts_len`.
+ *
+ * # Safety
+ * `impacts` is NULL or a live buffer.
+ */
+const struct DvhImpact *dvh_impacts_data(const struct DvhImpacts *impacts);
+
+/**
+ * Releases an impact buffer. NULL is a no-op.
+ *
+ * Thread safety: needs exclusive access; the buffer must not be used afterwards. A buffer in
+ * use by another call is not released (the last error message says so).
+ *
+ * # Safety
+ * `impacts` is NULL or a live buffer from `dvh_impacts_new`, not freed before.
+ */
+void dvh_impacts_free(struct DvhImpacts *impacts);
 
 /**
  * The default build options, the fastest measured for meshes that deform: octree, box volumes

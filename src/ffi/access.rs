@@ -15,8 +15,8 @@
 
 use super::boundary::{Failure, set_last_error};
 use super::types::{
-    DVH_STATUS_BUSY, DVH_STATUS_INTERNAL_PANIC, DVH_STATUS_INVALID_ARGUMENT, DvhContacts, DvhMesh,
-    DvhPairs, DvhScene,
+    DVH_STATUS_BUSY, DVH_STATUS_INTERNAL_PANIC, DVH_STATUS_INVALID_ARGUMENT, DvhContacts,
+    DvhImpacts, DvhMesh, DvhPairs, DvhScene,
 };
 use std::cell::UnsafeCell;
 use std::ops::{Deref, DerefMut};
@@ -117,6 +117,7 @@ pub(crate) const MESH_TAG: u64 = u64::from_le_bytes(*b"dvh:mesh");
 pub(crate) const SCENE_TAG: u64 = u64::from_le_bytes(*b"dvh:scen");
 pub(crate) const PAIRS_TAG: u64 = u64::from_le_bytes(*b"dvh:pair");
 pub(crate) const CONTACTS_TAG: u64 = u64::from_le_bytes(*b"dvh:cont");
+pub(crate) const IMPACTS_TAG: u64 = u64::from_le_bytes(*b"dvh:impa");
 const FREED_TAG: u64 = u64::from_le_bytes(*b"dvh:free");
 
 impl Tag {
@@ -283,6 +284,7 @@ fn kind(tag: u64) -> &'static str {
         MESH_TAG => "DvhMesh",
         SCENE_TAG => "DvhScene",
         PAIRS_TAG => "DvhPairs",
+        IMPACTS_TAG => "DvhImpacts",
         _ => "DvhContacts",
     }
 }
@@ -303,6 +305,7 @@ handle!(DvhMesh, crate::Mesh, MESH_TAG, mesh);
 handle!(DvhPairs, crate::Pairs, PAIRS_TAG, pairs);
 handle!(DvhScene, crate::Scene, SCENE_TAG, scene);
 handle!(DvhContacts, crate::Contacts, CONTACTS_TAG, contacts);
+handle!(DvhImpacts, crate::Impacts, IMPACTS_TAG, impacts);
 
 #[cfg(test)]
 mod tests {

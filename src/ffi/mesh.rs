@@ -366,7 +366,7 @@ pub unsafe extern "C" fn dvh_mesh_create_f32(
 
 /// Runs a refit (entry point `call`) with the mesh taken for change: refused while another call
 /// uses it; if the refit panics the half-updated mesh stays refused.
-fn refit_guarded(
+pub(super) fn refit_guarded(
     mesh: *mut DvhMesh,
     vertex_count: usize,
     call: &str,

@@ -10,12 +10,14 @@
 
 mod access;
 mod boundary;
+mod ccd;
 mod mesh;
 mod query;
 mod results;
 mod scene;
 mod types;
 
+pub use ccd::*;
 pub use mesh::*;
 pub use query::*;
 pub use scene::*;

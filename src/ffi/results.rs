@@ -7,10 +7,10 @@
 use super::access::{Access, Handle, Read, Tag, read, release};
 use super::boundary::{guard_value, set_last_error, try_box};
 use super::types::{
-    DVH_PAIR_KIND_NODES, DVH_PAIR_KIND_TRIANGLES, DvhContact, DvhContacts, DvhPair, DvhPairKind,
-    DvhPairs,
+    DVH_PAIR_KIND_NODES, DVH_PAIR_KIND_TRIANGLES, DvhContact, DvhContacts, DvhImpact, DvhImpacts,
+    DvhPair, DvhPairKind, DvhPairs,
 };
-use crate::{Contacts, PairKind, Pairs};
+use crate::{Contacts, Impacts, PairKind, Pairs};
 use std::cell::UnsafeCell;
 
 /// A result buffer of the C ABI.
@@ -78,6 +78,33 @@ impl Results for DvhContacts {
 
     fn kind(inner: &Contacts) -> PairKind {
         inner.kind()
+    }
+}
+
+impl Results for DvhImpacts {
+    type Item = DvhImpact;
+    const ARGUMENT: &'static str = "impacts";
+
+    fn empty() -> DvhImpacts {
+        DvhImpacts {
+            tag: Tag::new(Self::TAG),
+            access: Access::default(),
+            impacts: UnsafeCell::new(Impacts::new()),
+        }
+    }
+
+    fn len(inner: &Impacts) -> usize {
+        inner.len()
+    }
+
+    fn data(inner: &Impacts) -> *const DvhImpact {
+        // `DvhImpact` has `Impact`'s layout (checked in `types`).
+        inner.as_slice().as_ptr().cast()
+    }
+
+    fn kind(_: &Impacts) -> PairKind {
+        // Impacts say their kind one by one; no accessor asks.
+        PairKind::Triangles
     }
 }
 

@@ -5,7 +5,7 @@
 //! undefined behaviour. Every such value is checked and reported as an invalid argument.
 
 use super::access::{Access, Tag};
-use crate::{Contact, Pair, QueryStats, RefitStats, SceneStats, TreeStats};
+use crate::{CcdStats, Contact, Impact, Pair, QueryStats, RefitStats, SceneStats, TreeStats};
 use std::cell::UnsafeCell;
 
 /// Result of every fallible call: `DVH_STATUS_OK` (0) or one of the `DVH_STATUS_*` codes.
@@ -309,6 +309,110 @@ pub struct DvhContacts {
     pub(crate) contacts: UnsafeCell<crate::Contacts>,
 }
 
+/// How a continuous test decides (`DvhCcdOptions.mode`).
+pub type DvhCcdMode = u32;
+/// Exact for every finite input: a floating-point filter, then exact arithmetic where it cannot
+/// decide; the time of impact is the earliest contact rounded down to a double. The default.
+pub const DVH_CCD_MODE_EXACT: DvhCcdMode = 0;
+/// Floating point only: never misses a contact and never reports a later time than the exact
+/// mode, but may report primitives that come within rounding error of contact (coplanar and
+/// touching to within the error of interval arithmetic on their coordinates), at the start of
+/// the time span it could not settle. Bounded time per test.
+pub const DVH_CCD_MODE_CONSERVATIVE: DvhCcdMode = 1;
+
+/// Options for `dvh_ccd_vertex_face`, `dvh_ccd_edge_edge` (which read `mode` only),
+/// `dvh_continuous_collide` and `dvh_self_continuous_collide`; start from
+/// `dvh_ccd_options_default()` (all fields zero). Grows like `DvhBuildOptions`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DvhCcdOptions {
+    /// A `DVH_CCD_MODE_*` value.
+    pub mode: DvhCcdMode,
+    /// Threads, as `DvhQueryOptions.threads`: 0 for every core, 1 for the calling thread. The
+    /// impacts are the same, in the same order, whatever the count.
+    pub threads: u32,
+    /// Stop once this many impacts are found (0: no limit); `DvhCcdStats.truncated` then says so.
+    pub max_impacts: u64,
+    /// Report only the earliest impact (of several at that time, the first in the result's
+    /// order): much cheaper than the whole list, since pairs that cannot meet before the
+    /// earliest impact found so far are not tested.
+    pub earliest_only: bool,
+}
+
+/// Which primitives of a `DvhImpact` meet.
+pub type DvhImpactKind = u32;
+/// A vertex of the first mesh (`a0`) against a triangle of the second (`b0`).
+pub const DVH_IMPACT_KIND_VERTEX_FACE: DvhImpactKind = 0;
+/// A triangle of the first mesh (`a0`) against a vertex of the second (`b0`); not reported by
+/// self queries.
+pub const DVH_IMPACT_KIND_FACE_VERTEX: DvhImpactKind = 1;
+/// An edge of the first mesh (`a0 < a1`) against an edge of the second (`b0 < b1`); in self
+/// queries `(a0, a1) < (b0, b1)`.
+pub const DVH_IMPACT_KIND_EDGE_EDGE: DvhImpactKind = 2;
+
+/// Two primitives that meet during the step, and the earliest time they do. Results are sorted
+/// by `(kind, a0, a1, b0, b1)`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DvhImpact {
+    /// A `DVH_IMPACT_KIND_*` value.
+    pub kind: DvhImpactKind,
+    /// VERTEX_FACE: a vertex of the first mesh; FACE_VERTEX: a triangle of the first mesh;
+    /// EDGE_EDGE: the edge's lower vertex.
+    pub a0: u32,
+    /// EDGE_EDGE: the first edge's higher vertex; 0 otherwise.
+    pub a1: u32,
+    /// VERTEX_FACE: a triangle of the second mesh; FACE_VERTEX: a vertex of the second mesh;
+    /// EDGE_EDGE: the second edge's lower vertex.
+    pub b0: u32,
+    /// EDGE_EDGE: the second edge's higher vertex; 0 otherwise.
+    pub b1: u32,
+    /// The earliest time of impact in [0, 1], rounded down to a double (in
+    /// `DVH_CCD_MODE_CONSERVATIVE`, a time no later than that).
+    pub toi: f64,
+}
+
+// `dvh_impacts_data` hands out the library's own `Impact` array as `DvhImpact`: same fields,
+// same order, both `repr(C)` (the kind a `u32` enum).
+const _: () = {
+    assert!(std::mem::size_of::<DvhImpact>() == std::mem::size_of::<Impact>());
+    assert!(std::mem::align_of::<DvhImpact>() == std::mem::align_of::<Impact>());
+    assert!(std::mem::offset_of!(DvhImpact, kind) == std::mem::offset_of!(Impact, kind));
+    assert!(std::mem::offset_of!(DvhImpact, a0) == std::mem::offset_of!(Impact, a0));
+    assert!(std::mem::offset_of!(DvhImpact, a1) == std::mem::offset_of!(Impact, a1));
+    assert!(std::mem::offset_of!(DvhImpact, b0) == std::mem::offset_of!(Impact, b0));
+    assert!(std::mem::offset_of!(DvhImpact, b1) == std::mem::offset_of!(Impact, b1));
+    assert!(std::mem::offset_of!(DvhImpact, toi) == std::mem::offset_of!(Impact, toi));
+    assert!(crate::ImpactKind::VertexFace as u32 == DVH_IMPACT_KIND_VERTEX_FACE);
+    assert!(crate::ImpactKind::FaceVertex as u32 == DVH_IMPACT_KIND_FACE_VERTEX);
+    assert!(crate::ImpactKind::EdgeEdge as u32 == DVH_IMPACT_KIND_EDGE_EDGE);
+};
+
+/// Counters of one continuous query.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DvhCcdStats {
+    /// Volume pairs tested by the traversal over the motion.
+    pub bv_tests: u64,
+    /// Primitive pairs (vertex-face, edge-edge) given to the continuous test.
+    pub primitive_tests: u64,
+    /// Impacts reported.
+    pub impacts: u64,
+    /// The earliest time of the impacts reported; INFINITY when there are none.
+    pub earliest_toi: f64,
+    /// Did `max_impacts` stop the query before every impact was found?
+    pub truncated: bool,
+}
+
+/// A reusable result buffer for the continuous queries. Opaque; created by `dvh_impacts_new`,
+/// released by `dvh_impacts_free`. Use one per thread.
+pub struct DvhImpacts {
+    pub(crate) tag: Tag,
+    /// Continuous queries write it, the accessors read it.
+    pub(crate) access: Access,
+    pub(crate) impacts: UnsafeCell<crate::Impacts>,
+}
+
 // The counters cross the boundary as mirrors of the library's own, field for field and in the
 // same order. Each conversion names every field of both sides, so that a field added to one
 // without the other does not compile; the tests below check names, order, values and layout.
@@ -333,6 +437,7 @@ mirror!(SceneStats => DvhSceneStats {
 });
 mirror!(RefitStats => DvhRefitStats { nodes_refit, distance_evaluations });
 mirror!(TreeStats => DvhTreeStats { triangles, rings, inner_nodes, levels, max_ring_triangles });
+mirror!(CcdStats => DvhCcdStats { bv_tests, primitive_tests, impacts, earliest_toi, truncated });
 
 #[cfg(test)]
 mod tests {
@@ -433,5 +538,10 @@ mod tests {
         assert_layout!(DvhPose, size 96, align 8, rotation 0, translation 72);
         assert_layout!(DvhPair, size 8, align 4, a 0, b 4);
         assert_layout!(DvhContact, size 16, align 4, object_a 0, object_b 4, a 8, b 12);
+        assert_layout!(DvhCcdOptions, size 24, align 8,
+            mode 0, threads 4, max_impacts 8, earliest_only 16);
+        assert_layout!(DvhImpact, size 32, align 8, kind 0, a0 4, a1 8, b0 12, b1 16, toi 24);
+        assert_layout!(DvhCcdStats, size 40, align 8,
+            bv_tests 0, primitive_tests 8, impacts 16, earliest_toi 24, truncated 32);
     }
 }
