@@ -111,3 +111,30 @@ fn self_collision_inputs() {
         "no kept inputs for self_collision"
     );
 }
+
+#[test]
+fn ccd_primitive_inputs() {
+    // A point falling through a triangle; two edges crossing; everything at one point.
+    drivers::ccd_primitive(&[
+        0, 4, 4, 16, 0, 0, 0, 16, 0, 0, 0, 16, 0, 4, 4, 240, 0, 0, 0, 16,
+    ]);
+    drivers::ccd_primitive(&[
+        1, 0, 8, 8, 16, 8, 8, 8, 0, 0, 8, 16, 0, 8, 8, 248, 16, 8, 248,
+    ]);
+    drivers::ccd_primitive(&[6]);
+    assert!(
+        replay("ccd_primitive", drivers::ccd_primitive) > 0,
+        "no kept inputs for ccd_primitive"
+    );
+}
+
+#[test]
+fn ccd_mesh_inputs() {
+    // A sheet folding through itself; a torus with a vertex pushed through.
+    drivers::ccd_mesh(&[2, 0, 0, 17, 0, 3, 4, 0, 12, 2]);
+    drivers::ccd_mesh(&[1, 0, 2, 3, 8, 8, 8, 0, 0, 1, 1, 1]);
+    assert!(
+        replay("ccd_mesh", drivers::ccd_mesh) > 0,
+        "no kept inputs for ccd_mesh"
+    );
+}

@@ -13,10 +13,16 @@
 //!   every contact list compared with brute force over the objects the filters allow.
 //! - [`self_collision`]: sheets, tori and spheres moved, folded and pinched by the bytes,
 //!   self-collision and self-proximity compared with brute force after every change.
+//! - [`ccd_primitive`]: the continuous primitive tests on degenerate motions, judged by the
+//!   invariants of the exact answer (symmetries, exact scaling and shifting, contact at either
+//!   end, the reversed motion) and the conservative mode's promises.
+//! - [`ccd_mesh`]: moving sheets and tori, the continuous queries of one mesh and of two against
+//!   brute force over every primitive pair, with every option.
 
 #![allow(dead_code, unused_imports)] // each fuzz target uses one driver
 
 mod c_abi;
+mod ccd;
 mod input;
 mod judge;
 mod scene;
@@ -24,6 +30,7 @@ mod self_collision;
 mod triangle;
 
 pub use c_abi::c_abi;
+pub use ccd::{ccd_mesh, ccd_primitive};
 pub use scene::scene;
 pub use self_collision::self_collision;
 pub use triangle::{oracle, triangle_oracle};

@@ -6,10 +6,21 @@ many objects at once go into a :class:`Scene`. Triangle pairs come back as ``(k,
 arrays. Every decision is exact (touching counts as intersecting). Bad input raises
 ``ValueError``/``TypeError`` before any call, or :class:`DvhError` with the library's message;
 a failed call changes nothing. The GIL is released while the library works.
+
+Continuous collision: give meshes a motion over one step with :meth:`Mesh.refit_motion`, then
+:func:`continuous_collide` and :func:`self_continuous_collide` return every vertex-face and
+edge-edge pair that meets during the step, with its earliest time of impact, as a structured
+array of :data:`IMPACT_DTYPE`; :func:`ccd_vertex_face` and :func:`ccd_edge_edge` test one pair
+of primitives.
 """
 
 from ._api import (
     CONTACT_DTYPE,
+    IMPACT_DTYPE,
+    IMPACT_EDGE_EDGE,
+    IMPACT_FACE_VERTEX,
+    IMPACT_VERTEX_FACE,
+    CcdStats,
     DvhError,
     Mesh,
     QueryStats,
@@ -17,9 +28,13 @@ from ._api import (
     Scene,
     SceneStats,
     TreeStats,
+    ccd_edge_edge,
+    ccd_vertex_face,
     collide,
+    continuous_collide,
     proximity,
     self_collide,
+    self_continuous_collide,
     self_proximity,
     triangles_intersect,
     version,
@@ -27,6 +42,11 @@ from ._api import (
 
 __all__ = [
     "CONTACT_DTYPE",
+    "IMPACT_DTYPE",
+    "IMPACT_EDGE_EDGE",
+    "IMPACT_FACE_VERTEX",
+    "IMPACT_VERTEX_FACE",
+    "CcdStats",
     "DvhError",
     "Mesh",
     "QueryStats",
@@ -34,9 +54,13 @@ __all__ = [
     "Scene",
     "SceneStats",
     "TreeStats",
+    "ccd_edge_edge",
+    "ccd_vertex_face",
     "collide",
+    "continuous_collide",
     "proximity",
     "self_collide",
+    "self_continuous_collide",
     "self_proximity",
     "triangles_intersect",
     "version",

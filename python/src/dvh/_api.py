@@ -10,9 +10,10 @@ from __future__ import annotations
 
 import threading
 from dataclasses import dataclass
-from typing import Optional, Tuple, Union
+from typing import Literal, Optional, Tuple, Union, overload
 
 import numpy as np
+import numpy.typing as npt
 
 from ._dvh import ffi, lib
 
@@ -25,11 +26,20 @@ __all__ = [
     "TreeStats",
     "RefitStats",
     "CONTACT_DTYPE",
+    "CcdStats",
+    "IMPACT_DTYPE",
+    "IMPACT_VERTEX_FACE",
+    "IMPACT_FACE_VERTEX",
+    "IMPACT_EDGE_EDGE",
     "collide",
     "self_collide",
     "proximity",
     "self_proximity",
     "triangles_intersect",
+    "continuous_collide",
+    "self_continuous_collide",
+    "ccd_vertex_face",
+    "ccd_edge_edge",
     "version",
 ]
 
@@ -58,6 +68,35 @@ _U64_MAX = 0xFFFF_FFFF_FFFF_FFFF
 #: triangle (or node) index in each object's mesh.
 CONTACT_DTYPE = np.dtype(
     [("object_a", "<u4"), ("object_b", "<u4"), ("a", "<u4"), ("b", "<u4")]
+)
+
+_CCD_MODES = {
+    "exact": lib.DVH_CCD_MODE_EXACT,
+    "conservative": lib.DVH_CCD_MODE_CONSERVATIVE,
+}
+
+#: :data:`IMPACT_DTYPE`'s ``kind``: a vertex of the first mesh (``a0``) against a triangle of the
+#: second (``b0``).
+IMPACT_VERTEX_FACE: int = int(lib.DVH_IMPACT_KIND_VERTEX_FACE)
+#: :data:`IMPACT_DTYPE`'s ``kind``: a triangle of the first mesh (``a0``) against a vertex of the
+#: second (``b0``); never reported by :func:`self_continuous_collide`.
+IMPACT_FACE_VERTEX: int = int(lib.DVH_IMPACT_KIND_FACE_VERTEX)
+#: :data:`IMPACT_DTYPE`'s ``kind``: an edge ``(a0, a1)``, ``a0 < a1``, of the first mesh against an
+#: edge ``(b0, b1)``, ``b0 < b1``, of the second (in self queries ``(a0, a1) < (b0, b1)``).
+IMPACT_EDGE_EDGE: int = int(lib.DVH_IMPACT_KIND_EDGE_EDGE)
+
+#: The dtype of :func:`continuous_collide`'s impacts, the layout of the C ``DvhImpact``: the
+#: ``kind`` (an ``IMPACT_*`` constant), the primitives ``a0, a1`` of the first mesh and ``b0, b1``
+#: of the second (a vertex or triangle in ``a0``/``b0`` with ``a1``/``b1`` 0, or an edge's lower
+#: and higher vertex), and ``toi``, the earliest time of contact in ``[0, 1]``.
+#: Its offsets and size (32 bytes, the padding after ``b1`` included) are the C struct's.
+IMPACT_DTYPE = np.dtype(
+    {
+        "names": ["kind", "a0", "a1", "b0", "b1", "toi"],
+        "formats": ["=u4", "=u4", "=u4", "=u4", "=u4", "=f8"],
+        "offsets": [ffi.offsetof("DvhImpact", f) for f in ("kind", "a0", "a1", "b0", "b1", "toi")],
+        "itemsize": ffi.sizeof("DvhImpact"),
+    }
 )
 
 
@@ -127,11 +166,29 @@ def _positions(name: str, positions, expected: Optional[int] = None):
             arr = np.ascontiguousarray(arr)
         ptr = ffi.cast("const float *", arr.ctypes.data)
         return arr, ptr, arr.strides[0] if arr.shape[0] > 0 else 12, True
-    # Integers and float16 convert to float64 exactly; long double would round, so it is refused.
-    if arr.dtype.kind not in "fiu" or (arr.dtype.kind == "f" and arr.dtype.itemsize > 8):
-        raise TypeError(f"{name} must hold float64 or float32 values; got dtype {arr.dtype}")
-    arr = np.ascontiguousarray(arr, dtype=np.float64)
+    arr = _float64(name, arr)
     return arr, ffi.cast("const double *", arr.ctypes.data), 24, False
+
+
+def _float64(name: str, arr: np.ndarray) -> np.ndarray:
+    """`arr` as a C-contiguous float64 array (itself when it is one already). Integers, float16
+    and float32 convert exactly; long double would round, so it is refused."""
+    kind = arr.dtype.kind
+    if kind not in "fiu" or (kind == "f" and arr.dtype.itemsize > 8):
+        raise TypeError(f"{name} must hold float64 or float32 values; got dtype {arr.dtype}")
+    return np.ascontiguousarray(arr, dtype=np.float64)
+
+
+def _positions64(name: str, positions, expected: int):
+    """`positions` as a C-contiguous ``(expected, 3)`` float64 array and a cffi pointer to it,
+    for the calls that take doubles only (float32 is widened, exactly)."""
+    arr = np.asarray(positions)
+    if arr.ndim != 2 or arr.shape[1] != 3:
+        raise ValueError(f"{name} must have shape (n, 3); got {arr.shape}")
+    if arr.shape[0] != expected:
+        raise ValueError(f"{name} has {arr.shape[0]} vertices; the mesh has {expected}")
+    arr = _float64(name, arr)
+    return arr, ffi.cast("const double *", arr.ctypes.data)
 
 
 def _triangles(triangles):
@@ -339,6 +396,23 @@ class Mesh:
             status = lib.dvh_mesh_refit(self._ptr, pptr, pos.shape[0])
         _raise_for(status)
 
+    def refit_motion(self, start: npt.ArrayLike, end: npt.ArrayLike) -> None:
+        """Gives the mesh a motion over one step, for :func:`continuous_collide` and
+        :func:`self_continuous_collide`: every vertex moves in a straight line from its row of
+        ``start`` (time 0) to its row of ``end`` (time 1), both ``(n, 3)`` arrays of the mesh's
+        vertex count (float64, or float32 and integers, widened exactly). The hierarchy is refit
+        to hold every vertex's whole path, and the mesh's positions become ``end``: the discrete
+        queries (:func:`collide`, ...) see the end of the step. A plain :meth:`refit` makes the
+        mesh stationary again.
+
+        A wrong shape or dtype is a ``ValueError``/``TypeError`` naming ``start`` or ``end``; a
+        NaN or infinite coordinate a :class:`DvhError` (``NON_FINITE_COORDINATE``) whose message
+        says which positions (start or end), vertex and axis. On error the mesh keeps its previous
+        positions, motion and volumes."""
+        s, sptr = _positions64("start", start, self._vertices)
+        e, eptr = _positions64("end", end, self._vertices)
+        _raise_for(lib.dvh_mesh_refit_motion(self._ptr, sptr, eptr, s.shape[0]))
+
     def tree_stats(self) -> TreeStats:
         """The shape of the hierarchy."""
         s = ffi.new("DvhTreeStats *")
@@ -416,13 +490,25 @@ def _new_options(mode, max_pairs, threads, max_depth, budget):
 
 
 class _Buffers(threading.local):
-    """One result buffer per thread, reused by every query on it: the library keeps its
-    workspace (the threads' scratch space) in the buffer, so reuse saves allocations."""
+    """One result buffer of each kind per thread, reused by every query on it: the library keeps
+    its workspace (the threads' scratch space) in the buffer, so reuse saves allocations."""
 
     def __init__(self):
-        self.pairs = ffi.gc(lib.dvh_pairs_new(), lib.dvh_pairs_free)
-        if self.pairs == ffi.NULL:
+        pairs = lib.dvh_pairs_new()
+        if pairs == ffi.NULL:
             raise MemoryError("dvh_pairs_new: out of memory")
+        self.pairs = ffi.gc(pairs, lib.dvh_pairs_free)
+        self._impacts = None
+
+    @property
+    def impacts(self):
+        """The thread's impact buffer, created by the first continuous query on the thread."""
+        if self._impacts is None:
+            impacts = lib.dvh_impacts_new()
+            if impacts == ffi.NULL:
+                raise MemoryError("dvh_impacts_new: out of memory")
+            self._impacts = ffi.gc(impacts, lib.dvh_impacts_free)
+        return self._impacts
 
 
 _buffers = _Buffers()
@@ -563,6 +649,259 @@ def triangles_intersect(t1, t2) -> bool:
     pb = ffi.cast("const double *", b.ctypes.data)
     _raise_for(lib.dvh_triangles_intersect(pa, pb, out))
     return bool(out[0])
+
+
+# ---------------------------------------------------------------------------------------------
+# Continuous collision
+
+
+@dataclass(frozen=True)
+class CcdStats:
+    """Counters of one continuous query (:func:`continuous_collide`,
+    :func:`self_continuous_collide`)."""
+
+    #: Volume pairs tested by the traversal over the motion.
+    bv_tests: int
+    #: Primitive pairs (vertex-face, edge-edge) given to the continuous test.
+    primitive_tests: int
+    #: Impacts reported.
+    impacts: int
+    #: The earliest ``toi`` of the impacts reported; ``inf`` when there are none.
+    earliest_toi: float
+    #: Did ``max_impacts`` stop the query before every impact was found?
+    truncated: bool
+
+    @classmethod
+    def _of(cls, s) -> "CcdStats":
+        return cls(
+            s.bv_tests, s.primitive_tests, s.impacts, float(s.earliest_toi), bool(s.truncated)
+        )
+
+
+_ccd_option_cache: dict = {}
+
+
+def _ccd_options(mode, threads, max_impacts, earliest_only):
+    """The C continuous options for these arguments, checked once and kept (as `_options`)."""
+    plain = (
+        type(mode) is str
+        and type(threads) is int
+        and (max_impacts is None or type(max_impacts) is int)
+        and type(earliest_only) is bool
+    )
+    key = (mode, threads, max_impacts, earliest_only)
+    if plain:
+        o = _ccd_option_cache.get(key)
+        if o is not None:
+            return o
+    o = _new_ccd_options(mode, threads, max_impacts, earliest_only)
+    if plain and len(_ccd_option_cache) < 256:
+        _ccd_option_cache[key] = o
+    return o
+
+
+def _new_ccd_options(mode, threads, max_impacts, earliest_only):
+    o = ffi.new("DvhCcdOptions *")
+    o[0] = lib.dvh_ccd_options_default()
+    o.mode = _choice("mode", mode, _CCD_MODES)
+    o.threads = _count("threads", threads, _U32_MAX)
+    if max_impacts is not None:
+        if isinstance(max_impacts, bool) or not isinstance(max_impacts, (int, np.integer)):
+            raise TypeError(f"max_impacts must be None or an integer; got {max_impacts!r}")
+        n = int(max_impacts)
+        if not 1 <= n <= _U64_MAX:
+            raise ValueError(f"max_impacts must be None (no limit) or in 1..={_U64_MAX}; got {n}")
+        o.max_impacts = n
+    if not isinstance(earliest_only, (bool, np.bool_)):
+        raise TypeError(f"earliest_only must be a bool; got {earliest_only!r}")
+    o.earliest_only = bool(earliest_only)
+    return o
+
+
+def _impacts_array(buf) -> np.ndarray:
+    n = lib.dvh_impacts_len(buf)
+    if n == 0:
+        return np.empty(0, dtype=IMPACT_DTYPE)
+    data = lib.dvh_impacts_data(buf)
+    size = IMPACT_DTYPE.itemsize * n
+    return np.frombuffer(ffi.buffer(data, size), dtype=IMPACT_DTYPE).copy()
+
+
+def _ccd_finish(status, buf, stats):
+    if status:
+        _raise_for(status)
+    impacts = _impacts_array(buf)
+    return impacts if stats == ffi.NULL else (impacts, CcdStats._of(stats))
+
+
+_CcdResult = Union[np.ndarray, Tuple[np.ndarray, CcdStats]]
+
+
+@overload
+def continuous_collide(
+    a: Mesh,
+    b: Mesh,
+    *,
+    mode: str = ...,
+    threads: int = ...,
+    max_impacts: Optional[int] = ...,
+    earliest_only: bool = ...,
+    stats: Literal[False] = ...,
+) -> np.ndarray: ...
+@overload
+def continuous_collide(
+    a: Mesh,
+    b: Mesh,
+    *,
+    mode: str = ...,
+    threads: int = ...,
+    max_impacts: Optional[int] = ...,
+    earliest_only: bool = ...,
+    stats: Literal[True],
+) -> Tuple[np.ndarray, CcdStats]: ...
+@overload
+def continuous_collide(
+    a: Mesh,
+    b: Mesh,
+    *,
+    mode: str = ...,
+    threads: int = ...,
+    max_impacts: Optional[int] = ...,
+    earliest_only: bool = ...,
+    stats: bool = ...,
+) -> _CcdResult: ...
+def continuous_collide(
+    a: Mesh,
+    b: Mesh,
+    *,
+    mode: str = "exact",
+    threads: int = 0,
+    max_impacts: Optional[int] = None,
+    earliest_only: bool = False,
+    stats: bool = False,
+) -> _CcdResult:
+    """Every vertex-face and edge-edge pair of ``a`` and ``b`` that meets while each mesh moves
+    through its last motion (:meth:`Mesh.refit_motion`; a mesh built or :meth:`Mesh.refit`
+    since stays still at its positions), with the earliest time it does.
+
+    Returns a structured array of :data:`IMPACT_DTYPE`, sorted by ``(kind, a0, a1, b0, b1)``:
+    each vertex of ``a`` against each triangle of ``b`` (``kind`` :data:`IMPACT_VERTEX_FACE`,
+    ``a0`` the vertex, ``b0`` the triangle), each triangle of ``a`` against each vertex of ``b``
+    (:data:`IMPACT_FACE_VERTEX`, ``a0`` the triangle, ``b0`` the vertex), each edge of ``a``
+    against each edge of ``b`` (:data:`IMPACT_EDGE_EDGE`, ``(a0, a1)`` and ``(b0, b1)`` with the
+    lower vertex first; an edge is reported once however many triangles share it). ``toi`` is
+    the earliest time of contact in ``[0, 1]``, rounded down to a double. Vertices of no
+    triangle are not tested.
+
+    ``mode``: ``"exact"`` (every decision exact; the default) or ``"conservative"`` (floating
+    point only, bounded time per test: never misses an impact nor reports a later time than
+    ``"exact"``, but may report primitives that come within rounding error of contact).
+    ``threads`` bounds the threads (0: every core; the impacts are the same, in the same order,
+    for any count). ``max_impacts`` stops the query after that many (None: no limit).
+    ``earliest_only=True`` returns only the earliest impact (of several at that time, the first
+    in the result's order), much faster than the whole list. With ``stats=True`` returns
+    ``(impacts, CcdStats)``."""
+    pa, pb = _mesh("a", a), _mesh("b", b)
+    o = _ccd_options(mode, threads, max_impacts, earliest_only)
+    s = ffi.new("DvhCcdStats *") if stats else ffi.NULL
+    buf = _buffers.impacts
+    return _ccd_finish(lib.dvh_continuous_collide(pa, pb, o, buf, s), buf, s)
+
+
+@overload
+def self_continuous_collide(
+    mesh: Mesh,
+    *,
+    mode: str = ...,
+    threads: int = ...,
+    max_impacts: Optional[int] = ...,
+    earliest_only: bool = ...,
+    stats: Literal[False] = ...,
+) -> np.ndarray: ...
+@overload
+def self_continuous_collide(
+    mesh: Mesh,
+    *,
+    mode: str = ...,
+    threads: int = ...,
+    max_impacts: Optional[int] = ...,
+    earliest_only: bool = ...,
+    stats: Literal[True],
+) -> Tuple[np.ndarray, CcdStats]: ...
+@overload
+def self_continuous_collide(
+    mesh: Mesh,
+    *,
+    mode: str = ...,
+    threads: int = ...,
+    max_impacts: Optional[int] = ...,
+    earliest_only: bool = ...,
+    stats: bool = ...,
+) -> _CcdResult: ...
+def self_continuous_collide(
+    mesh: Mesh,
+    *,
+    mode: str = "exact",
+    threads: int = 0,
+    max_impacts: Optional[int] = None,
+    earliest_only: bool = False,
+    stats: bool = False,
+) -> _CcdResult:
+    """Every pair of one mesh's primitives that meets during its last motion, with the earliest
+    time: each vertex against each triangle that does not contain it
+    (:data:`IMPACT_VERTEX_FACE`, ``a0`` the vertex, ``b0`` the triangle) and each pair of edges
+    that share no vertex (:data:`IMPACT_EDGE_EDGE`, ``(a0, a1) < (b0, b1)``); no
+    :data:`IMPACT_FACE_VERTEX` impacts. Options and result as :func:`continuous_collide`."""
+    p = _mesh("mesh", mesh)
+    o = _ccd_options(mode, threads, max_impacts, earliest_only)
+    s = ffi.new("DvhCcdStats *") if stats else ffi.NULL
+    buf = _buffers.impacts
+    return _ccd_finish(lib.dvh_self_continuous_collide(p, o, buf, s), buf, s)
+
+
+def _points4(name: str, points) -> np.ndarray:
+    arr = np.asarray(points)
+    if arr.shape != (4, 3):
+        raise ValueError(f"{name} must have shape (4, 3); got {arr.shape}")
+    return _float64(name, arr)
+
+
+def _primitive(test, start, end, mode) -> Optional[float]:
+    s, e = _points4("start", start), _points4("end", end)
+    o = _ccd_options(mode, 0, None, False)
+    hit = ffi.new("bool *")
+    toi = ffi.new("double *")
+    sptr = ffi.cast("const double *", s.ctypes.data)
+    eptr = ffi.cast("const double *", e.ctypes.data)
+    _raise_for(test(sptr, eptr, o, hit, toi))
+    return float(toi[0]) if hit[0] else None
+
+
+def ccd_vertex_face(
+    start: npt.ArrayLike, end: npt.ArrayLike, *, mode: str = "exact"
+) -> Optional[float]:
+    """Does a point moving in a straight line meet a moving triangle during the step
+    ``t`` in ``[0, 1]``, and when first? ``start`` and ``end`` are ``(4, 3)`` arrays: the point,
+    then the triangle's three corners, at ``t = 0`` and ``t = 1``; every corner moves in a
+    straight line. The triangle is closed (one of zero area is the segment or point it covers).
+
+    Returns the earliest time of contact, rounded down to a double, or None when they never
+    meet. ``mode`` as :func:`continuous_collide`: ``"exact"`` decides exactly for every finite
+    input; ``"conservative"`` never returns None nor a later time where ``"exact"`` finds a
+    contact, but may report near misses. A NaN or infinite coordinate is a :class:`DvhError`
+    (``NON_FINITE_COORDINATE``)."""
+    return _primitive(lib.dvh_ccd_vertex_face, start, end, mode)
+
+
+def ccd_edge_edge(
+    start: npt.ArrayLike, end: npt.ArrayLike, *, mode: str = "exact"
+) -> Optional[float]:
+    """Do two segments, their ends moving in straight lines, share a point during the step
+    ``t`` in ``[0, 1]``, and when first? ``start`` and ``end`` are ``(4, 3)`` arrays: edge a's
+    two ends, then edge b's, at ``t = 0`` and ``t = 1``. The segments are closed (a zero-length
+    one is its point); parallel, collinear and overlapping segments are decided like any
+    others. Result, ``mode`` and errors as :func:`ccd_vertex_face`."""
+    return _primitive(lib.dvh_ccd_edge_edge, start, end, mode)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -1,0 +1,7 @@
+//! Fuzz target: see `drivers::ccd_primitive`.
+#![no_main]
+
+#[path = "../drivers/mod.rs"]
+mod drivers;
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| drivers::ccd_primitive(data));
