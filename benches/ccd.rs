@@ -3,10 +3,17 @@
 //! (the Bernstein coefficients decide), and that meet at a time that is not a double (the
 //! interval path decides, and the exact cubic rounds the time).
 //!
-//! `cargo bench --bench ccd`.
+//! And one step of moving meshes: a cloth sheet draped onto a sphere (the two meshes, every
+//! impact or the earliest only), the sheet folding over itself (self), exact and conservative.
+//!
+//! `cargo bench --bench ccd` (about 3 minutes).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use dvh::exact::{edge_edge_impact, vertex_face_impact};
+use dvh::fixtures::{grid, icosphere};
+use dvh::{
+    BuildOptions, CcdMode, CcdOptions, Impacts, Mesh, continuous_collide, self_continuous_collide,
+};
 use std::hint::black_box;
 
 type Prim = [[f64; 3]; 4];
@@ -95,5 +102,94 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+/// A 48 x 48 sheet (4,608 triangles) over [-1, 1]^2 falling from z = 0.53 to z = 0.47 with a
+/// ripple, through the top of a sphere of radius 0.5 (1,280 triangles) that rises by 0.01; and
+/// the sheet folding its right half over its left, from flat.
+fn scenes() -> ((Mesh, Mesh), Mesh) {
+    let sheet = grid(48, 2.0);
+    let flat: Vec<f64> = sheet
+        .positions
+        .chunks_exact(3)
+        .flat_map(|p| [p[0] - 1.0, p[1] - 1.0, 0.0])
+        .collect();
+    let at = |z: f64| -> Vec<f64> {
+        flat.chunks_exact(3)
+            .flat_map(|p| {
+                [
+                    p[0],
+                    p[1],
+                    z + 0.01 * (7.0 * p[0]).sin() * (5.0 * p[1]).cos(),
+                ]
+            })
+            .collect()
+    };
+    let options = BuildOptions::default();
+    let mut cloth = Mesh::new(&flat, &sheet.triangles, &options).unwrap();
+    cloth.refit_motion(&at(0.53), &at(0.47)).unwrap();
+    let ball = icosphere(3);
+    let scaled = |dz: f64| -> Vec<f64> {
+        ball.positions
+            .chunks_exact(3)
+            .flat_map(|p| {
+                let n = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+                [0.5 * p[0] / n, 0.5 * p[1] / n, 0.5 * p[2] / n + dz]
+            })
+            .collect()
+    };
+    let mut sphere = Mesh::new(&scaled(0.0), &ball.triangles, &options).unwrap();
+    sphere.refit_motion(&scaled(0.0), &scaled(0.01)).unwrap();
+    let folded: Vec<f64> = flat
+        .chunks_exact(3)
+        .flat_map(|p| {
+            if p[0] > 0.0 {
+                [-p[0] + 0.02 * p[1], p[1], 0.03 - 0.04 * p[0]]
+            } else {
+                [p[0], p[1], 0.0]
+            }
+        })
+        .collect();
+    let mut fold = Mesh::new(&flat, &sheet.triangles, &options).unwrap();
+    fold.refit_motion(&flat, &folded).unwrap();
+    ((cloth, sphere), fold)
+}
+
+fn bench_meshes(c: &mut Criterion) {
+    let ((cloth, sphere), fold) = scenes();
+    let mut g = c.benchmark_group("ccd step");
+    g.sample_size(10);
+    let mut out = Impacts::new();
+    for (name, options) in [
+        ("exact", CcdOptions::default()),
+        (
+            "exact, earliest only",
+            CcdOptions::default().with_earliest_only(true),
+        ),
+        (
+            "conservative",
+            CcdOptions::default().with_mode(CcdMode::Conservative),
+        ),
+    ] {
+        for threads in [1, 0] {
+            let options = options.with_threads(threads);
+            let label = if threads == 1 {
+                "1 thread"
+            } else {
+                "all cores"
+            };
+            continuous_collide(&cloth, &sphere, &options, &mut out).unwrap();
+            eprintln!("sheet on sphere, {name}: {} impacts", out.len());
+            g.bench_function(format!("sheet on sphere, {name}, {label}"), |b| {
+                b.iter(|| continuous_collide(&cloth, &sphere, &options, &mut out).unwrap())
+            });
+            self_continuous_collide(&fold, &options, &mut out).unwrap();
+            eprintln!("sheet folding, {name}: {} impacts", out.len());
+            g.bench_function(format!("sheet folding, {name}, {label}"), |b| {
+                b.iter(|| self_continuous_collide(&fold, &options, &mut out).unwrap())
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench, bench_meshes);
 criterion_main!(benches);

@@ -33,6 +33,11 @@
 //!   neighbouring triangles.
 //! - **Nearness.** [`proximity`] and [`self_proximity`]: every triangle pair within a distance,
 //!   exact.
+//! - **Motion over a step.** [`Mesh::refit_motion`] gives a mesh straight-line motion from
+//!   start to end positions; [`continuous_collide`] and [`self_continuous_collide`] report
+//!   every vertex-face and edge-edge pair that meets during the step, with its earliest time
+//!   ([`Impacts`], [`CcdOptions`], [`CcdStats`]), exactly or ([`CcdMode::Conservative`]) in
+//!   floating point only.
 //! - **Many objects.** A [`Scene`] of rigid and deformable objects sharing meshes, with groups,
 //!   masks and exclusions; [`Scene::collide`] reports [`Contacts`] and [`SceneStats`].
 //! - **The exact predicates on their own.** [`exact`]: [`exact::triangles_intersect`],
