@@ -1,8 +1,10 @@
 /*
  * Every function of dvh.h and every error path: NULL pointers, bad sizes and strides, misaligned
  * arrays, NaN and infinity, out-of-range indices and options, non-rigid and out-of-range poses,
- * f32 positions with a stride, reuse of a DvhPairs; and every query mode checked against an
- * independent brute-force oracle on meshes with integer coordinates.
+ * f32 positions with a stride, reuse of a DvhPairs; every query mode checked against an
+ * independent brute-force oracle on meshes with integer coordinates; and continuous collision:
+ * the primitive tests on motions with exact times of impact, the mesh queries on small cases
+ * worked out by hand and on deforming terrains against an oracle built from the primitive tests.
  */
 #include <math.h>
 
@@ -1027,6 +1029,751 @@ static void test_proximity(void) {
     mesh_free(&mb);
 }
 
+/* ---- continuous collision ---- */
+
+static DvhImpact impact(DvhImpactKind kind, uint32_t a0, uint32_t a1, uint32_t b0, uint32_t b1, double toi) {
+    DvhImpact i;
+    memset(&i, 0, sizeof i);
+    i.kind = kind;
+    i.a0 = a0;
+    i.a1 = a1;
+    i.b0 = b0;
+    i.b1 = b1;
+    i.toi = toi;
+    return i;
+}
+
+/* Field by field: DvhImpact has padding before `toi`. */
+static int same_impact(const DvhImpact *x, const DvhImpact *y) {
+    return x->kind == y->kind && x->a0 == y->a0 && x->a1 == y->a1 && x->b0 == y->b0 && x->b1 == y->b1 && x->toi == y->toi;
+}
+
+/* The results' order: (kind, a0, a1, b0, b1). */
+static int impact_key_cmp(const DvhImpact *x, const DvhImpact *y) {
+    const uint32_t kx[5] = {x->kind, x->a0, x->a1, x->b0, x->b1}, ky[5] = {y->kind, y->a0, y->a1, y->b0, y->b1};
+    int k;
+    for (k = 0; k < 5; k++)
+        if (kx[k] != ky[k]) return kx[k] < ky[k] ? -1 : 1;
+    return 0;
+}
+
+static int same_impacts(const DvhImpacts *r, const DvhImpact *expected, size_t n) {
+    size_t len = dvh_impacts_len(r), i;
+    const DvhImpact *data = dvh_impacts_data(r);
+    if (len != n) return 0;
+    if (n == 0) return data == NULL;
+    for (i = 0; i < n; i++)
+        if (!same_impact(&data[i], &expected[i])) return 0;
+    return 1;
+}
+
+static int contains_impact(const DvhImpact *v, size_t n, const DvhImpact *x) {
+    size_t i;
+    for (i = 0; i < n; i++)
+        if (same_impact(&v[i], x)) return 1;
+    return 0;
+}
+
+/* The impact a query with `earliest_only` reports: the earliest, the first in the results'
+ * order of several at that time. */
+static size_t earliest_index(const DvhImpact *v, size_t n) {
+    size_t i, best = 0;
+    for (i = 1; i < n; i++)
+        if (v[i].toi < v[best].toi) best = i;
+    return best;
+}
+
+static void check_ccd_stats(const DvhCcdStats *s, const DvhImpact *v, size_t n) {
+    double earliest = INFINITY;
+    size_t i;
+    for (i = 0; i < n; i++)
+        if (v[i].toi < earliest) earliest = v[i].toi;
+    CHECK(s->impacts == n && !s->truncated && s->earliest_toi == earliest);
+    CHECK(s->primitive_tests >= n);
+}
+
+/* A mesh over one step: every vertex from `start` to `end` in a straight line. */
+typedef struct Motion {
+    size_t vertex_count, triangle_count;
+    const uint32_t *tris;
+    const double *start, *end; /* 3 per vertex each */
+} Motion;
+
+static int edge_cmp(const void *x, const void *y) {
+    const uint32_t *a = x, *b = y;
+    if (a[0] != b[0]) return a[0] < b[0] ? -1 : 1;
+    if (a[1] != b[1]) return a[1] < b[1] ? -1 : 1;
+    return 0;
+}
+
+/* The edges of a mesh, as the continuous queries define them: distinct pairs (lower, higher) of
+ * distinct vertices joined by a triangle side, sorted; two per edge in *out (malloc'd). */
+static size_t motion_edges(const Motion *m, uint32_t **out) {
+    uint32_t *e = malloc((m->triangle_count * 6 + 2) * sizeof *e);
+    size_t n = 0, u = 0, t, k;
+    if (e == NULL) exit(2);
+    for (t = 0; t < m->triangle_count; t++)
+        for (k = 0; k < 3; k++) {
+            uint32_t p = m->tris[3 * t + k], q = m->tris[3 * t + (k + 1) % 3];
+            if (p == q) continue;
+            e[2 * n] = p < q ? p : q;
+            e[2 * n + 1] = p < q ? q : p;
+            n++;
+        }
+    qsort(e, n, 2 * sizeof *e, edge_cmp);
+    for (k = 0; k < n; k++)
+        if (u == 0 || edge_cmp(&e[2 * k], &e[2 * (u - 1)]) != 0) {
+            e[2 * u] = e[2 * k];
+            e[2 * u + 1] = e[2 * k + 1];
+            u++;
+        }
+    *out = e;
+    return u;
+}
+
+typedef struct ImpactList {
+    DvhImpact *v;
+    size_t n, cap;
+} ImpactList;
+
+typedef DvhStatus (*CcdTest)(const double *, const double *, const DvhCcdOptions *, bool *, double *);
+
+/* Tests the four moving points `v[k]` of `m[k]` with `test`; appends `key` with the time when they
+ * meet. */
+static void test_four(CcdTest test, const Motion **m, const uint32_t *v, const DvhCcdOptions *o, ImpactList *l, DvhImpact key) {
+    double s[12], e[12], toi = -1.0;
+    bool hit = false;
+    int k;
+    for (k = 0; k < 4; k++) {
+        memcpy(&s[3 * k], &m[k]->start[3 * (size_t)v[k]], 3 * sizeof(double));
+        memcpy(&e[3 * k], &m[k]->end[3 * (size_t)v[k]], 3 * sizeof(double));
+    }
+    CHECK(test(s, e, o, &hit, &toi) == DVH_STATUS_OK);
+    if (!hit) return;
+    CHECK(toi >= 0.0 && toi <= 1.0);
+    if (l->n == l->cap) {
+        DvhImpact *w;
+        l->cap = l->cap == 0 ? 64 : 2 * l->cap;
+        w = realloc(l->v, l->cap * sizeof *w);
+        if (w == NULL) exit(2);
+        l->v = w;
+    }
+    key.toi = toi;
+    l->v[l->n++] = key;
+}
+
+static unsigned char *vertices_used(const Motion *m) {
+    unsigned char *used = calloc(m->vertex_count + 1, 1);
+    size_t i;
+    if (used == NULL) exit(2);
+    for (i = 0; i < m->triangle_count * 3; i++) used[m->tris[i]] = 1;
+    return used;
+}
+
+/* The oracle of the continuous queries, from the primitive tests alone: every impact of `a`
+ * against `b` (of `a` with itself when `b` is NULL), in the results' order; the count is
+ * returned, the impacts go to *out (malloc'd). */
+static size_t ccd_brute_force(const Motion *a, const Motion *b, DvhCcdMode mode, DvhImpact **out) {
+    const int self = b == NULL;
+    const Motion *mb = self ? a : b;
+    DvhCcdOptions o = dvh_ccd_options_default();
+    ImpactList l = {NULL, 0, 0};
+    unsigned char *used_a = vertices_used(a), *used_b = vertices_used(mb);
+    uint32_t *ea, *eb;
+    size_t na = motion_edges(a, &ea), nb = motion_edges(mb, &eb), i, j;
+    o.mode = mode;
+    /* A vertex of a against a triangle of b (in a self query, one without the vertex). */
+    for (i = 0; i < a->vertex_count; i++) {
+        if (!used_a[i]) continue;
+        for (j = 0; j < mb->triangle_count; j++) {
+            const uint32_t *t = &mb->tris[3 * j];
+            const Motion *m[4];
+            uint32_t v[4];
+            if (self && (t[0] == i || t[1] == i || t[2] == i)) continue;
+            m[0] = a; m[1] = m[2] = m[3] = mb;
+            v[0] = (uint32_t)i; v[1] = t[0]; v[2] = t[1]; v[3] = t[2];
+            test_four(dvh_ccd_vertex_face, m, v, &o, &l, impact(DVH_IMPACT_KIND_VERTEX_FACE, (uint32_t)i, 0, (uint32_t)j, 0, 0.0));
+        }
+    }
+    /* A triangle of a against a vertex of b. */
+    if (!self)
+        for (i = 0; i < a->triangle_count; i++) {
+            const uint32_t *t = &a->tris[3 * i];
+            for (j = 0; j < mb->vertex_count; j++) {
+                const Motion *m[4];
+                uint32_t v[4];
+                if (!used_b[j]) continue;
+                m[0] = mb; m[1] = m[2] = m[3] = a;
+                v[0] = (uint32_t)j; v[1] = t[0]; v[2] = t[1]; v[3] = t[2];
+                test_four(dvh_ccd_vertex_face, m, v, &o, &l, impact(DVH_IMPACT_KIND_FACE_VERTEX, (uint32_t)i, 0, (uint32_t)j, 0, 0.0));
+            }
+        }
+    /* An edge of a against an edge of b (in a self query, a later one sharing no vertex). */
+    for (i = 0; i < na; i++)
+        for (j = self ? i + 1 : 0; j < nb; j++) {
+            const uint32_t *p = &ea[2 * i], *q = &eb[2 * j];
+            const Motion *m[4];
+            uint32_t v[4];
+            if (self && (p[0] == q[0] || p[0] == q[1] || p[1] == q[0] || p[1] == q[1])) continue;
+            m[0] = m[1] = a; m[2] = m[3] = mb;
+            v[0] = p[0]; v[1] = p[1]; v[2] = q[0]; v[3] = q[1];
+            test_four(dvh_ccd_edge_edge, m, v, &o, &l, impact(DVH_IMPACT_KIND_EDGE_EDGE, p[0], p[1], q[0], q[1], 0.0));
+        }
+    free(used_a);
+    free(used_b);
+    free(ea);
+    free(eb);
+    if (l.v == NULL) {
+        l.v = malloc(sizeof *l.v);
+        if (l.v == NULL) exit(2);
+    }
+    *out = l.v;
+    return l.n;
+}
+
+/* Writes point k of a primitive (12 doubles: four points). */
+static void set_point(double *v, int k, double x, double y, double z) {
+    v[3 * k] = x;
+    v[3 * k + 1] = y;
+    v[3 * k + 2] = z;
+}
+
+static void test_ccd_primitives(void) {
+    DvhCcdOptions o = dvh_ccd_options_default(), odd;
+    double s[12], e[12], toi;
+    bool hit;
+    char *raw = malloc(12 * sizeof(double) + 8);
+
+    /* The defaults: exact, every core, no limit, every impact (all fields zero). */
+    CHECK(o.mode == DVH_CCD_MODE_EXACT && o.threads == 0 && o.max_impacts == 0 && !o.earliest_only);
+
+    /* A point falling through a floor triangle: z = 1 - 4t meets z = 0 at t = 1/4 exactly. */
+    set_point(s, 0, 0.25, 0.25, 1.0);
+    set_point(e, 0, 0.25, 0.25, -3.0);
+    set_point(s, 1, 0, 0, 0); set_point(s, 2, 1, 0, 0); set_point(s, 3, 0, 1, 0);
+    set_point(e, 1, 0, 0, 0); set_point(e, 2, 1, 0, 0); set_point(e, 3, 0, 1, 0);
+    hit = false;
+    toi = -1.0;
+    CHECK_STATUS(dvh_ccd_vertex_face(s, e, NULL, &hit, &toi), DVH_STATUS_OK, NULL);
+    CHECK(hit && toi == 0.25);
+    hit = false;
+    toi = -1.0;
+    CHECK_STATUS(dvh_ccd_vertex_face(s, e, &o, &hit, &toi), DVH_STATUS_OK, NULL);
+    CHECK(hit && toi == 0.25);
+    /* No time wanted. */
+    hit = false;
+    CHECK_STATUS(dvh_ccd_vertex_face(s, e, NULL, &hit, NULL), DVH_STATUS_OK, NULL);
+    CHECK(hit);
+    /* Conservative: a hit, never later. */
+    o.mode = DVH_CCD_MODE_CONSERVATIVE;
+    hit = false;
+    toi = -1.0;
+    CHECK_STATUS(dvh_ccd_vertex_face(s, e, &o, &hit, &toi), DVH_STATUS_OK, NULL);
+    CHECK(hit && toi >= 0.0 && toi <= 0.25);
+    /* The other fields are ignored. */
+    odd = dvh_ccd_options_default();
+    odd.threads = 3;
+    odd.max_impacts = 1;
+    odd.earliest_only = true;
+    hit = false;
+    toi = -1.0;
+    CHECK_STATUS(dvh_ccd_vertex_face(s, e, &odd, &hit, &toi), DVH_STATUS_OK, NULL);
+    CHECK(hit && toi == 0.25);
+    /* Rising instead: z = -3 + 4t meets the floor at t = 3/4. */
+    hit = false;
+    CHECK_STATUS(dvh_ccd_vertex_face(e, s, NULL, &hit, &toi), DVH_STATUS_OK, NULL);
+    CHECK(hit && toi == 0.75);
+    /* Closed in time: touching at the end is t = 1, at the start t = 0. */
+    e[2] = 0.0;
+    CHECK_STATUS(dvh_ccd_vertex_face(s, e, NULL, &hit, &toi), DVH_STATUS_OK, NULL);
+    CHECK(hit && toi == 1.0);
+    CHECK_STATUS(dvh_ccd_vertex_face(e, s, NULL, &hit, &toi), DVH_STATUS_OK, NULL);
+    CHECK(hit && toi == 0.0);
+    /* And in space: through the corner (1, 0, 0). */
+    set_point(s, 0, 1, 0, 1);
+    set_point(e, 0, 1, 0, -1);
+    CHECK_STATUS(dvh_ccd_vertex_face(s, e, NULL, &hit, &toi), DVH_STATUS_OK, NULL);
+    CHECK(hit && toi == 0.5);
+    /* A miss: *hit_out is false, *toi_out untouched. */
+    set_point(s, 0, 2, 2, 1);
+    set_point(e, 0, 2, 2, -3);
+    hit = true;
+    toi = 42.0;
+    CHECK_STATUS(dvh_ccd_vertex_face(s, e, NULL, &hit, &toi), DVH_STATUS_OK, NULL);
+    CHECK(!hit && toi == 42.0);
+    o.mode = DVH_CCD_MODE_CONSERVATIVE;
+    hit = true;
+    CHECK_STATUS(dvh_ccd_vertex_face(s, e, &o, &hit, &toi), DVH_STATUS_OK, NULL);
+    CHECK(!hit && toi == 42.0);
+    /* A triangle rising through a still point: z = -1 + 4t reaches 1/2 at t = 3/8. */
+    set_point(s, 0, 0.25, 0.25, 0.5);
+    set_point(e, 0, 0.25, 0.25, 0.5);
+    set_point(s, 1, 0, 0, -1); set_point(s, 2, 1, 0, -1); set_point(s, 3, 0, 1, -1);
+    set_point(e, 1, 0, 0, 3); set_point(e, 2, 1, 0, 3); set_point(e, 3, 0, 1, 3);
+    CHECK_STATUS(dvh_ccd_vertex_face(s, e, NULL, &hit, &toi), DVH_STATUS_OK, NULL);
+    CHECK(hit && toi == 0.375);
+
+    /* Edge-edge: edge a along x at y = 1/2 falls from z = 3/4 to z = -5/4 (z = 3/4 - 2t) across
+     * the still edge b along y at x = 1/2, z = 0: they cross at t = 3/8. */
+    set_point(s, 0, 0, 0.5, 0.75); set_point(s, 1, 1, 0.5, 0.75);
+    set_point(e, 0, 0, 0.5, -1.25); set_point(e, 1, 1, 0.5, -1.25);
+    set_point(s, 2, 0.5, 0, 0); set_point(s, 3, 0.5, 1, 0);
+    set_point(e, 2, 0.5, 0, 0); set_point(e, 3, 0.5, 1, 0);
+    hit = false;
+    toi = -1.0;
+    CHECK_STATUS(dvh_ccd_edge_edge(s, e, NULL, &hit, &toi), DVH_STATUS_OK, NULL);
+    CHECK(hit && toi == 0.375);
+    o.mode = DVH_CCD_MODE_EXACT;
+    CHECK_STATUS(dvh_ccd_edge_edge(s, e, &o, &hit, &toi), DVH_STATUS_OK, NULL);
+    CHECK(hit && toi == 0.375);
+    o.mode = DVH_CCD_MODE_CONSERVATIVE;
+    toi = -1.0;
+    CHECK_STATUS(dvh_ccd_edge_edge(s, e, &o, &hit, &toi), DVH_STATUS_OK, NULL);
+    CHECK(hit && toi >= 0.0 && toi <= 0.375);
+    /* Edge b shifted beyond edge a's end: a miss. */
+    s[6] = e[6] = s[9] = e[9] = 1.5;
+    hit = true;
+    toi = 42.0;
+    CHECK_STATUS(dvh_ccd_edge_edge(s, e, NULL, &hit, &toi), DVH_STATUS_OK, NULL);
+    CHECK(!hit && toi == 42.0);
+    /* Parallel segments that come to overlap: decided like any others (t = 3/8). */
+    set_point(s, 2, 0.5, 0.5, 0); set_point(s, 3, 2, 0.5, 0);
+    set_point(e, 2, 0.5, 0.5, 0); set_point(e, 3, 2, 0.5, 0);
+    CHECK_STATUS(dvh_ccd_edge_edge(s, e, NULL, &hit, &toi), DVH_STATUS_OK, NULL);
+    CHECK(hit && toi == 0.375);
+
+    /* Errors change nothing and name the culprit. */
+    set_point(s, 2, 0.5, 0, 0); set_point(s, 3, 0.5, 1, 0);
+    set_point(e, 2, 0.5, 0, 0); set_point(e, 3, 0.5, 1, 0);
+    hit = false;
+    toi = 42.0;
+    CHECK_STATUS(dvh_ccd_vertex_face(NULL, e, NULL, &hit, &toi), DVH_STATUS_NULL_ARGUMENT, "argument `start` is NULL");
+    CHECK_STATUS(dvh_ccd_vertex_face(s, NULL, NULL, &hit, &toi), DVH_STATUS_NULL_ARGUMENT, "argument `end` is NULL");
+    CHECK_STATUS(dvh_ccd_vertex_face(s, e, NULL, NULL, &toi), DVH_STATUS_NULL_ARGUMENT, "argument `hit_out` is NULL");
+    CHECK_STATUS(dvh_ccd_edge_edge(NULL, e, NULL, &hit, &toi), DVH_STATUS_NULL_ARGUMENT, "argument `start` is NULL");
+    CHECK_STATUS(dvh_ccd_edge_edge(s, NULL, NULL, &hit, &toi), DVH_STATUS_NULL_ARGUMENT, "argument `end` is NULL");
+    CHECK_STATUS(dvh_ccd_edge_edge(s, e, NULL, NULL, &toi), DVH_STATUS_NULL_ARGUMENT, "argument `hit_out` is NULL");
+    s[4] = NAN;
+    CHECK_STATUS(dvh_ccd_vertex_face(s, e, NULL, &hit, &toi), DVH_STATUS_NON_FINITE_COORDINATE,
+                 "start[4] is NaN, not a finite number");
+    CHECK_STATUS(dvh_ccd_edge_edge(s, e, NULL, &hit, &toi), DVH_STATUS_NON_FINITE_COORDINATE, "start[4] is NaN");
+    s[4] = 0.5;
+    e[11] = INFINITY;
+    CHECK_STATUS(dvh_ccd_vertex_face(s, e, NULL, &hit, &toi), DVH_STATUS_NON_FINITE_COORDINATE, "end[11] is inf");
+    e[11] = -INFINITY;
+    CHECK_STATUS(dvh_ccd_edge_edge(s, e, NULL, &hit, &toi), DVH_STATUS_NON_FINITE_COORDINATE, "end[11] is -inf");
+    e[11] = 0.0;
+    o = dvh_ccd_options_default();
+    o.mode = 7;
+    CHECK_STATUS(dvh_ccd_vertex_face(s, e, &o, &hit, &toi), DVH_STATUS_INVALID_ARGUMENT,
+                 "options->mode = 7 is not a DVH_CCD_MODE_* value (0 or 1)");
+    CHECK_STATUS(dvh_ccd_edge_edge(s, e, &o, &hit, &toi), DVH_STATUS_INVALID_ARGUMENT, "options->mode = 7");
+    memcpy(raw + 1, s, sizeof s);
+    CHECK_STATUS(dvh_ccd_vertex_face((const double *)(const void *)(raw + 1), e, NULL, &hit, &toi), DVH_STATUS_INVALID_ARGUMENT,
+                 "argument `start` is not aligned");
+    CHECK_STATUS(dvh_ccd_edge_edge(s, (const double *)(const void *)(raw + 1), NULL, &hit, &toi), DVH_STATUS_INVALID_ARGUMENT,
+                 "argument `end` is not aligned");
+    CHECK(!hit && toi == 42.0);
+    /* The inputs are fine again: a hit. */
+    CHECK_STATUS(dvh_ccd_edge_edge(s, e, NULL, &hit, &toi), DVH_STATUS_OK, NULL);
+    CHECK(hit && toi == 0.375);
+    free(raw);
+}
+
+/* Two triangles: a still floor A in z = 0 and a tilted triangle B falling by 4 through it. B's
+ * height over (x, y) at the start is 2 + x/2 + y/4, between 1/4 and 11/4 at its corners, so
+ * neither touches the other at the start or at the end, and each primitive pair meets when B's
+ * height over their meeting point has fallen to 0: at a quarter of that height.
+ *   B's vertex 0 over (1, 1) through A's triangle: t = 2.75 / 4 = 0.6875;
+ *   B's triangle over A's vertex 0 at (0, 0): t = 2 / 4 = 0.5;
+ *   B's edge (0, 1) across A's edge (0, 2) at (0, 1/2): t = 2.125 / 4 = 0.53125;
+ *   B's edge (0, 2) across A's edge (0, 1) at (1, 0): t = 2.5 / 4 = 0.625. */
+static const double floor_pos[] = {0, 0, 0, 4, 0, 0, 0, 4, 0};
+static const double falling_start[] = {1, 1, 2.75, -3, -1, 0.25, 1, -3, 1.75};
+static const double falling_end[] = {1, 1, -1.25, -3, -1, -3.75, 1, -3, -2.25};
+static const uint32_t one_triangle[] = {0, 1, 2};
+
+static void test_continuous_collide(void) {
+    const DvhImpact expected[4] = {
+        {DVH_IMPACT_KIND_VERTEX_FACE, 0, 0, 0, 0, 0.6875},
+        {DVH_IMPACT_KIND_FACE_VERTEX, 0, 0, 0, 0, 0.5},
+        {DVH_IMPACT_KIND_EDGE_EDGE, 0, 1, 0, 2, 0.53125},
+        {DVH_IMPACT_KIND_EDGE_EDGE, 0, 2, 0, 1, 0.625},
+    };
+    const DvhImpact swapped[4] = {
+        {DVH_IMPACT_KIND_VERTEX_FACE, 0, 0, 0, 0, 0.5},
+        {DVH_IMPACT_KIND_FACE_VERTEX, 0, 0, 0, 0, 0.6875},
+        {DVH_IMPACT_KIND_EDGE_EDGE, 0, 1, 0, 2, 0.625},
+        {DVH_IMPACT_KIND_EDGE_EDGE, 0, 2, 0, 1, 0.53125},
+    };
+    DvhMesh *a = NULL, *b = NULL;
+    DvhImpacts *impacts = dvh_impacts_new(), *other = dvh_impacts_new();
+    DvhPairs *pairs = dvh_pairs_new();
+    DvhCcdOptions o = dvh_ccd_options_default();
+    DvhCcdStats stats, sentinel;
+    Motion ma, mb;
+    DvhImpact *oracle;
+    size_t n, k;
+    uint32_t threads;
+    double bad[9], shifted[9];
+    char *raw = malloc(sizeof bad + 8);
+
+    CHECK(impacts != NULL && other != NULL);
+    CHECK(dvh_impacts_len(impacts) == 0 && dvh_impacts_data(impacts) == NULL);
+    CHECK(dvh_impacts_len(NULL) == 0 && dvh_impacts_data(NULL) == NULL);
+    CHECK_STATUS(dvh_mesh_create(floor_pos, 3, one_triangle, 1, NULL, &a), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_mesh_create(falling_start, 3, one_triangle, 1, NULL, &b), DVH_STATUS_OK, NULL);
+
+    /* Apart at the start; still meshes meet nowhere in time either. */
+    CHECK_STATUS(dvh_collide(b, NULL, a, NULL, NULL, pairs, NULL), DVH_STATUS_OK, NULL);
+    CHECK(dvh_pairs_len(pairs) == 0);
+    memset(&stats, 0xab, sizeof stats);
+    CHECK_STATUS(dvh_continuous_collide(b, a, NULL, impacts, &stats), DVH_STATUS_OK, NULL);
+    CHECK(dvh_impacts_len(impacts) == 0 && dvh_impacts_data(impacts) == NULL);
+    CHECK(stats.impacts == 0 && !stats.truncated && isinf(stats.earliest_toi) && stats.earliest_toi > 0);
+
+    /* B falls: apart at the end too, but it passed through A. */
+    CHECK_STATUS(dvh_mesh_refit_motion(b, falling_start, falling_end, 3), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_mesh_validate(b), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_collide(b, NULL, a, NULL, NULL, pairs, NULL), DVH_STATUS_OK, NULL);
+    CHECK(dvh_pairs_len(pairs) == 0);
+    CHECK_STATUS(dvh_continuous_collide(b, a, NULL, impacts, &stats), DVH_STATUS_OK, NULL);
+    CHECK(same_impacts(impacts, expected, 4));
+    check_ccd_stats(&stats, expected, 4);
+    CHECK(stats.earliest_toi == 0.5 && stats.bv_tests >= 1);
+    CHECK_STATUS(dvh_continuous_collide(a, b, NULL, impacts, &stats), DVH_STATUS_OK, NULL);
+    CHECK(same_impacts(impacts, swapped, 4));
+    check_ccd_stats(&stats, swapped, 4);
+    /* The oracle agrees, both ways. */
+    ma.vertex_count = 3; ma.triangle_count = 1; ma.tris = one_triangle; ma.start = floor_pos; ma.end = floor_pos;
+    mb.vertex_count = 3; mb.triangle_count = 1; mb.tris = one_triangle; mb.start = falling_start; mb.end = falling_end;
+    n = ccd_brute_force(&mb, &ma, DVH_CCD_MODE_EXACT, &oracle);
+    CHECK(n == 4);
+    for (k = 0; k < n && k < 4; k++) CHECK(same_impact(&oracle[k], &expected[k]));
+    free(oracle);
+    n = ccd_brute_force(&ma, &mb, DVH_CCD_MODE_EXACT, &oracle);
+    CHECK(n == 4);
+    for (k = 0; k < n && k < 4; k++) CHECK(same_impact(&oracle[k], &swapped[k]));
+    free(oracle);
+    /* Every thread count, one answer; the options explicit. */
+    for (threads = 0; threads < 3; threads++) {
+        o = dvh_ccd_options_default();
+        o.threads = threads;
+        CHECK_STATUS(dvh_continuous_collide(b, a, &o, impacts, &stats), DVH_STATUS_OK, NULL);
+        CHECK(same_impacts(impacts, expected, 4));
+        check_ccd_stats(&stats, expected, 4);
+    }
+    /* The earliest alone; a limit. */
+    o = dvh_ccd_options_default();
+    o.earliest_only = true;
+    CHECK_STATUS(dvh_continuous_collide(b, a, &o, impacts, &stats), DVH_STATUS_OK, NULL);
+    CHECK(same_impacts(impacts, &expected[1], 1));
+    CHECK(stats.impacts == 1 && stats.earliest_toi == 0.5 && !stats.truncated);
+    CHECK_STATUS(dvh_continuous_collide(a, b, &o, impacts, &stats), DVH_STATUS_OK, NULL);
+    CHECK(same_impacts(impacts, &swapped[0], 1));
+    o = dvh_ccd_options_default();
+    o.max_impacts = 1;
+    CHECK_STATUS(dvh_continuous_collide(b, a, &o, impacts, &stats), DVH_STATUS_OK, NULL);
+    CHECK(dvh_impacts_len(impacts) == 1 && stats.truncated && stats.impacts == 1);
+    CHECK(dvh_impacts_len(impacts) == 1 && contains_impact(expected, 4, &dvh_impacts_data(impacts)[0]));
+    CHECK(stats.earliest_toi == dvh_impacts_data(impacts)[0].toi);
+    o.max_impacts = 5;
+    CHECK_STATUS(dvh_continuous_collide(b, a, &o, impacts, &stats), DVH_STATUS_OK, NULL);
+    CHECK(same_impacts(impacts, expected, 4) && !stats.truncated);
+    /* Conservative: every impact, none later. */
+    o = dvh_ccd_options_default();
+    o.mode = DVH_CCD_MODE_CONSERVATIVE;
+    CHECK_STATUS(dvh_continuous_collide(b, a, &o, impacts, NULL), DVH_STATUS_OK, NULL);
+    CHECK(dvh_impacts_len(impacts) >= 4);
+    for (k = 0; k < 4; k++) {
+        size_t i, found = 0;
+        for (i = 0; i < dvh_impacts_len(impacts); i++) {
+            const DvhImpact *c = &dvh_impacts_data(impacts)[i];
+            if (impact_key_cmp(c, &expected[k]) == 0) found = 1 + (c->toi <= expected[k].toi);
+        }
+        CHECK(found == 2);
+    }
+
+    /* Failed motions leave the mesh as it was: the same impacts afterwards, and a stationary
+     * refit still stops it. */
+    CHECK_STATUS(dvh_continuous_collide(b, a, NULL, impacts, NULL), DVH_STATUS_OK, NULL);
+    memcpy(bad, falling_end, sizeof bad);
+    bad[3 * 1 + 1] = NAN;
+    for (k = 0; k < 9; k++) shifted[k] = falling_start[k] + 0.5; /* a valid start, paired with bad ends */
+    CHECK_STATUS(dvh_mesh_refit_motion(b, falling_start, falling_end, 2), DVH_STATUS_INVALID_ARGUMENT,
+                 "vertex_count = 2, but the mesh has 3 vertices");
+    CHECK_STATUS(dvh_mesh_refit_motion(b, shifted, bad, 3), DVH_STATUS_NON_FINITE_COORDINATE,
+                 "end positions: vertex 1: coordinate y is NaN, not a finite number");
+    bad[3 * 1 + 1] = falling_end[3 * 1 + 1];
+    bad[3 * 2 + 2] = INFINITY;
+    CHECK_STATUS(dvh_mesh_refit_motion(b, bad, shifted, 3), DVH_STATUS_NON_FINITE_COORDINATE,
+                 "start positions: vertex 2: coordinate z is inf");
+    CHECK_STATUS(dvh_mesh_refit_motion(b, shifted, bad, 3), DVH_STATUS_NON_FINITE_COORDINATE, "end positions: vertex 2");
+    CHECK_STATUS(dvh_mesh_refit_motion(NULL, falling_start, falling_end, 3), DVH_STATUS_NULL_ARGUMENT, "argument `mesh` is NULL");
+    CHECK_STATUS(dvh_mesh_refit_motion(b, NULL, falling_end, 3), DVH_STATUS_NULL_ARGUMENT, "argument `start` is NULL");
+    CHECK_STATUS(dvh_mesh_refit_motion(b, shifted, NULL, 3), DVH_STATUS_NULL_ARGUMENT, "argument `end` is NULL");
+    memcpy(raw + 1, falling_end, sizeof bad);
+    CHECK_STATUS(dvh_mesh_refit_motion(b, shifted, (const double *)(const void *)(raw + 1), 3), DVH_STATUS_INVALID_ARGUMENT,
+                 "argument `end` is not aligned");
+    CHECK_STATUS(dvh_mesh_validate(b), DVH_STATUS_OK, NULL);
+    CHECK(dvh_mesh_vertex_count(b) == 3);
+    CHECK_STATUS(dvh_continuous_collide(b, a, NULL, impacts, &stats), DVH_STATUS_OK, NULL);
+    CHECK(same_impacts(impacts, expected, 4));
+    check_ccd_stats(&stats, expected, 4);
+    CHECK_STATUS(dvh_collide(b, NULL, a, NULL, NULL, pairs, NULL), DVH_STATUS_OK, NULL);
+    CHECK(dvh_pairs_len(pairs) == 0);
+
+    /* Failed queries leave the result and the counters as they were. */
+    memset(&sentinel, 0xab, sizeof sentinel);
+    stats = sentinel;
+    o = dvh_ccd_options_default();
+    o.mode = 7;
+    CHECK_STATUS(dvh_continuous_collide(b, a, &o, impacts, &stats), DVH_STATUS_INVALID_ARGUMENT,
+                 "options->mode = 7 is not a DVH_CCD_MODE_* value (0 or 1)");
+    CHECK_STATUS(dvh_self_continuous_collide(b, &o, impacts, &stats), DVH_STATUS_INVALID_ARGUMENT, "options->mode = 7");
+    CHECK_STATUS(dvh_continuous_collide(NULL, a, NULL, impacts, &stats), DVH_STATUS_NULL_ARGUMENT, "argument `a` is NULL");
+    CHECK_STATUS(dvh_continuous_collide(b, NULL, NULL, impacts, &stats), DVH_STATUS_NULL_ARGUMENT, "argument `b` is NULL");
+    CHECK_STATUS(dvh_continuous_collide(b, a, NULL, NULL, &stats), DVH_STATUS_NULL_ARGUMENT, "argument `impacts_out` is NULL");
+    CHECK_STATUS(dvh_self_continuous_collide(NULL, NULL, impacts, &stats), DVH_STATUS_NULL_ARGUMENT, "argument `mesh` is NULL");
+    CHECK_STATUS(dvh_self_continuous_collide(b, NULL, NULL, &stats), DVH_STATUS_NULL_ARGUMENT, "argument `impacts_out` is NULL");
+    /* Pointers that are not live handles of the right kind: memory from elsewhere, a mesh
+     * where a buffer belongs. */
+    {
+        static uint64_t elsewhere[1024];
+        CHECK_STATUS(dvh_continuous_collide((const DvhMesh *)(const void *)elsewhere, a, NULL, impacts, &stats),
+                     DVH_STATUS_INVALID_ARGUMENT, "DvhMesh `a` is not a live handle");
+        CHECK_STATUS(dvh_self_continuous_collide((const DvhMesh *)(const void *)elsewhere, NULL, impacts, &stats),
+                     DVH_STATUS_INVALID_ARGUMENT, "DvhMesh `mesh` is not a live handle");
+        CHECK_STATUS(dvh_continuous_collide(b, a, NULL, (DvhImpacts *)(void *)elsewhere, &stats), DVH_STATUS_INVALID_ARGUMENT,
+                     "DvhImpacts `impacts_out` is not a live handle");
+        CHECK_STATUS(dvh_continuous_collide(b, a, NULL, (DvhImpacts *)(void *)a, &stats), DVH_STATUS_INVALID_ARGUMENT,
+                     "DvhImpacts `impacts_out` is not a live handle");
+        CHECK(dvh_impacts_len((const DvhImpacts *)(const void *)a) == 0);
+        CHECK(dvh_impacts_data((const DvhImpacts *)(const void *)a) == NULL);
+    }
+    CHECK(memcmp(&stats, &sentinel, sizeof stats) == 0);
+    CHECK(same_impacts(impacts, expected, 4));
+    /* A failed query into one buffer leaves another alone; a query that finds nothing empties
+     * its buffer. */
+    CHECK_STATUS(dvh_continuous_collide(a, b, NULL, other, NULL), DVH_STATUS_OK, NULL);
+    CHECK(same_impacts(other, swapped, 4) && same_impacts(impacts, expected, 4));
+    /* A still mesh against itself touches everywhere from t = 0. */
+    CHECK_STATUS(dvh_continuous_collide(a, a, NULL, other, &stats), DVH_STATUS_OK, NULL);
+    CHECK(dvh_impacts_len(other) > 0 && stats.earliest_toi == 0.0);
+
+    /* A plain refit makes B stationary again: at its end positions, apart from A. */
+    CHECK_STATUS(dvh_mesh_refit(b, falling_end, 3), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_continuous_collide(b, a, NULL, impacts, &stats), DVH_STATUS_OK, NULL);
+    CHECK(dvh_impacts_len(impacts) == 0 && dvh_impacts_data(impacts) == NULL && stats.impacts == 0);
+    CHECK(isinf(stats.earliest_toi));
+
+    /* Reuse: a buffer that held other impacts takes the next query's. */
+    CHECK_STATUS(dvh_mesh_refit_motion(b, falling_start, falling_end, 3), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_continuous_collide(b, a, NULL, other, NULL), DVH_STATUS_OK, NULL);
+    CHECK(same_impacts(other, expected, 4));
+
+    dvh_impacts_free(other);
+    dvh_impacts_free(impacts);
+    dvh_impacts_free(NULL);
+    dvh_pairs_free(pairs);
+    dvh_mesh_free(a);
+    dvh_mesh_free(b);
+    free(raw);
+}
+
+/* Every option on one query against the oracle: the impacts, whatever the thread count; the
+ * earliest alone; a limit; the conservative mode's never-missed, never-later impacts. */
+static void check_continuous(const DvhMesh *a, const Motion *ma, const DvhMesh *b, const Motion *mb, DvhImpacts *impacts) {
+    DvhImpact *expected, *loose;
+    size_t n, n_loose, k, i;
+    uint32_t threads;
+    DvhCcdOptions o;
+    DvhCcdStats stats;
+#define CCD_QUERY(options) (b != NULL ? dvh_continuous_collide(a, b, (options), impacts, &stats) \
+                                      : dvh_self_continuous_collide(a, (options), impacts, &stats))
+    n = ccd_brute_force(ma, mb, DVH_CCD_MODE_EXACT, &expected);
+    CHECK(n > 3);
+    for (threads = 0; threads < 3; threads++) {
+        o = dvh_ccd_options_default();
+        o.threads = threads;
+        CHECK_STATUS(CCD_QUERY(&o), DVH_STATUS_OK, NULL);
+        CHECK(same_impacts(impacts, expected, n));
+        check_ccd_stats(&stats, expected, n);
+        for (k = 1; k < dvh_impacts_len(impacts); k++)
+            CHECK(impact_key_cmp(&dvh_impacts_data(impacts)[k - 1], &dvh_impacts_data(impacts)[k]) < 0);
+        o.earliest_only = true;
+        CHECK_STATUS(CCD_QUERY(&o), DVH_STATUS_OK, NULL);
+        CHECK(same_impacts(impacts, &expected[earliest_index(expected, n)], 1));
+        CHECK(stats.impacts == 1 && stats.earliest_toi == expected[earliest_index(expected, n)].toi);
+        o.earliest_only = false;
+        o.max_impacts = 3;
+        CHECK_STATUS(CCD_QUERY(&o), DVH_STATUS_OK, NULL);
+        CHECK(dvh_impacts_len(impacts) == 3 && stats.truncated && stats.impacts == 3);
+        for (k = 0; k < dvh_impacts_len(impacts); k++) CHECK(contains_impact(expected, n, &dvh_impacts_data(impacts)[k]));
+    }
+    CHECK_STATUS(CCD_QUERY(NULL), DVH_STATUS_OK, NULL);
+    CHECK(same_impacts(impacts, expected, n));
+    o = dvh_ccd_options_default();
+    o.mode = DVH_CCD_MODE_CONSERVATIVE;
+    n_loose = ccd_brute_force(ma, mb, DVH_CCD_MODE_CONSERVATIVE, &loose);
+    CHECK_STATUS(CCD_QUERY(&o), DVH_STATUS_OK, NULL);
+    CHECK(same_impacts(impacts, loose, n_loose));
+    for (k = 0; k < n; k++) {
+        int found = 0;
+        for (i = 0; i < n_loose; i++)
+            if (impact_key_cmp(&loose[i], &expected[k]) == 0) found = loose[i].toi <= expected[k].toi;
+        CHECK(found);
+    }
+    for (k = 0; k < dvh_impacts_len(impacts); k++) {
+        const DvhImpact *x = &dvh_impacts_data(impacts)[k];
+        if (b == NULL) CHECK(x->kind != DVH_IMPACT_KIND_FACE_VERTEX);
+        if (x->kind == DVH_IMPACT_KIND_EDGE_EDGE) {
+            CHECK(x->a0 < x->a1 && x->b0 < x->b1);
+            if (b == NULL) CHECK(x->a0 < x->b0 || (x->a0 == x->b0 && x->a1 < x->b1));
+        } else {
+            CHECK(x->a1 == 0 && x->b1 == 0);
+        }
+    }
+#undef CCD_QUERY
+    free(expected);
+    free(loose);
+}
+
+/* Deforming terrains: one rising a little, the other falling through it, apart at the start and
+ * at the end; against the oracle. */
+static void test_continuous_terrains(void) {
+    Mesh ta = mesh_terrain(8, 0, 0, wave), tb = mesh_terrain(5, 1, 2, ridge);
+    double *a_end = malloc(ta.vertex_count * 3 * sizeof(double));
+    double *b_start = malloc(tb.vertex_count * 3 * sizeof(double)), *b_end = malloc(tb.vertex_count * 3 * sizeof(double));
+    DvhMesh *a, *b, *b_at_start;
+    DvhImpacts *impacts = dvh_impacts_new();
+    DvhPairs *pairs = dvh_pairs_new();
+    Motion ma, mb;
+    size_t i;
+    for (i = 0; i < ta.vertex_count * 3; i++) a_end[i] = ta.pos[i] + (i % 3 == 2 ? 0.5 : 0.0);
+    for (i = 0; i < tb.vertex_count * 3; i++) {
+        double shift = i % 3 == 0 ? 0.5 : i % 3 == 1 ? 0.25 : 0.0;
+        b_start[i] = tb.pos[i] + shift + (i % 3 == 2 ? 4.0 : 0.0);
+        b_end[i] = tb.pos[i] + shift - (i % 3 == 2 ? 4.0 : 0.0);
+    }
+    a = create(&ta, NULL);
+    b = create(&tb, NULL);
+    b_at_start = NULL;
+    CHECK_STATUS(dvh_mesh_create(b_start, tb.vertex_count, tb.tris, tb.triangle_count, NULL, &b_at_start), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_collide(a, NULL, b_at_start, NULL, NULL, pairs, NULL), DVH_STATUS_OK, NULL);
+    CHECK(dvh_pairs_len(pairs) == 0);
+    CHECK_STATUS(dvh_mesh_refit_motion(a, ta.pos, a_end, ta.vertex_count), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_mesh_refit_motion(b, b_start, b_end, tb.vertex_count), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_mesh_validate(a), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_mesh_validate(b), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_collide(a, NULL, b, NULL, NULL, pairs, NULL), DVH_STATUS_OK, NULL);
+    CHECK(dvh_pairs_len(pairs) == 0);
+    ma.vertex_count = ta.vertex_count; ma.triangle_count = ta.triangle_count; ma.tris = ta.tris; ma.start = ta.pos; ma.end = a_end;
+    mb.vertex_count = tb.vertex_count; mb.triangle_count = tb.triangle_count; mb.tris = tb.tris; mb.start = b_start; mb.end = b_end;
+    check_continuous(a, &ma, b, &mb, impacts);
+    check_continuous(b, &mb, a, &ma, impacts);
+    /* A still mesh against a moving one. */
+    CHECK_STATUS(dvh_mesh_refit(a, ta.pos, ta.vertex_count), DVH_STATUS_OK, NULL);
+    ma.end = ta.pos;
+    check_continuous(b, &mb, a, &ma, impacts);
+    dvh_impacts_free(impacts);
+    dvh_pairs_free(pairs);
+    dvh_mesh_free(a);
+    dvh_mesh_free(b);
+    dvh_mesh_free(b_at_start);
+    free(a_end);
+    free(b_start);
+    free(b_end);
+    mesh_free(&ta);
+    mesh_free(&tb);
+}
+
+static void test_self_continuous_collide(void) {
+    DvhImpacts *impacts = dvh_impacts_new();
+    DvhPairs *pairs = dvh_pairs_new();
+    DvhCcdStats stats;
+    /* A hinge: triangle 1 swings about the shared edge (0, 1) through triangle 0, its vertex 3
+     * crossing z = 0 at t = 1/2 at (1/2, 2, 0), inside triangle 0. Apart (but for the shared edge)
+     * at the start and at the end. */
+    {
+        static const double start[] = {0, 0, 0, 0, 4, 0, 4, 2, 0, -2, 2, 2};
+        static const double end[] = {0, 0, 0, 0, 4, 0, 4, 2, 0, 3, 2, -2};
+        static const uint32_t tris[] = {0, 1, 2, 0, 1, 3};
+        const DvhImpact expected[1] = {{DVH_IMPACT_KIND_VERTEX_FACE, 3, 0, 0, 0, 0.5}};
+        DvhMesh *m = NULL;
+        Motion mm;
+        DvhImpact *oracle;
+        size_t n;
+        CHECK_STATUS(dvh_mesh_create(start, 4, tris, 2, NULL, &m), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_self_collide(m, NULL, pairs, NULL), DVH_STATUS_OK, NULL);
+        CHECK(dvh_pairs_len(pairs) == 0);
+        CHECK_STATUS(dvh_self_continuous_collide(m, NULL, impacts, &stats), DVH_STATUS_OK, NULL);
+        CHECK(dvh_impacts_len(impacts) == 0 && stats.impacts == 0 && isinf(stats.earliest_toi));
+        CHECK_STATUS(dvh_mesh_refit_motion(m, start, end, 4), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_self_collide(m, NULL, pairs, NULL), DVH_STATUS_OK, NULL);
+        CHECK(dvh_pairs_len(pairs) == 0);
+        CHECK_STATUS(dvh_self_continuous_collide(m, NULL, impacts, &stats), DVH_STATUS_OK, NULL);
+        CHECK(same_impacts(impacts, expected, 1));
+        check_ccd_stats(&stats, expected, 1);
+        mm.vertex_count = 4; mm.triangle_count = 2; mm.tris = tris; mm.start = start; mm.end = end;
+        n = ccd_brute_force(&mm, NULL, DVH_CCD_MODE_EXACT, &oracle);
+        CHECK(n == 1 && same_impact(&oracle[0], &expected[0]));
+        free(oracle);
+        /* A failed motion (the end's vertex count, a NaN end) keeps the motion. */
+        {
+            double bad[12];
+            memcpy(bad, end, sizeof bad);
+            bad[3 * 3] = NAN;
+            CHECK_STATUS(dvh_mesh_refit_motion(m, start, end, 3), DVH_STATUS_INVALID_ARGUMENT, "vertex_count = 3");
+            CHECK_STATUS(dvh_mesh_refit_motion(m, start, bad, 4), DVH_STATUS_NON_FINITE_COORDINATE,
+                         "end positions: vertex 3: coordinate x is NaN");
+            CHECK_STATUS(dvh_self_continuous_collide(m, NULL, impacts, NULL), DVH_STATUS_OK, NULL);
+            CHECK(same_impacts(impacts, expected, 1));
+        }
+        dvh_mesh_free(m);
+    }
+    /* A grid folding over: the columns beyond x = 3, a ramp at the start, swing through the
+     * still part to end below it, sheared a little. */
+    {
+        const int n = 6;
+        Mesh g = mesh_terrain(n, 0, 0, flat);
+        double *start = malloc(g.vertex_count * 3 * sizeof(double)), *end = malloc(g.vertex_count * 3 * sizeof(double));
+        DvhMesh *m = NULL, *at_start = NULL;
+        Motion mm;
+        int i, j;
+        memcpy(start, g.pos, g.vertex_count * 3 * sizeof(double));
+        memcpy(end, g.pos, g.vertex_count * 3 * sizeof(double));
+        for (j = 0; j <= n; j++)
+            for (i = 4; i <= n; i++) {
+                size_t v = (size_t)(j * (n + 1) + i);
+                start[3 * v + 2] = i - 3;
+                end[3 * v] = n - i + 0.0625 * j;
+                end[3 * v + 2] = -0.125 * (i - 3);
+            }
+        CHECK_STATUS(dvh_mesh_create(start, g.vertex_count, g.tris, g.triangle_count, NULL, &at_start), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_self_collide(at_start, NULL, pairs, NULL), DVH_STATUS_OK, NULL);
+        CHECK(dvh_pairs_len(pairs) == 0);
+        m = create(&g, NULL);
+        CHECK_STATUS(dvh_mesh_refit_motion(m, start, end, g.vertex_count), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_mesh_validate(m), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_self_collide(m, NULL, pairs, NULL), DVH_STATUS_OK, NULL);
+        CHECK(dvh_pairs_len(pairs) == 0);
+        mm.vertex_count = g.vertex_count; mm.triangle_count = g.triangle_count; mm.tris = g.tris; mm.start = start; mm.end = end;
+        check_continuous(m, &mm, NULL, NULL, impacts);
+        /* Stationary again: an intact sheet meets nothing. */
+        CHECK_STATUS(dvh_mesh_refit(m, g.pos, g.vertex_count), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_self_continuous_collide(m, NULL, impacts, &stats), DVH_STATUS_OK, NULL);
+        CHECK(dvh_impacts_len(impacts) == 0 && stats.impacts == 0);
+        dvh_mesh_free(m);
+        dvh_mesh_free(at_start);
+        free(start);
+        free(end);
+        mesh_free(&g);
+    }
+    dvh_impacts_free(impacts);
+    dvh_pairs_free(pairs);
+}
+
 int main(void) {
     test_versions_and_names();
     test_defaults();
@@ -1041,5 +1788,9 @@ int main(void) {
     test_scene_lazy();
     test_self_collide();
     test_proximity();
+    test_ccd_primitives();
+    test_continuous_collide();
+    test_continuous_terrains();
+    test_self_continuous_collide();
     return finish("test_api");
 }

@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -58,10 +59,12 @@ constexpr bool move_only() {
     return !std::is_copy_constructible_v<T> && !std::is_copy_assignable_v<T> && std::is_nothrow_move_constructible_v<T> &&
            std::is_nothrow_move_assignable_v<T>;
 }
-static_assert(move_only<dvh::Mesh>() && move_only<dvh::Pairs>() && move_only<dvh::Scene>() && move_only<dvh::Contacts>(),
+static_assert(move_only<dvh::Mesh>() && move_only<dvh::Pairs>() && move_only<dvh::Scene>() && move_only<dvh::Contacts>() &&
+                  move_only<dvh::Impacts>(),
               "owners are move-only");
 static_assert(std::is_base_of_v<std::runtime_error, dvh::Error>, "dvh::Error is a std::runtime_error");
-static_assert(!std::is_convertible_v<DvhMesh*, dvh::Mesh>, "adopting a handle is explicit");
+static_assert(!std::is_convertible_v<DvhMesh*, dvh::Mesh> && !std::is_convertible_v<DvhImpacts*, dvh::Impacts>,
+              "adopting a handle is explicit");
 
 // ---- meshes with small integer coordinates (exact in float too) ----
 
@@ -733,6 +736,352 @@ void test_scene() {
     dvh_scene_free(c_scene);
 }
 
+// ---- continuous collision ----
+
+bool same(const DvhImpact& x, const DvhImpact& y) {
+    return x.kind == y.kind && x.a0 == y.a0 && x.a1 == y.a1 && x.b0 == y.b0 && x.b1 == y.b1 && x.toi == y.toi;
+}
+
+// The wrapper's impacts equal the C buffer's, in the same order.
+bool same(const dvh::Impacts& impacts, const DvhImpacts* c) {
+    const dvh::Span<DvhImpact> v = impacts.view();
+    if (v.size() != dvh_impacts_len(c) || impacts.size() != v.size()) return false;
+    if (v.empty()) return v.data() == nullptr && dvh_impacts_data(c) == nullptr;
+    for (std::size_t i = 0; i < v.size(); i++)
+        if (!same(v[i], dvh_impacts_data(c)[i])) return false;
+    return true;
+}
+
+bool same(const dvh::Impacts& impacts, const std::vector<DvhImpact>& expected) {
+    if (impacts.size() != expected.size()) return false;
+    for (std::size_t i = 0; i < expected.size(); i++)
+        if (!same(impacts.view()[i], expected[i])) return false;
+    return true;
+}
+
+std::vector<DvhImpact> copy(const dvh::Impacts& impacts) { return std::vector<DvhImpact>(impacts.begin(), impacts.end()); }
+
+bool same(const DvhCcdStats& x, const DvhCcdStats& y) {
+    return x.bv_tests == y.bv_tests && x.primitive_tests == y.primitive_tests && x.impacts == y.impacts &&
+           x.earliest_toi == y.earliest_toi && x.truncated == y.truncated;
+}
+
+DvhImpact impact(DvhImpactKind kind, std::uint32_t a0, std::uint32_t a1, std::uint32_t b0, std::uint32_t b1, double toi) {
+    DvhImpact i{};
+    i.kind = kind;
+    i.a0 = a0;
+    i.a1 = a1;
+    i.b0 = b0;
+    i.b1 = b1;
+    i.toi = toi;
+    return i;
+}
+
+// A still floor triangle in z = 0 and a tilted triangle falling by 4 through it, apart at the
+// start and at the end (as in test_api.c): B's height over (x, y) at the start is
+// 2 + x/2 + y/4, and each pair meets when that height has fallen to 0.
+const std::vector<double> floor_positions = {0, 0, 0, 4, 0, 0, 0, 4, 0};
+const std::vector<double> falling_start = {1, 1, 2.75, -3, -1, 0.25, 1, -3, 1.75};
+const std::vector<double> falling_end = {1, 1, -1.25, -3, -1, -3.75, 1, -3, -2.25};
+const std::vector<std::uint32_t> one_triangle = {0, 1, 2};
+// continuous_collide(falling, floor).
+const std::vector<DvhImpact> falling_impacts = {
+    impact(DVH_IMPACT_KIND_VERTEX_FACE, 0, 0, 0, 0, 0.6875),
+    impact(DVH_IMPACT_KIND_FACE_VERTEX, 0, 0, 0, 0, 0.5),
+    impact(DVH_IMPACT_KIND_EDGE_EDGE, 0, 1, 0, 2, 0.53125),
+    impact(DVH_IMPACT_KIND_EDGE_EDGE, 0, 2, 0, 1, 0.625),
+};
+
+void test_ccd_options() {
+    const DvhCcdOptions c_default = dvh_ccd_options_default();
+    const dvh::CcdOptions o;
+    REQUIRE(o.c().mode == c_default.mode && o.c().threads == c_default.threads && o.c().max_impacts == c_default.max_impacts &&
+            o.c().earliest_only == c_default.earliest_only);
+    REQUIRE(o.mode() == dvh::CcdMode::exact && o.threads() == 0 && o.max_impacts() == 0 && !o.earliest_only());
+    static_assert(static_cast<DvhCcdMode>(dvh::CcdMode::exact) == DVH_CCD_MODE_EXACT &&
+                      static_cast<DvhCcdMode>(dvh::CcdMode::conservative) == DVH_CCD_MODE_CONSERVATIVE,
+                  "the modes are the C constants");
+
+    dvh::CcdOptions p;
+    REQUIRE(&p.mode(dvh::CcdMode::conservative) == &p);
+    p.threads(2).max_impacts(9).earliest_only(true);
+    REQUIRE(p.mode() == dvh::CcdMode::conservative && p.threads() == 2 && p.max_impacts() == 9 && p.earliest_only());
+    REQUIRE(p.c().mode == DVH_CCD_MODE_CONSERVATIVE && p.c().threads == 2 && p.c().max_impacts == 9 && p.c().earliest_only);
+    const dvh::CcdOptions chained = dvh::CcdOptions{}.mode(dvh::CcdMode::conservative).threads(2).max_impacts(9).earliest_only(true);
+    REQUIRE(chained.c().mode == p.c().mode && chained.c().threads == p.c().threads && chained.c().max_impacts == p.c().max_impacts &&
+            chained.c().earliest_only == p.c().earliest_only);
+    // The C constants work too, and a raw value out of range is the library's to refuse.
+    REQUIRE(dvh::CcdOptions{}.mode(DVH_CCD_MODE_CONSERVATIVE).mode() == dvh::CcdMode::conservative);
+    REQUIRE(dvh::CcdOptions{}.mode(dvh::CcdMode::conservative).mode(DVH_CCD_MODE_EXACT).c().mode == DVH_CCD_MODE_EXACT);
+    REQUIRE(dvh::CcdOptions{}.mode(7).c().mode == 7);
+    DvhCcdOptions raw = c_default;
+    raw.max_impacts = 5;
+    raw.earliest_only = true;
+    const dvh::CcdOptions from_raw = raw;
+    REQUIRE(from_raw.max_impacts() == 5 && from_raw.earliest_only() && !dvh::CcdOptions(raw).earliest_only(false).earliest_only());
+}
+
+void test_ccd_primitives() {
+    // A point falling through the floor triangle: z = 1 - 4t meets z = 0 at t = 1/4 exactly.
+    std::array<double, 12> s = {0.25, 0.25, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0};
+    std::array<double, 12> e = {0.25, 0.25, -3, 0, 0, 0, 1, 0, 0, 0, 1, 0};
+    auto c_test = [](auto test, const double* start, const double* end, DvhCcdMode mode) {
+        DvhCcdOptions o = dvh_ccd_options_default();
+        o.mode = mode;
+        bool hit = false;
+        double toi = -1.0;
+        REQUIRE(test(start, end, &o, &hit, &toi) == DVH_STATUS_OK);
+        return hit ? std::optional<double>(toi) : std::nullopt;
+    };
+    const std::optional<double> fall = dvh::ccd_vertex_face(s, e);
+    REQUIRE(fall && *fall == 0.25);
+    REQUIRE(dvh::ccd_vertex_face(s.data(), e.data()) == fall);
+    REQUIRE(dvh::ccd_vertex_face(e, s) == 0.75);  // rising
+    for (const dvh::CcdMode mode : {dvh::CcdMode::exact, dvh::CcdMode::conservative}) {
+        const std::optional<double> t = dvh::ccd_vertex_face(s, e, dvh::CcdOptions{}.mode(mode));
+        REQUIRE(t == c_test(dvh_ccd_vertex_face, s.data(), e.data(), static_cast<DvhCcdMode>(mode)));
+        REQUIRE(t && *t <= 0.25);
+    }
+    // The other fields are ignored.
+    REQUIRE(dvh::ccd_vertex_face(s, e, dvh::CcdOptions{}.threads(3).max_impacts(1).earliest_only(true)) == 0.25);
+    // A miss.
+    std::array<double, 12> s_miss = s, e_miss = e;
+    s_miss[0] = e_miss[0] = 2.0;
+    REQUIRE(!dvh::ccd_vertex_face(s_miss, e_miss));
+    REQUIRE(!dvh::ccd_vertex_face(s_miss, e_miss, dvh::CcdOptions{}.mode(dvh::CcdMode::conservative)));
+
+    // Edge a along x at y = 1/2 falls from z = 3/4 (z = 3/4 - 2t) across the still edge b along y
+    // at x = 1/2: they cross at t = 3/8.
+    const std::array<double, 12> es = {0, 0.5, 0.75, 1, 0.5, 0.75, 0.5, 0, 0, 0.5, 1, 0};
+    const std::array<double, 12> ee = {0, 0.5, -1.25, 1, 0.5, -1.25, 0.5, 0, 0, 0.5, 1, 0};
+    REQUIRE(dvh::ccd_edge_edge(es, ee) == 0.375);
+    REQUIRE(dvh::ccd_edge_edge(es.data(), ee.data(), dvh::CcdOptions{}.mode(dvh::CcdMode::exact)) == 0.375);
+    REQUIRE(dvh::ccd_edge_edge(es, ee, dvh::CcdOptions{}.mode(dvh::CcdMode::conservative)) ==
+            c_test(dvh_ccd_edge_edge, es.data(), ee.data(), DVH_CCD_MODE_CONSERVATIVE));
+    std::array<double, 12> es_miss = es, ee_miss = ee;
+    es_miss[6] = es_miss[9] = ee_miss[6] = ee_miss[9] = 1.5;  // edge b beyond edge a's end
+    REQUIRE(!dvh::ccd_edge_edge(es_miss, ee_miss));
+    // Random small integer motions: the wrappers say what the C functions say.
+    lcg_state = 31;
+    int hits = 0;
+    for (int k = 0; k < 400; k++) {
+        std::array<double, 12> a{}, b{};
+        for (int c = 0; c < 12; c++) {
+            a[c] = lcg_below(5) - 2;
+            b[c] = lcg_below(5) - 2;
+        }
+        const std::optional<double> vf = dvh::ccd_vertex_face(a, b), ef = dvh::ccd_edge_edge(a, b);
+        REQUIRE(vf == c_test(dvh_ccd_vertex_face, a.data(), b.data(), DVH_CCD_MODE_EXACT));
+        REQUIRE(ef == c_test(dvh_ccd_edge_edge, a.data(), b.data(), DVH_CCD_MODE_EXACT));
+        hits += vf.has_value() + ef.has_value();
+    }
+    REQUIRE(hits > 0 && hits < 800);
+
+    // Errors: the status and the library's message.
+    std::array<double, 12> nan_start = s;
+    nan_start[4] = std::nan("");
+    REQUIRE_ERROR((void)dvh::ccd_vertex_face(nan_start, e), DVH_STATUS_NON_FINITE_COORDINATE, "start[4] is NaN, not a finite number");
+    std::array<double, 12> inf_end = ee;
+    inf_end[11] = std::numeric_limits<double>::infinity();
+    REQUIRE_ERROR((void)dvh::ccd_edge_edge(es, inf_end), DVH_STATUS_NON_FINITE_COORDINATE, "end[11] is inf");
+    REQUIRE_ERROR((void)dvh::ccd_vertex_face(s, e, dvh::CcdOptions{}.mode(7)), DVH_STATUS_INVALID_ARGUMENT,
+                  "options->mode = 7 is not a DVH_CCD_MODE_* value (0 or 1)");
+    REQUIRE_ERROR((void)dvh::ccd_edge_edge(es, ee, dvh::CcdOptions{}.mode(2)), DVH_STATUS_INVALID_ARGUMENT, "options->mode = 2");
+    REQUIRE_ERROR((void)dvh::ccd_vertex_face(nullptr, e.data()), DVH_STATUS_NULL_ARGUMENT, "argument `start` is NULL");
+    REQUIRE_ERROR((void)dvh::ccd_edge_edge(es.data(), nullptr), DVH_STATUS_NULL_ARGUMENT, "argument `end` is NULL");
+    // A success clears the message.
+    REQUIRE(dvh::ccd_edge_edge(es, ee) == 0.375 && dvh::last_error_message().empty());
+}
+
+void test_impacts_owner() {
+    const dvh::Mesh floor(floor_positions, one_triangle);
+    dvh::Mesh falling(falling_start, one_triangle);
+    falling.refit_motion(falling_start, falling_end);
+
+    dvh::Impacts p;
+    REQUIRE(p && p.empty() && p.size() == 0 && p.view().empty() && p.view().data() == nullptr && p.begin() == p.end());
+    dvh::continuous_collide(falling, floor, dvh::CcdOptions{}, p);
+    REQUIRE(same(p, falling_impacts));
+    const DvhImpact* data = p.view().data();
+    dvh::Impacts q(std::move(p));
+    REQUIRE(q.view().data() == data && q.size() == 4 && !p && p.get() == nullptr && p.size() == 0 && p.view().data() == nullptr);
+    REQUIRE(p.empty() && p.begin() == p.end());
+    REQUIRE_ERROR(dvh::continuous_collide(falling, floor, dvh::CcdOptions{}, p), DVH_STATUS_NULL_ARGUMENT, "`impacts_out`");
+    REQUIRE_ERROR(dvh::self_continuous_collide(falling, dvh::CcdOptions{}, p), DVH_STATUS_NULL_ARGUMENT, "`impacts_out`");
+    p = std::move(q);  // into an owner of none
+    REQUIRE(p.view().data() == data && !q);
+    dvh::Impacts& alias = p;
+    p = std::move(alias);  // to itself: keeps its buffer
+    REQUIRE(p.view().data() == data && p.size() == 4);
+    p = dvh::Impacts();  // releases the filled buffer
+    REQUIRE(p && p.empty());
+    DvhImpacts* raw = p.release();
+    REQUIRE(!p && raw != nullptr);
+    REQUIRE(dvh_continuous_collide(falling.get(), floor.get(), nullptr, raw, nullptr) == DVH_STATUS_OK);
+    dvh::Impacts adopted(raw);
+    REQUIRE(same(adopted, falling_impacts));
+    dvh::Impacts none(nullptr);
+    REQUIRE(!none && none.size() == 0);
+    // In a container that moves them as it grows: each keeps its own result.
+    std::vector<dvh::Impacts> buffers;
+    for (int i = 0; i < 9; i++) {
+        buffers.emplace_back();
+        if (i % 2 == 0) dvh::continuous_collide(falling, floor, dvh::CcdOptions{}, buffers.back());
+    }
+    for (std::size_t i = 0; i < buffers.size(); i++) REQUIRE(buffers[i].size() == (i % 2 == 0 ? 4u : 0u));
+}
+
+void test_continuous() {
+    // The same meshes through the wrappers and through the C API.
+    const dvh::Mesh floor(floor_positions, one_triangle);
+    dvh::Mesh falling(falling_start, one_triangle);
+    DvhMesh* c_floor = nullptr;
+    DvhMesh* c_falling = nullptr;
+    REQUIRE(dvh_mesh_create(floor_positions.data(), 3, one_triangle.data(), 1, nullptr, &c_floor) == DVH_STATUS_OK);
+    REQUIRE(dvh_mesh_create(falling_start.data(), 3, one_triangle.data(), 1, nullptr, &c_falling) == DVH_STATUS_OK);
+    DvhImpacts* c_impacts = dvh_impacts_new();
+    dvh::Impacts impacts;
+    DvhCcdStats c_stats{};
+    auto compare = [&](const dvh::Mesh& a, DvhMesh* c_a, const dvh::Mesh& b, DvhMesh* c_b, const dvh::CcdOptions& o) {
+        REQUIRE(dvh_continuous_collide(c_a, c_b, &o.c(), c_impacts, &c_stats) == DVH_STATUS_OK);
+        const DvhCcdStats stats = dvh::continuous_collide(a, b, o, impacts);
+        REQUIRE(same(impacts, c_impacts) && same(stats, c_stats));
+        REQUIRE(same(dvh::continuous_collide(a, b, o), c_impacts));
+    };
+
+    // Still: nothing.
+    compare(falling, c_falling, floor, c_floor, dvh::CcdOptions{});
+    REQUIRE(impacts.empty() && c_stats.impacts == 0 && std::isinf(c_stats.earliest_toi));
+    REQUIRE(dvh::continuous_collide(falling, floor).empty());
+
+    // Falling: apart at the end, but it passed through.
+    falling.refit_motion(falling_start, falling_end);
+    REQUIRE(dvh_mesh_refit_motion(c_falling, falling_start.data(), falling_end.data(), 3) == DVH_STATUS_OK);
+    falling.validate();
+    REQUIRE(dvh::collide(falling, nullptr, floor, nullptr).empty());
+    for (const dvh::CcdMode mode : {dvh::CcdMode::exact, dvh::CcdMode::conservative})
+        for (std::uint32_t threads = 0; threads < 3; threads++) {
+            const dvh::CcdOptions o = dvh::CcdOptions{}.mode(mode).threads(threads);
+            compare(falling, c_falling, floor, c_floor, o);
+            compare(floor, c_floor, falling, c_falling, o);
+            compare(falling, c_falling, floor, c_floor, dvh::CcdOptions(o).earliest_only(true));
+            compare(falling, c_falling, floor, c_floor, dvh::CcdOptions(o).max_impacts(1));
+        }
+    const DvhCcdStats stats = dvh::continuous_collide(falling, floor, dvh::CcdOptions{}, impacts);
+    REQUIRE(same(impacts, falling_impacts) && stats.impacts == 4 && stats.earliest_toi == 0.5 && !stats.truncated);
+    REQUIRE(same(dvh::continuous_collide(falling, floor), falling_impacts));
+    dvh::Impacts earliest = dvh::continuous_collide(falling, floor, dvh::CcdOptions{}.earliest_only(true));
+    REQUIRE(earliest.size() == 1 && same(earliest.view()[0], falling_impacts[1]));
+    const DvhCcdStats cut = dvh::continuous_collide(falling, floor, dvh::CcdOptions{}.max_impacts(1), earliest);
+    REQUIRE(earliest.size() == 1 && cut.truncated);
+
+    // Every refit_motion overload gives what the C call gives.
+    const std::vector<double> lower_start = moved(Geometry{falling_start, one_triangle}, 0.25, 0, -0.5);
+    const std::vector<double> lower_end = moved(Geometry{falling_end, one_triangle}, 0.25, 0, -0.5);
+    REQUIRE(dvh_mesh_refit_motion(c_falling, lower_start.data(), lower_end.data(), 3) == DVH_STATUS_OK);
+    falling.refit_motion(lower_start.data(), lower_end.data(), 3);
+    compare(falling, c_falling, floor, c_floor, dvh::CcdOptions{});
+    REQUIRE(!impacts.empty() && !same(impacts, falling_impacts));
+    falling.refit_motion(falling_start, falling_end);
+    REQUIRE(dvh_mesh_refit_motion(c_falling, falling_start.data(), falling_end.data(), 3) == DVH_STATUS_OK);
+    compare(falling, c_falling, floor, c_floor, dvh::CcdOptions{});
+    REQUIRE(same(impacts, falling_impacts));
+
+    // A failed motion leaves the mesh as it was: the same impacts, the same counters.
+    const DvhRefitStats refit_before = falling.last_refit_stats();
+    std::vector<double> nan_end = falling_end;
+    nan_end[3 * 1 + 1] = std::nan("");
+    REQUIRE_ERROR(falling.refit_motion(lower_start, nan_end), DVH_STATUS_NON_FINITE_COORDINATE,
+                  "end positions: vertex 1: coordinate y is NaN, not a finite number");
+    REQUIRE_ERROR(falling.refit_motion(nan_end, lower_end), DVH_STATUS_NON_FINITE_COORDINATE,
+                  "start positions: vertex 1: coordinate y is NaN");
+    REQUIRE_ERROR(falling.refit_motion(lower_start.data(), lower_end.data(), 2), DVH_STATUS_INVALID_ARGUMENT,
+                  "vertex_count = 2, but the mesh has 3 vertices");
+    REQUIRE_ERROR(falling.refit_motion(lower_start.data(), nullptr, 3), DVH_STATUS_NULL_ARGUMENT, "argument `end` is NULL");
+    REQUIRE_ERROR(falling.refit_motion(std::vector<double>(lower_start.begin(), lower_start.end() - 1), lower_end),
+                  DVH_STATUS_INVALID_ARGUMENT, "start holds 8 values, not a multiple of 3");
+    REQUIRE_ERROR(falling.refit_motion(lower_start, std::vector<double>(lower_end.begin(), lower_end.end() - 1)),
+                  DVH_STATUS_INVALID_ARGUMENT, "end holds 8 values, not a multiple of 3");
+    REQUIRE_ERROR(falling.refit_motion(lower_start, std::vector<double>(lower_end.begin(), lower_end.end() - 3)),
+                  DVH_STATUS_INVALID_ARGUMENT, "start holds 9 values but end holds 6");
+    REQUIRE_ERROR(falling.refit_motion(std::vector<double>(), std::vector<double>()), DVH_STATUS_INVALID_ARGUMENT,
+                  "vertex_count = 0, but the mesh has 3 vertices");
+    REQUIRE(falling.last_refit_stats().nodes_refit == refit_before.nodes_refit &&
+            falling.last_refit_stats().distance_evaluations == refit_before.distance_evaluations);
+    falling.validate();
+    compare(falling, c_falling, floor, c_floor, dvh::CcdOptions{});
+    REQUIRE(same(impacts, falling_impacts));
+    dvh::Mesh gone(nullptr);
+    REQUIRE_ERROR(gone.refit_motion(falling_start, falling_end), DVH_STATUS_NULL_ARGUMENT, "argument `mesh` is NULL");
+
+    // A failed query leaves the buffer as it was.
+    const std::vector<DvhImpact> before = copy(impacts);
+    REQUIRE_ERROR(dvh::continuous_collide(falling, floor, dvh::CcdOptions{}.mode(7), impacts), DVH_STATUS_INVALID_ARGUMENT,
+                  "options->mode = 7 is not a DVH_CCD_MODE_* value (0 or 1)");
+    REQUIRE_ERROR((void)dvh::continuous_collide(falling, floor, dvh::CcdOptions{}.mode(7)), DVH_STATUS_INVALID_ARGUMENT,
+                  "options->mode = 7");
+    REQUIRE_ERROR(dvh::continuous_collide(dvh::Mesh(nullptr), floor, dvh::CcdOptions{}, impacts), DVH_STATUS_NULL_ARGUMENT,
+                  "argument `a` is NULL");
+    REQUIRE_ERROR(dvh::continuous_collide(falling, gone, dvh::CcdOptions{}, impacts), DVH_STATUS_NULL_ARGUMENT,
+                  "argument `b` is NULL");
+    REQUIRE_ERROR(dvh::self_continuous_collide(falling, dvh::CcdOptions{}.mode(9), impacts), DVH_STATUS_INVALID_ARGUMENT,
+                  "options->mode = 9");
+    REQUIRE_ERROR((void)dvh::self_continuous_collide(gone), DVH_STATUS_NULL_ARGUMENT, "argument `mesh` is NULL");
+    REQUIRE(same(impacts, before));
+
+    // A plain refit makes the mesh stationary again.
+    falling.refit(falling_end);
+    REQUIRE(dvh_mesh_refit(c_falling, falling_end.data(), 3) == DVH_STATUS_OK);
+    compare(falling, c_falling, floor, c_floor, dvh::CcdOptions{});
+    REQUIRE(impacts.empty());
+
+    // Self: a hinge, triangle 1 swinging about the shared edge through triangle 0; its vertex 3
+    // crosses z = 0 at t = 1/2 inside triangle 0.
+    const std::vector<double> hinge_start = {0, 0, 0, 0, 4, 0, 4, 2, 0, -2, 2, 2};
+    const std::vector<double> hinge_end = {0, 0, 0, 0, 4, 0, 4, 2, 0, 3, 2, -2};
+    const std::vector<std::uint32_t> hinge_tris = {0, 1, 2, 0, 1, 3};
+    dvh::Mesh hinge(hinge_start, hinge_tris);
+    REQUIRE(dvh::self_continuous_collide(hinge).empty());
+    hinge.refit_motion(hinge_start, hinge_end);
+    REQUIRE(dvh::self_collide(hinge).empty());
+    const dvh::Impacts folded = dvh::self_continuous_collide(hinge);
+    REQUIRE(same(folded, std::vector<DvhImpact>{impact(DVH_IMPACT_KIND_VERTEX_FACE, 3, 0, 0, 0, 0.5)}));
+    // A folding grid against the C query: every thread count, every option.
+    const Geometry g = terrain(6, 0, 0, flat);
+    std::vector<double> ramp = g.positions, under = g.positions;
+    for (int j = 0; j <= 6; j++)
+        for (int i = 4; i <= 6; i++) {
+            const std::size_t v = (std::size_t)(j * 7 + i);
+            ramp[3 * v + 2] = i - 3;
+            under[3 * v] = 6 - i + 0.0625 * j;
+            under[3 * v + 2] = -0.125 * (i - 3);
+        }
+    dvh::Mesh sheet(g.positions, g.triangles);
+    DvhMesh* c_sheet = c_mesh(g);
+    sheet.refit_motion(ramp, under);
+    REQUIRE(dvh_mesh_refit_motion(c_sheet, ramp.data(), under.data(), g.vertices()) == DVH_STATUS_OK);
+    for (std::uint32_t threads = 0; threads < 3; threads++)
+        for (const dvh::CcdOptions& o : {dvh::CcdOptions{}, dvh::CcdOptions{}.earliest_only(true), dvh::CcdOptions{}.max_impacts(3),
+                                         dvh::CcdOptions{}.mode(dvh::CcdMode::conservative)}) {
+            const dvh::CcdOptions with = dvh::CcdOptions(o).threads(threads);
+            REQUIRE(dvh_self_continuous_collide(c_sheet, &with.c(), c_impacts, &c_stats) == DVH_STATUS_OK);
+            const DvhCcdStats self_stats = dvh::self_continuous_collide(sheet, with, impacts);
+            REQUIRE(same(impacts, c_impacts) && same(self_stats, c_stats));
+            REQUIRE(same(dvh::self_continuous_collide(sheet, with), c_impacts));
+        }
+    REQUIRE(dvh::self_continuous_collide(sheet).size() > 3);
+    for (const DvhImpact& i : dvh::self_continuous_collide(sheet)) REQUIRE(i.kind != DVH_IMPACT_KIND_FACE_VERTEX);
+    const std::vector<DvhImpact> self_before = copy(impacts);
+    REQUIRE_ERROR(dvh::self_continuous_collide(sheet, dvh::CcdOptions{}.mode(7), impacts), DVH_STATUS_INVALID_ARGUMENT,
+                  "options->mode = 7");
+    REQUIRE(same(impacts, self_before));
+
+    dvh_impacts_free(c_impacts);
+    dvh_mesh_free(c_floor);
+    dvh_mesh_free(c_falling);
+    dvh_mesh_free(c_sheet);
+}
+
 }  // namespace
 
 int main() {
@@ -743,6 +1092,10 @@ int main() {
     test_mesh();
     test_queries();
     test_scene();
+    test_ccd_options();
+    test_ccd_primitives();
+    test_impacts_owner();
+    test_continuous();
     std::printf("test_cpp (C++%ld): all checks passed\n", (long)(__cplusplus / 100 % 100));
     return 0;
 }

@@ -1,10 +1,10 @@
 /*
  * dvh.hpp: the C++17 layer over dvh.h, header-only.
  *
- * Owners that release their handle (dvh::Mesh, dvh::Pairs, dvh::Scene, dvh::Contacts), one
- * exception, dvh::Error, for every failed call, results viewed in place (dvh::Span), and options
- * with named setters that chain. Each wrapper calls the dvh.h function it names, whose
- * documentation (arguments, errors, thread safety) holds for it too.
+ * Owners that release their handle (dvh::Mesh, dvh::Pairs, dvh::Scene, dvh::Contacts,
+ * dvh::Impacts), one exception, dvh::Error, for every failed call, results viewed in place
+ * (dvh::Span), and options with named setters that chain. Each wrapper calls the dvh.h function
+ * it names, whose documentation (arguments, errors, thread safety) holds for it too.
  *
  * Conventions
  * - A failed call throws dvh::Error with the DvhStatus and the message of
@@ -12,7 +12,8 @@
  *   changes nothing (a failed refit leaves the mesh, a failed query its result buffer, a failed
  *   scene call the scene as they were).
  * - Out of memory is a dvh::Error with DVH_STATUS_OUT_OF_MEMORY, whichever call ran out, the
- *   creation of a result buffer (dvh_pairs_new, dvh_contacts_new returning NULL) included.
+ *   creation of a result buffer (dvh_pairs_new, dvh_contacts_new, dvh_impacts_new returning NULL)
+ *   included.
  * - The owners are move-only. A moved-from or released owner holds no handle: get() is null, its
  *   counts are 0, and a call that needs the handle throws dvh::Error (DVH_STATUS_NULL_ARGUMENT).
  *   get() lends the handle to the C API; release() gives it up.
@@ -30,6 +31,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -262,12 +264,92 @@ private:
     DvhQueryOptions c_;
 };
 
+/// How a continuous test decides (DvhCcdMode): the DVH_CCD_MODE_* values.
+enum class CcdMode : DvhCcdMode {
+    /// DVH_CCD_MODE_EXACT: exact for every finite input, the time of impact the earliest contact
+    /// rounded down to a double. The default.
+    exact = DVH_CCD_MODE_EXACT,
+    /// DVH_CCD_MODE_CONSERVATIVE: floating point only; never misses a contact nor reports a later
+    /// time than exact, but may report primitives that come within rounding error of contact.
+    conservative = DVH_CCD_MODE_CONSERVATIVE,
+};
+
+/// Options for the continuous tests and queries: a DvhCcdOptions that starts from
+/// dvh_ccd_options_default() (exact, every core, no impact limit, every impact) and is set by
+/// name, `dvh::CcdOptions{}.mode(dvh::CcdMode::conservative).earliest_only(true)`. The primitive
+/// tests (ccd_vertex_face, ccd_edge_edge) read the mode only.
+class CcdOptions {
+public:
+    /// dvh_ccd_options_default().
+    CcdOptions() noexcept : c_(dvh_ccd_options_default()) {}
+    /// The given C options (implicit: a DvhCcdOptions goes wherever options are taken).
+    CcdOptions(const DvhCcdOptions& options) noexcept : c_(options) {}
+
+    /// Sets how the tests decide.
+    CcdOptions& mode(CcdMode value) & noexcept {
+        c_.mode = static_cast<DvhCcdMode>(value);
+        return *this;
+    }
+    /// Sets how the tests decide, on a temporary.
+    CcdOptions mode(CcdMode value) && noexcept { return mode(value); }
+    /// Sets how the tests decide: a DVH_CCD_MODE_* value (one out of range is the library's to
+    /// refuse, when the options are used).
+    CcdOptions& mode(DvhCcdMode value) & noexcept {
+        c_.mode = value;
+        return *this;
+    }
+    /// Sets how the tests decide (a DVH_CCD_MODE_* value), on a temporary.
+    CcdOptions mode(DvhCcdMode value) && noexcept { return mode(value); }
+    /// How the tests decide.
+    [[nodiscard]] CcdMode mode() const noexcept { return static_cast<CcdMode>(c_.mode); }
+
+    /// Sets the threads a query may use: 0 for every core, 1 for the calling thread, n for at
+    /// most n. The impacts are the same, in the same order, whatever the count.
+    CcdOptions& threads(std::uint32_t value) & noexcept {
+        c_.threads = value;
+        return *this;
+    }
+    /// Sets the threads a query may use, on a temporary.
+    CcdOptions threads(std::uint32_t value) && noexcept { return threads(value); }
+    /// The threads a query may use.
+    [[nodiscard]] std::uint32_t threads() const noexcept { return c_.threads; }
+
+    /// Sets the most impacts reported (0: no limit); the statistics' `truncated` says when it
+    /// cut.
+    CcdOptions& max_impacts(std::uint64_t value) & noexcept {
+        c_.max_impacts = value;
+        return *this;
+    }
+    /// Sets the most impacts reported, on a temporary.
+    CcdOptions max_impacts(std::uint64_t value) && noexcept { return max_impacts(value); }
+    /// The most impacts reported (0: no limit).
+    [[nodiscard]] std::uint64_t max_impacts() const noexcept { return c_.max_impacts; }
+
+    /// Sets whether a query reports the earliest impact only (of several at that time, the first
+    /// in the result's order): much cheaper than the whole list.
+    CcdOptions& earliest_only(bool value) & noexcept {
+        c_.earliest_only = value;
+        return *this;
+    }
+    /// Sets whether a query reports the earliest impact only, on a temporary.
+    CcdOptions earliest_only(bool value) && noexcept { return earliest_only(value); }
+    /// Does a query report the earliest impact only?
+    [[nodiscard]] bool earliest_only() const noexcept { return c_.earliest_only; }
+
+    /// The C struct, for the C API.
+    [[nodiscard]] const DvhCcdOptions& c() const noexcept { return c_; }
+
+private:
+    DvhCcdOptions c_;
+};
+
 namespace detail {
 
 inline void free_handle(DvhMesh* handle) noexcept { dvh_mesh_free(handle); }
 inline void free_handle(DvhPairs* handle) noexcept { dvh_pairs_free(handle); }
 inline void free_handle(DvhScene* handle) noexcept { dvh_scene_free(handle); }
 inline void free_handle(DvhContacts* handle) noexcept { dvh_contacts_free(handle); }
+inline void free_handle(DvhImpacts* handle) noexcept { dvh_impacts_free(handle); }
 
 // A handle from a C function that writes it to its last argument.
 template <typename Handle, typename Create>
@@ -301,7 +383,7 @@ const T* elements(const std::vector<T>& values) noexcept {
     return values.empty() ? &none : values.data();
 }
 
-// What the four owners share: one handle, released by its dvh_*_free when the owner goes.
+// What the owners share: one handle, released by its dvh_*_free when the owner goes.
 template <typename Handle>
 class Owner {
 public:
@@ -413,6 +495,24 @@ public:
         check(dvh_mesh_refit_f32(get(), positions, stride_bytes, vertex_count));
     }
 
+    /// Gives the mesh a motion over one step: every vertex moves in a straight line from `start`
+    /// (t = 0) to `end` (t = 1), x, y, z per vertex, as many vertices as at creation
+    /// (dvh_mesh_refit_motion). The volumes hold the whole motion, for continuous_collide() and
+    /// self_continuous_collide(); the positions become `end`. A plain refit() makes the mesh
+    /// stationary again. On failure the mesh is exactly as it was (its motion included).
+    void refit_motion(const double* start, const double* end, std::size_t vertex_count) {
+        check(dvh_mesh_refit_motion(get(), start, end, vertex_count));
+    }
+    /// Gives the mesh the motion from `start` to `end` (x, y, z per vertex each); two vectors of
+    /// different sizes throw dvh::Error (DVH_STATUS_INVALID_ARGUMENT) before any call.
+    void refit_motion(const std::vector<double>& start, const std::vector<double>& end) {
+        const std::size_t vertex_count = detail::triples(start, "start");
+        if (detail::triples(end, "end") != vertex_count)
+            throw Error(DVH_STATUS_INVALID_ARGUMENT, "start holds " + std::to_string(start.size()) + " values but end holds " +
+                                                         std::to_string(end.size()) + ": a motion needs as many of each");
+        refit_motion(detail::elements(start), detail::elements(end), vertex_count);
+    }
+
     /// The number of vertices (dvh_mesh_vertex_count).
     [[nodiscard]] std::size_t vertex_count() const noexcept { return dvh_mesh_vertex_count(get()); }
     /// The number of triangles (dvh_mesh_triangle_count).
@@ -512,6 +612,35 @@ public:
     [[nodiscard]] const DvhContact* begin() const noexcept { return view().begin(); }
     /// The position past the last contact, as view().end().
     [[nodiscard]] const DvhContact* end() const noexcept { return view().end(); }
+};
+
+/// A reusable result buffer of the continuous queries (DvhImpacts), released by
+/// dvh_impacts_free. Use one per thread.
+class Impacts : public detail::Owner<DvhImpacts> {
+public:
+    /// A new, empty buffer (dvh_impacts_new).
+    Impacts() : Owner(detail::allocated(dvh_impacts_new())) {}
+    /// Takes ownership of `impacts`, a buffer from dvh_impacts_new (or null: an owner of none).
+    explicit Impacts(DvhImpacts* impacts) noexcept : Owner(impacts) {}
+    /// Takes `other`'s buffer; `other` holds none afterwards.
+    Impacts(Impacts&& other) noexcept = default;
+    /// Releases the buffer held here, then takes `other`'s.
+    Impacts& operator=(Impacts&& other) noexcept = default;
+
+    /// The impacts of the last successful query into the buffer, sorted by
+    /// `(kind, a0, a1, b0, b1)`; valid until the next query into it (dvh_impacts_data,
+    /// dvh_impacts_len).
+    [[nodiscard]] Span<DvhImpact> view() const noexcept {
+        return Span<DvhImpact>(dvh_impacts_data(get()), dvh_impacts_len(get()));
+    }
+    /// The number of impacts (dvh_impacts_len).
+    [[nodiscard]] std::size_t size() const noexcept { return dvh_impacts_len(get()); }
+    /// Are there no impacts?
+    [[nodiscard]] bool empty() const noexcept { return size() == 0; }
+    /// The first impact's position, as view().begin().
+    [[nodiscard]] const DvhImpact* begin() const noexcept { return view().begin(); }
+    /// The position past the last impact, as view().end().
+    [[nodiscard]] const DvhImpact* end() const noexcept { return view().end(); }
 };
 
 /// Objects queried together (DvhScene), released by dvh_scene_free: rigid ones placed by poses,
@@ -674,6 +803,74 @@ inline DvhQueryStats self_proximity(const Mesh& mesh, double distance, const Que
 /// Do the closed triangles `t1` and `t2` share a point?
 [[nodiscard]] inline bool triangles_intersect(const std::array<double, 9>& t1, const std::array<double, 9>& t2) {
     return triangles_intersect(t1.data(), t2.data());
+}
+
+/// When, if ever, does a point moving in a straight line first meet a moving closed triangle
+/// during the step t in [0, 1]? `start` and `end` hold 12 doubles each: the point, then the
+/// triangle's three corners (x, y, z each), at t = 0 and t = 1. The time is the earliest contact
+/// rounded down to a double; nullopt when they do not meet. Only the options' mode counts
+/// (dvh_ccd_vertex_face).
+[[nodiscard]] inline std::optional<double> ccd_vertex_face(const double* start, const double* end,
+                                                           const CcdOptions& options = {}) {
+    bool hit = false;
+    double toi = 0.0;
+    check(dvh_ccd_vertex_face(start, end, &options.c(), &hit, &toi));
+    return hit ? std::optional<double>(toi) : std::nullopt;
+}
+
+/// When does the moving point first meet the moving triangle (the point, then the corners)?
+[[nodiscard]] inline std::optional<double> ccd_vertex_face(const std::array<double, 12>& start, const std::array<double, 12>& end,
+                                                           const CcdOptions& options = {}) {
+    return ccd_vertex_face(start.data(), end.data(), options);
+}
+
+/// When, if ever, do two closed segments moving with their ends in straight lines first share
+/// a point during the step? `start` and `end` hold 12 doubles each: edge a's two ends, then edge
+/// b's (dvh_ccd_edge_edge); otherwise as ccd_vertex_face().
+[[nodiscard]] inline std::optional<double> ccd_edge_edge(const double* start, const double* end, const CcdOptions& options = {}) {
+    bool hit = false;
+    double toi = 0.0;
+    check(dvh_ccd_edge_edge(start, end, &options.c(), &hit, &toi));
+    return hit ? std::optional<double>(toi) : std::nullopt;
+}
+
+/// When do the two moving segments first meet (edge a's ends, then edge b's)?
+[[nodiscard]] inline std::optional<double> ccd_edge_edge(const std::array<double, 12>& start, const std::array<double, 12>& end,
+                                                         const CcdOptions& options = {}) {
+    return ccd_edge_edge(start.data(), end.data(), options);
+}
+
+/// Every vertex-face, face-vertex and edge-edge pair of `a` and `b` that meets while each moves
+/// through its last motion (Mesh::refit_motion; a mesh refit without one stays still), with the
+/// earliest time, into `impacts`, replacing what it held; returns the counters
+/// (dvh_continuous_collide). On failure `impacts` is unchanged.
+inline DvhCcdStats continuous_collide(const Mesh& a, const Mesh& b, const CcdOptions& options, Impacts& impacts) {
+    DvhCcdStats stats{};
+    check(dvh_continuous_collide(a.get(), b.get(), &options.c(), impacts.get(), &stats));
+    return stats;
+}
+
+/// Every impact of `a` and `b` over their motions, in a new buffer.
+[[nodiscard]] inline Impacts continuous_collide(const Mesh& a, const Mesh& b, const CcdOptions& options = {}) {
+    Impacts impacts;
+    continuous_collide(a, b, options, impacts);
+    return impacts;
+}
+
+/// Every pair of one mesh's primitives that meets during its last motion (a vertex and a
+/// triangle without it, two edges sharing no vertex), with the earliest time, into `impacts`;
+/// returns the counters (dvh_self_continuous_collide). On failure `impacts` is unchanged.
+inline DvhCcdStats self_continuous_collide(const Mesh& mesh, const CcdOptions& options, Impacts& impacts) {
+    DvhCcdStats stats{};
+    check(dvh_self_continuous_collide(mesh.get(), &options.c(), impacts.get(), &stats));
+    return stats;
+}
+
+/// One mesh's impacts with itself over its motion, in a new buffer.
+[[nodiscard]] inline Impacts self_continuous_collide(const Mesh& mesh, const CcdOptions& options = {}) {
+    Impacts impacts;
+    self_continuous_collide(mesh, options, impacts);
+    return impacts;
 }
 
 }  // namespace dvh
