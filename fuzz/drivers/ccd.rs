@@ -111,7 +111,7 @@ pub fn ccd_mesh(data: &[u8]) {
     use dvh::fixtures::{grid, torus};
     let mut bytes = Bytes::new(data);
     let kind = bytes.u8();
-    let shape = if kind % 2 == 0 {
+    let shape = if kind.is_multiple_of(2) {
         grid(1 + usize::from(kind / 2 % 4), 1.0)
     } else {
         torus(0.5, 0.25, 3 + usize::from(kind / 2 % 3), 3)

@@ -16,7 +16,7 @@
 //!    increasing order against the whole [`Condition`]; when the motion is coplanar throughout,
 //!    every root of every polynomial of the condition is a candidate (as the oracle does).
 
-use super::condition::{Condition, Moving, Signs, Tri, edge_edge, moving, vertex_face};
+use super::condition::{Condition, Moving, Signs, Tri, edge_edge, vertex_face};
 use super::interval::{self, Answer};
 use super::poly::{Poly, Root, one};
 use super::scaled;
@@ -42,8 +42,22 @@ pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 
     if boxes_apart(start, end, split) || never_coplanar(kind, start, end) {
         return None;
     }
-    let exact_motion =
-        || -> Vec<Moving<Poly>> { (0..4).map(|i| moving(&start[i], &end[i])).collect() };
+    // Contact is a condition on signs, unchanged when every coordinate is scaled by a power
+    // of two: scaled so that all are integers, the polynomials have integer coefficients, and
+    // the rationals computed with them stay free of large denominators to reduce.
+    let exact_motion = || -> Vec<Moving<Poly>> {
+        let scale = scaled::common_scale(start, end);
+        (0..4)
+            .map(|i| {
+                [0, 1, 2].map(|k| {
+                    Poly::motion_int(
+                        scaled::scaled_int(start[i][k], scale),
+                        scaled::scaled_int(end[i][k], scale),
+                    )
+                })
+            })
+            .collect()
+    };
     match interval::time_of_impact(kind, start, end) {
         Answer::Decided(toi) => return toi,
         Answer::ContactIn(lo, hi, at_lo) => {

@@ -35,16 +35,28 @@ impl Interval {
     }
 }
 
-/// A polynomial in t with interval coefficients, lowest degree first.
-#[derive(Clone, Debug)]
-pub(crate) struct IPoly(Vec<Interval>);
+/// A polynomial in t of degree at most 3 with interval coefficients, lowest degree first: the
+/// condition's polynomials are at most cubic, so a fixed array holds them without allocating.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct IPoly {
+    c: [Interval; 4],
+    /// Coefficients in use.
+    n: usize,
+}
+
+const ZERO: Interval = Interval { lo: 0.0, hi: 0.0 };
 
 impl Ring for IPoly {
     fn motion(start: f64, end: f64) -> IPoly {
-        IPoly(vec![
-            Interval::point(start),
-            Interval::point(end) - Interval::point(start),
-        ])
+        IPoly {
+            c: [
+                Interval::point(start),
+                Interval::point(end) - Interval::point(start),
+                ZERO,
+                ZERO,
+            ],
+            n: 2,
+        }
     }
 
     fn add(&self, o: &IPoly) -> IPoly {
@@ -56,49 +68,55 @@ impl Ring for IPoly {
     }
 
     fn mul(&self, o: &IPoly) -> IPoly {
-        if self.0.is_empty() || o.0.is_empty() {
-            return IPoly(Vec::new());
+        if self.n == 0 || o.n == 0 {
+            return IPoly { c: [ZERO; 4], n: 0 };
         }
-        let mut c = vec![Interval::point(0.0); self.0.len() + o.0.len() - 1];
-        for (i, a) in self.0.iter().enumerate() {
-            for (j, b) in o.0.iter().enumerate() {
-                c[i + j] = c[i + j] + *a * *b;
+        let n = self.n + o.n - 1;
+        debug_assert!(n <= 4, "the contact polynomials are at most cubic");
+        let mut c = [ZERO; 4];
+        for i in 0..self.n {
+            for j in 0..o.n {
+                c[i + j] = c[i + j] + self.c[i] * o.c[j];
             }
         }
-        IPoly(c)
+        IPoly { c, n }
     }
 }
 
 impl IPoly {
     /// Coefficient by coefficient, the shorter padded with zeros.
     fn zip(&self, o: &IPoly, op: fn(Interval, Interval) -> Interval) -> IPoly {
-        let z = Interval::point(0.0);
-        let at = |p: &IPoly, i: usize| p.0.get(i).copied().unwrap_or(z);
-        IPoly(
-            (0..self.0.len().max(o.0.len()))
-                .map(|i| op(at(self, i), at(o, i)))
-                .collect(),
-        )
+        let n = self.n.max(o.n);
+        let mut c = [ZERO; 4];
+        for (i, x) in c.iter_mut().enumerate().take(n) {
+            *x = op(self.c[i], o.c[i]);
+        }
+        IPoly { c, n }
     }
 
     /// An enclosure of the values over `t` (Horner in intervals).
     fn eval(&self, t: Interval) -> Interval {
-        let mut v = Interval::point(0.0);
-        for c in self.0.iter().rev() {
+        let mut v = ZERO;
+        for c in self.c[..self.n].iter().rev() {
             v = v * t + *c;
         }
         v
     }
 
+    /// The value at t = 0.
+    fn at_zero(&self) -> Interval {
+        if self.n == 0 { ZERO } else { self.c[0] }
+    }
+
     fn derivative(&self) -> IPoly {
-        IPoly(
-            self.0
-                .iter()
-                .enumerate()
-                .skip(1)
-                .map(|(i, c)| *c * Interval::point(i as f64))
-                .collect(),
-        )
+        let mut c = [ZERO; 4];
+        for i in 1..self.n {
+            c[i - 1] = self.c[i] * Interval::point(i as f64);
+        }
+        IPoly {
+            c,
+            n: self.n.saturating_sub(1),
+        }
     }
 }
 
@@ -129,6 +147,16 @@ pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 
     };
     let edges = kind == Primitive::EdgeEdge;
     let normals = projection_normals(edges, [&m[0], &m[1], &m[2], &m[3]]);
+    // In contact at the start (resting contact, most often): certain from the start
+    // positions alone.
+    let mut signs = [Signs::within(0.0, 0.0); 25];
+    let signs = &mut signs[..c.polys.len()];
+    for (s, p) in signs.iter_mut().zip(&c.polys) {
+        *s = p.at_zero().signs();
+    }
+    if (c.holds)(signs) == Tri::Yes {
+        return Answer::Decided(Some(0.0));
+    }
     let f = &c.polys[0];
     let df = f.derivative();
     // Depth-first, left half first: cells come out in increasing t.
@@ -146,8 +174,10 @@ pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 
         // Every polynomial of the condition over the cell: where some projection certainly
         // keeps the primitives apart (say a vertex beside a triangle while both stay in one
         // plane, as in a flat sheet), nothing in the cell can touch, root of f or not.
-        let signs: Vec<Signs> = c.polys.iter().map(|p| p.eval(cell).signs()).collect();
-        if (c.holds)(&signs) == Tri::No {
+        for (s, p) in signs.iter_mut().zip(&c.polys) {
+            *s = p.eval(cell).signs();
+        }
+        if (c.holds)(signs) == Tri::No {
             continue;
         }
         let (fa, fb) = (

@@ -34,6 +34,15 @@ impl Poly {
         Poly::new(vec![s, d])
     }
 
+    /// `start + t (end - start)` for integer ends.
+    pub(crate) fn motion_int(start: BigInt, end: BigInt) -> Poly {
+        let d = &end - &start;
+        Poly::new(vec![
+            BigRational::from_integer(start),
+            BigRational::from_integer(d),
+        ])
+    }
+
     /// A constant.
     #[cfg(test)]
     pub(crate) fn constant(c: BigRational) -> Poly {
@@ -113,7 +122,43 @@ impl Poly {
 
     /// The sign of the value at `x`.
     pub(crate) fn sign_at(&self, x: &BigRational) -> Ordering {
+        let d = x.denom();
+        if d.bits() == d.trailing_zeros().unwrap_or(0) + 1 {
+            return self.sign_at_dyadic(x.numer(), d.bits() - 1);
+        }
         self.eval(x).cmp(&BigRational::zero())
+    }
+
+    /// The sign of the value at `m / 2^k`, in integers: the value times `2^(k · degree)` and
+    /// the product of the coefficients' denominators, both positive, is
+    /// `sum a_i m^i 2^(k (degree - i))` with integer `a_i`. The points the root search and the
+    /// rounding to doubles evaluate at are all of this form; rationals would reduce every
+    /// intermediate by a gcd, which costs more than the arithmetic.
+    fn sign_at_dyadic(&self, m: &BigInt, k: u64) -> Ordering {
+        let Some(deg) = self.degree() else {
+            return Ordering::Equal;
+        };
+        // a_i = numerator_i times the other coefficients' denominators.
+        let a: Vec<BigInt> = (0..=deg)
+            .map(|i| {
+                let mut x = self.0[i].numer().clone();
+                for (j, c) in self.0.iter().enumerate() {
+                    if j != i && !c.denom().is_one() {
+                        x *= c.denom();
+                    }
+                }
+                x
+            })
+            .collect();
+        let mut v = a[deg].clone();
+        for i in (0..deg).rev() {
+            v = v * m + (&a[i] << (k * (deg - i) as u64));
+        }
+        match v.sign() {
+            num_bigint::Sign::Minus => Ordering::Less,
+            num_bigint::Sign::NoSign => Ordering::Equal,
+            num_bigint::Sign::Plus => Ordering::Greater,
+        }
     }
 
     /// Quotient and remainder of the division by non-zero `d`.
@@ -360,15 +405,41 @@ impl Root {
         *x > self.lo && *x < self.hi && self.poly.sign_at(x).is_eq()
     }
 
-    /// The largest double not above the root.
+    /// The largest double not above the root (which lies in [0, 1]): a bisection over the
+    /// doubles between the isolating interval's ends, each decided by the polynomial's exact
+    /// sign at a double.
     pub(crate) fn floor_f64(&mut self) -> f64 {
-        loop {
-            let (a, b) = (floor_f64(&self.lo), floor_f64(&self.hi));
-            if self.is_exact() || a == b {
-                return a;
-            }
-            self.refine();
+        if self.is_exact() {
+            return floor_f64(&self.lo);
         }
+        let at_lo = self.poly.sign_at(&self.lo);
+        // Is the double t at most the root?
+        let below = |t: f64| -> bool {
+            let q = rational(t);
+            if q <= self.lo {
+                return true;
+            }
+            if q >= self.hi {
+                return false;
+            }
+            match self.poly.sign_at(&q) {
+                Ordering::Equal => true,
+                s => s == at_lo,
+            }
+        };
+        let mut a = floor_f64(&self.lo);
+        let mut b = floor_f64(&self.hi).next_up();
+        debug_assert!(a >= 0.0 && below(a) && !below(b));
+        // Non-negative doubles are ordered as their bits.
+        while b.to_bits() - a.to_bits() > 1 {
+            let mid = f64::from_bits(a.to_bits() + (b.to_bits() - a.to_bits()) / 2);
+            if below(mid) {
+                a = mid;
+            } else {
+                b = mid;
+            }
+        }
+        a
     }
 }
 
@@ -400,6 +471,31 @@ mod tests {
 
     fn poly(c: &[i64]) -> Poly {
         Poly::new(c.iter().map(|&x| q(x, 1)).collect())
+    }
+
+    /// The integer evaluation at dyadic points agrees with rational Horner, for rational
+    /// coefficients of every sign and size, at points with and without powers of two below.
+    #[test]
+    fn signs_at_dyadic_points_are_those_of_the_rational_value() {
+        let mut x = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x % 2001) as i64 - 1000
+        };
+        for _ in 0..2000 {
+            let deg = (next().unsigned_abs() % 4) as usize;
+            let c: Vec<BigRational> = (0..=deg).map(|_| q(next(), 1 + next().abs() % 7)).collect();
+            let p = Poly::new(c);
+            let k = (next().unsigned_abs() % 12) as i32;
+            let t = q(next(), 1) / BigRational::from_integer(BigInt::from(2).pow(k as u32));
+            assert_eq!(
+                p.sign_at(&t),
+                p.eval(&t).cmp(&BigRational::zero()),
+                "{p:?} at {t}"
+            );
+        }
     }
 
     #[test]

@@ -22,6 +22,28 @@ fn split(x: f64) -> (i64, i32) {
     (if x.is_sign_negative() { -m } else { m }, e)
 }
 
+/// The smallest exponent of the non-zero coordinates: scaled by 2 to minus it, every
+/// coordinate is an integer.
+pub(crate) fn common_scale(start: &[Point; 4], end: &[Point; 4]) -> i32 {
+    start
+        .iter()
+        .chain(end.iter())
+        .flatten()
+        .filter(|x| **x != 0.0)
+        .map(|&x| split(x).1)
+        .min()
+        .unwrap_or(0)
+}
+
+/// `x · 2^-scale`, an integer when `scale` is at most `x`'s exponent.
+pub(crate) fn scaled_int(x: f64, scale: i32) -> BigInt {
+    if x == 0.0 {
+        return BigInt::ZERO;
+    }
+    let (m, e) = split(x);
+    BigInt::from(m) << (e - scale) as usize
+}
+
 /// The sign of the coplanarity determinant (as `condition::coplanarity` orders it) at time
 /// `t` in [0, 1], for finite coordinates.
 pub(crate) fn coplanarity_sign(
@@ -30,20 +52,8 @@ pub(crate) fn coplanarity_sign(
     end: &[Point; 4],
     t: f64,
 ) -> Ordering {
-    let all = start.iter().chain(end.iter()).flatten();
-    let scale = all
-        .clone()
-        .filter(|x| **x != 0.0)
-        .map(|&x| split(x).1)
-        .min()
-        .unwrap_or(0);
-    let int = |x: f64| -> BigInt {
-        if x == 0.0 {
-            return BigInt::ZERO;
-        }
-        let (m, e) = split(x);
-        BigInt::from(m) << (e - scale) as usize
-    };
+    let scale = common_scale(start, end);
+    let int = |x: f64| scaled_int(x, scale);
     // t in (0, 1] is tm · 2^te with te < 0 (1 is 2^52 · 2^-52). The position at t, times
     // 2^(-scale - te), is x0 · 2^-te + tm · (x1 - x0): an integer.
     let (tm, te) = split(t);
