@@ -18,11 +18,10 @@
 
 use super::condition::{Condition, Moving, Signs, Tri, edge_edge, vertex_face};
 use super::interval::{self, Answer};
-use super::poly::{Poly, Root, one};
+use super::poly::{self, Poly, Root, one};
 use super::scaled;
 use crate::geometry::predicates::Point;
 use num_rational::BigRational;
-use num_traits::Zero;
 
 /// Which test: a point against a triangle, or a segment against a segment.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -64,14 +63,15 @@ pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 
             // Only the time is left to round: the cubic's sign at doubles between, in integers.
             return Some(scaled::floor_root(kind, start, end, lo, hi, at_lo));
         }
-        Answer::Unknown(_) => {}
+        Answer::Unknown(from) => {
+            let m = exact_motion();
+            let condition = match kind {
+                Primitive::VertexFace => vertex_face(&m[0], [&m[1], &m[2], &m[3]]),
+                Primitive::EdgeEdge => edge_edge([&m[0], &m[1]], [&m[2], &m[3]]),
+            };
+            earliest(&condition, from)
+        }
     }
-    let m = exact_motion();
-    let condition = match kind {
-        Primitive::VertexFace => vertex_face(&m[0], [&m[1], &m[2], &m[3]]),
-        Primitive::EdgeEdge => edge_edge([&m[0], &m[1]], [&m[2], &m[3]]),
-    };
-    earliest(&condition)
 }
 
 /// [`time_of_impact`] in floating point only: the same filters and interval search, and where
@@ -184,42 +184,58 @@ fn never_coplanar(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> bool
     true
 }
 
-/// The earliest time the condition holds, trying the coplanarity polynomial's roots (or, when
-/// it vanishes identically, every polynomial's) in increasing order.
-fn earliest(c: &Condition<Poly>) -> Option<f64> {
+/// The earliest time at or after `from` (before which there is no contact) at which the
+/// condition holds, trying the coplanarity polynomial's roots (or, when it vanishes
+/// identically, every polynomial's) in increasing order.
+fn earliest(c: &Condition<Poly>, from: f64) -> Option<f64> {
     let f = &c.polys[0];
+    let from = poly::rational(from);
     if f.is_zero() {
-        return earliest_of_every_candidate(c);
+        return earliest_of_every_candidate(c, &from);
     }
-    first_holding(c, f.roots_in(&BigRational::zero(), &one()))
+    first_holding(c, f.roots_in(&from, &one()))
 }
 
-/// The earliest time the condition holds, trying 0 and every root of every polynomial: the
-/// contact times form a closed set whose truth changes only at such roots. (The oracle.)
-pub(crate) fn earliest_of_every_candidate(c: &Condition<Poly>) -> Option<f64> {
-    let (zero, one) = (BigRational::zero(), one());
-    let at_zero: Vec<Signs> = c
+/// The earliest time at or after `from` at which the condition holds, trying `from` and every
+/// root of every polynomial: the contact times form a closed set whose truth changes only at
+/// such roots. (With `from` = 0, the oracle.)
+pub(crate) fn earliest_of_every_candidate(c: &Condition<Poly>, from: &BigRational) -> Option<f64> {
+    let at_from: Vec<Signs> = c
         .polys
         .iter()
-        .map(|p| Signs::exact(p.sign_at(&zero)))
+        .map(|p| Signs::exact(p.sign_at(from)))
         .collect();
-    if (c.holds)(&at_zero) == Tri::Yes {
-        return Some(0.0);
+    if (c.holds)(&at_from) == Tri::Yes {
+        return Some(poly::floor_f64(from));
     }
+    let one = one();
     let candidates = c
         .polys
         .iter()
         .filter(|p| !p.is_zero())
-        .flat_map(|p| p.roots_in(&zero, &one))
+        .flat_map(|p| p.roots_in(from, &one))
         .collect();
     first_holding(c, candidates)
 }
 
-/// The earliest of the candidate times at which the condition holds, rounded down.
+/// The earliest of the candidate times at which the condition holds, rounded down. Signs are
+/// found one polynomial at a time, the others left open, and a candidate is dropped as soon
+/// as the signs known rule contact out.
 pub(crate) fn first_holding(c: &Condition<Poly>, mut candidates: Vec<Root>) -> Option<f64> {
     candidates.sort_by(|a, b| a.cmp(b));
-    for mut r in candidates {
-        let signs: Vec<Signs> = c.polys.iter().map(|p| Signs::exact(r.sign_of(p))).collect();
+    let open = Signs {
+        neg: true,
+        zero: true,
+        pos: true,
+    };
+    'roots: for mut r in candidates {
+        let mut signs = vec![open; c.polys.len()];
+        for i in 0..signs.len() {
+            signs[i] = Signs::exact(r.sign_of(&c.polys[i]));
+            if (c.holds)(&signs) == Tri::No {
+                continue 'roots;
+            }
+        }
         if (c.holds)(&signs) == Tri::Yes {
             return Some(r.floor_f64());
         }

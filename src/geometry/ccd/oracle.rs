@@ -17,14 +17,20 @@ use num_rational::BigRational;
 /// some t in [0, 1], and when first (rounded down)?
 pub(crate) fn vertex_face_toi(start: &[[f64; 3]; 4], end: &[[f64; 3]; 4]) -> Option<f64> {
     let m: Vec<Moving<Poly>> = (0..4).map(|i| moving(&start[i], &end[i])).collect();
-    earliest_of_every_candidate(&vertex_face(&m[0], [&m[1], &m[2], &m[3]]))
+    earliest_of_every_candidate(
+        &vertex_face(&m[0], [&m[1], &m[2], &m[3]]),
+        &num_traits::Zero::zero(),
+    )
 }
 
 /// Do the closed segments `start[0..2] → end[0..2]` and `start[2..4] → end[2..4]` share a point
 /// for some t in [0, 1], and when first (rounded down)?
 pub(crate) fn edge_edge_toi(start: &[[f64; 3]; 4], end: &[[f64; 3]; 4]) -> Option<f64> {
     let m: Vec<Moving<Poly>> = (0..4).map(|i| moving(&start[i], &end[i])).collect();
-    earliest_of_every_candidate(&edge_edge([&m[0], &m[1]], [&m[2], &m[3]]))
+    earliest_of_every_candidate(
+        &edge_edge([&m[0], &m[1]], [&m[2], &m[3]]),
+        &num_traits::Zero::zero(),
+    )
 }
 
 #[cfg(test)]

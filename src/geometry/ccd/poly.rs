@@ -342,6 +342,24 @@ impl Root {
         if self.is_exact() {
             return q.sign_at(&self.lo);
         }
+        if q.degree() == Some(1) {
+            // A line: its one root x decides, without a gcd. Outside (lo, hi), q keeps one sign
+            // over the interval; inside, the root is x exactly when p vanishes there (p has no
+            // other root in the interval), and otherwise lies on the side where p keeps its
+            // sign at lo.
+            let x = -&q.0[0] / &q.0[1];
+            if x <= self.lo || x >= self.hi {
+                let end = if x <= self.lo { &self.hi } else { &self.lo };
+                return q.sign_at(end);
+            }
+            let at_x = self.poly.sign_at(&x);
+            if at_x.is_eq() {
+                return Ordering::Equal;
+            }
+            // The root is above x when p has at x the sign it has at lo.
+            let above = at_x == self.poly.sign_at(&self.lo);
+            return q.sign_at(if above { &self.hi } else { &self.lo });
+        }
         // The root is a root of q exactly when it is one of gcd(p, q), which has at most this
         // one root in (lo, hi) (its roots are p's), so a sign change there tells.
         let g = self.poly.gcd(q);
