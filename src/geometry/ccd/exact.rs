@@ -58,10 +58,10 @@ pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 
             .collect()
     };
     match interval::time_of_impact(kind, start, end) {
-        Answer::Decided(toi) => return toi,
+        Answer::Decided(toi) => toi,
+        // Only the time is left to round: the cubic's sign at doubles between, in integers.
         Answer::ContactIn(lo, hi, at_lo) => {
-            // Only the time is left to round: the cubic's sign at doubles between, in integers.
-            return Some(scaled::floor_root(kind, start, end, lo, hi, at_lo));
+            Some(scaled::floor_root(kind, start, end, lo, hi, at_lo))
         }
         Answer::Unknown(from) => {
             let m = exact_motion();
