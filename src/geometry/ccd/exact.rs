@@ -20,7 +20,8 @@ use super::condition::{Condition, Moving, Signs, Tri, edge_edge, vertex_face};
 use super::interval::{self, Answer};
 use super::poly::{self, Poly, Root, one};
 use super::scaled;
-use crate::geometry::predicates::Point;
+use crate::geometry::predicates::{Point, orient3d};
+use crate::geometry::tri_tri::triangles_intersect;
 use num_rational::BigRational;
 
 /// Which test: a point against a triangle, or a segment against a segment.
@@ -34,12 +35,8 @@ pub(crate) enum Primitive {
 /// `None`. `start` and `end` hold the four points: the vertex and the triangle's corners, or
 /// edge a's ends and edge b's. Every coordinate must be finite.
 pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> Option<f64> {
-    let split = match kind {
-        Primitive::VertexFace => 1,
-        Primitive::EdgeEdge => 2,
-    };
-    if boxes_apart(start, end, split) || never_coplanar(kind, start, end) {
-        return None;
+    if let Some(answer) = filtered(kind, start, end) {
+        return answer;
     }
     // Contact is a condition on signs, unchanged when every coordinate is scaled by a power
     // of two: scaled so that all are integers, the polynomials have integer coefficients, and
@@ -57,7 +54,18 @@ pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 
             })
             .collect()
     };
-    match interval::time_of_impact(kind, start, end) {
+    let answer = interval::time_of_impact(kind, start, end);
+    if std::env::var_os("DVH_PROBE").is_some() {
+        eprintln!(
+            "probe {}",
+            match answer {
+                Answer::Decided(_) => "decided".to_string(),
+                Answer::ContactIn(..) => "contactin".to_string(),
+                Answer::Unknown(a) => format!("unknown {a}"),
+            }
+        );
+    }
+    match answer {
         Answer::Decided(toi) => toi,
         // Only the time is left to round: the cubic's sign at doubles between, in integers.
         Answer::ContactIn(lo, hi, at_lo) => {
@@ -84,16 +92,40 @@ pub(crate) fn conservative_time_of_impact(
     start: &[Point; 4],
     end: &[Point; 4],
 ) -> Option<f64> {
-    let split = match kind {
-        Primitive::VertexFace => 1,
-        Primitive::EdgeEdge => 2,
-    };
-    if boxes_apart(start, end, split) || never_coplanar(kind, start, end) {
-        return None;
+    if let Some(answer) = filtered(kind, start, end) {
+        return answer;
     }
     match interval::time_of_impact(kind, start, end) {
         Answer::Decided(toi) => toi,
         Answer::ContactIn(lo, _, _) | Answer::Unknown(lo) => Some(lo),
+    }
+}
+
+/// The answer of the exact filters when they give one: boxes apart or never coplanar (none),
+/// or coplanar only at one end of the step (then contact only there, decided by the exact
+/// static test). Both modes run them first.
+fn filtered(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> Option<Option<f64>> {
+    let split = match kind {
+        Primitive::VertexFace => 1,
+        Primitive::EdgeEdge => 2,
+    };
+    if boxes_apart(start, end, split) {
+        return Some(None);
+    }
+    match coplanar_times(kind, start, end) {
+        Coplanar::Never => Some(None),
+        Coplanar::OnlyAtStart => Some(touching(kind, start).then_some(0.0)),
+        Coplanar::OnlyAtEnd => Some(touching(kind, end).then_some(1.0)),
+        Coplanar::Maybe => None,
+    }
+}
+
+/// Do the primitives share a point at these positions? The exact static triangle test, a
+/// point or a segment being a triangle with repeated corners.
+fn touching(kind: Primitive, p: &[Point; 4]) -> bool {
+    match kind {
+        Primitive::VertexFace => triangles_intersect(&[p[0]; 3], &[p[1], p[2], p[3]]),
+        Primitive::EdgeEdge => triangles_intersect(&[p[0], p[1], p[1]], &[p[2], p[3], p[3]]),
     }
 }
 
@@ -133,10 +165,26 @@ fn det(u: &[f64; 3], v: &[f64; 3], w: &[f64; 3]) -> (f64, f64) {
     (d, perm)
 }
 
-/// Is f certainly without a root in [0, 1]? Only when every Bernstein coefficient is certainly
-/// non-zero and all share one sign; never when the floating-point numbers leave the range
-/// where the error bound holds (overflow, or products small enough to lose bits).
-fn never_coplanar(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> bool {
+/// When the coplanarity polynomial f can vanish, as its Bernstein coefficients on [0, 1] tell.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Coplanar {
+    /// Never in [0, 1].
+    Never,
+    /// At t = 0 only (f(0) is exactly zero, the other coefficients of one strict sign): the
+    /// primitives start coplanar, as a flat sheet does, and leave the plane at once.
+    OnlyAtStart,
+    /// At t = 1 only.
+    OnlyAtEnd,
+    /// The filter cannot tell.
+    Maybe,
+}
+
+/// Where f may vanish: nowhere when every Bernstein coefficient is certainly non-zero and all
+/// share one sign; only at an end when that end's coefficient (f there) is exactly zero and
+/// the others certainly share one strict sign. Maybe otherwise, and whenever the floating-point
+/// numbers leave the range where the error bound holds (overflow, or products small enough to
+/// lose bits).
+fn coplanar_times(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> Coplanar {
     // Shewchuk's orient3d bound is (7 + 56 eps) eps times the permanent; 8 eps covers it, and
     // the sums below add at most 3 eps of their terms' magnitude.
     const EPS: f64 = f64::EPSILON / 2.0;
@@ -144,8 +192,9 @@ fn never_coplanar(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> bool
     const SMALLEST: f64 = 1e-250;
     const LARGEST: f64 = 1e250;
     let ends = [vectors(kind, start), vectors(kind, end)];
-    let mut sign = 0i8;
-    for m in 0..4 {
+    // The sign of each coefficient when certain (0 when not).
+    let mut signs = [0i8; 4];
+    for (m, sign) in signs.iter_mut().enumerate() {
         let (mut sum, mut err, mut mag) = (0.0f64, 0.0f64, 0.0f64);
         for (i, j, k) in [
             (0, 0, 0),
@@ -162,26 +211,34 @@ fn never_coplanar(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> bool
             }
             let (d, perm) = det(&ends[i][0], &ends[j][1], &ends[k][2]);
             if !(perm.is_finite() && perm < LARGEST) || (perm != 0.0 && perm < SMALLEST) {
-                return false;
+                return Coplanar::Maybe;
             }
             sum += d;
             err += BOUND * perm;
             mag += d.abs();
         }
         let err = (err + 3.0 * EPS * mag) * (1.0 + 4.0 * EPS);
-        let s = if sum > err {
+        *sign = if sum > err {
             1
         } else if sum < -err {
             -1
         } else {
-            return false;
+            0
         };
-        if sign != 0 && s != sign {
-            return false;
-        }
-        sign = s;
     }
-    true
+    let one_sign = |s: &[i8]| s[0] != 0 && s.iter().all(|&x| x == s[0]);
+    if one_sign(&signs) {
+        return Coplanar::Never;
+    }
+    // The end coefficients are f at the ends: exactly zero when the four points are coplanar.
+    let coplanar_at = |p: &[Point; 4]| orient3d(&p[0], &p[1], &p[2], &p[3]) == 0;
+    if signs[0] == 0 && one_sign(&signs[1..]) && coplanar_at(start) {
+        return Coplanar::OnlyAtStart;
+    }
+    if signs[3] == 0 && one_sign(&signs[..3]) && coplanar_at(end) {
+        return Coplanar::OnlyAtEnd;
+    }
+    Coplanar::Maybe
 }
 
 /// The earliest time at or after `from` (before which there is no contact) at which the
@@ -307,7 +364,7 @@ mod tests {
                 hits += usize::from(got.is_some());
                 filtered += usize::from(
                     boxes_apart(&s, &e, if kind == Primitive::VertexFace { 1 } else { 2 })
-                        || never_coplanar(kind, &s, &e),
+                        || coplanar_times(kind, &s, &e) == Coplanar::Never,
                 );
             }
         }

@@ -186,9 +186,10 @@ pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 
         );
         if fa != 0 && fb != 0 && fa != fb && df.eval(Interval::new(a, b)).sign() != 0 {
             // Exactly one root, simple, strictly inside.
+            // Undecided at the root, the answer's bound is where the root was narrowed to:
+            // nothing before it in the cell can touch (f has no other root there).
             match at_root(&c, &normals, edges, a, b, fa) {
                 Answer::Decided(None) => continue,
-                Answer::Unknown(_) => return Answer::Unknown(a),
                 answer => return answer,
             }
         }
