@@ -54,11 +54,7 @@ pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 
             })
             .collect()
     };
-    let answer = interval::time_of_impact(kind, start, end);
-    if std::env::var_os("DVH_PROBE").is_some() {
-        eprintln!(
-            "probe {}",
-            match answer {
+    match interval::time_of_impact(kind, start, end) {
                 Answer::Decided(_) => "decided".to_string(),
                 Answer::ContactIn(..) => "contactin".to_string(),
                 Answer::Unknown(a) => format!("unknown {a}"),
