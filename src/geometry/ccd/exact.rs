@@ -55,13 +55,6 @@ pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 
             .collect()
     };
     match interval::time_of_impact(kind, start, end) {
-                Answer::Decided(_) => "decided".to_string(),
-                Answer::ContactIn(..) => "contactin".to_string(),
-                Answer::Unknown(a) => format!("unknown {a}"),
-            }
-        );
-    }
-    match answer {
         Answer::Decided(toi) => toi,
         // Only the time is left to round: the cubic's sign at doubles between, in integers.
         Answer::ContactIn(lo, hi, at_lo) => {
