@@ -110,8 +110,9 @@ typedef struct DvhCcdOptions {
   uint64_t max_impacts;
   /**
    * Report only the earliest impact (of several at that time, the first in the result's
-   * order): much cheaper than the whole list, since pairs that cannot meet before the
-   * earliest impact found so far are not tested.
+   * order). In `DVH_CCD_MODE_EXACT` much cheaper than the whole list: triangle pairs whose
+   * sweeps up to the earliest impact found so far are apart are not tested (the conservative
+   * mode, whose times may come before the contact, tests every pair).
    */
   bool earliest_only;
 } DvhCcdOptions;

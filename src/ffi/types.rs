@@ -334,8 +334,9 @@ pub struct DvhCcdOptions {
     /// Stop once this many impacts are found (0: no limit); `DvhCcdStats.truncated` then says so.
     pub max_impacts: u64,
     /// Report only the earliest impact (of several at that time, the first in the result's
-    /// order): much cheaper than the whole list, since pairs that cannot meet before the
-    /// earliest impact found so far are not tested.
+    /// order). In `DVH_CCD_MODE_EXACT` much cheaper than the whole list: triangle pairs whose
+    /// sweeps up to the earliest impact found so far are apart are not tested (the conservative
+    /// mode, whose times may come before the contact, tests every pair).
     pub earliest_only: bool,
 }
 

@@ -8,7 +8,10 @@
 //!    vanish. f is trilinear in three linearly moving vectors, so its Bernstein coefficients on
 //!    [0, 1] are averages of the eight determinants det(u_i, v_j, w_k), i, j, k in {start, end};
 //!    when all four are certainly of one strict sign (each determinant evaluated as Shewchuk's
-//!    orient3d is, with his error bound), f has no root and there is no contact.
+//!    orient3d is, with his error bound), f has no root and there is no contact. When the
+//!    first is exactly zero (the primitives start coplanar, as a flat sheet does) and the
+//!    other three share one strict sign, f vanishes at t = 0 only, and the exact static triangle
+//!    test at the start decides; likewise at the end.
 //! 3. Intervals: the condition's polynomials with floating-point interval coefficients, f's
 //!    roots enclosed by bisection and certified simple, the condition judged over each
 //!    enclosure in increasing order ([`super::interval`]); it answers when all of it is certain.
