@@ -442,4 +442,30 @@ mod tests {
             }
         }
     }
+
+    /// A point passing 1e-3 from a triangle's plane, nearly tangent to it (the coplanarity
+    /// cubic has a near-double root): the conservative mode settles it as the exact one does,
+    /// rather than reporting a contact where its search could not decide.
+    #[test]
+    fn a_near_tangent_miss_is_no_contact_in_either_mode() {
+        // The coordinates' bits, as the benchmark that found the case printed them.
+        let bits = |p: [[u64; 3]; 4]| p.map(|q| q.map(f64::from_bits));
+        let s = bits([
+            [0x3fea2d46c429b105, 0x3fcd39e5c50cf0e8, 0x3fe4d26e3610eccc],
+            [0x3fda6d945f3caa4a, 0x3fd7de5579337ee4, 0x3fc59671497bf508],
+            [0x3fdff306b055237e, 0x3fedbd4549065c4f, 0x3fe6c2d7ebf4bc29],
+            [0x3fa1de503a3034e0, 0x3fc45c77816e6cb8, 0x3fe1353ed5523abe],
+        ]);
+        let e = bits([
+            [0x3fd01ab70a627162, 0x3fec0fa739568161, 0x3fce43d7f77b7964],
+            [0x3fe59d8a15ee4d16, 0x3fca29a4e88deb38, 0x3feb51649e3045bf],
+            [0x3fe5ff62135d4de2, 0x3fee7e46d0d83338, 0x3f917e796ccd6920],
+            [0x3fe5967787088c53, 0x3fea5c49fe0ae69d, 0x3fd0c6cf96aa7dc4],
+        ]);
+        assert_eq!(time_of_impact(Primitive::VertexFace, &s, &e), None);
+        assert_eq!(
+            conservative_time_of_impact(Primitive::VertexFace, &s, &e),
+            None
+        );
+    }
 }
