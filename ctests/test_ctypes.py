@@ -14,6 +14,7 @@ lib = ctypes.CDLL(os.environ.get("DVH_LIBRARY", os.path.join(os.path.dirname(__f
 DvhStatus = ctypes.c_uint32
 DVH_STATUS_OK, DVH_STATUS_NULL_ARGUMENT, DVH_STATUS_INVALID_ARGUMENT = 0, 1, 2
 DVH_STATUS_INDEX_OUT_OF_RANGE, DVH_STATUS_NON_RIGID_POSE = 4, 5
+DVH_STATUS_NON_FINITE_COORDINATE = 3
 DVH_QUERY_MODE_LEAVES, DVH_QUERY_MODE_BUDGET = 2, 4
 DVH_VOLUME_KIND_DVH, DVH_VOLUME_KIND_SBV, DVH_VOLUME_KIND_AABB = 0, 1, 2
 DVH_PAIR_KIND_NODES = 1
@@ -379,6 +380,66 @@ def main():
           "self-proximity at 0 on an intact sheet")
     check(lib.dvh_self_proximity(sheet, float("nan"), None, pairs, None) == DVH_STATUS_INVALID_ARGUMENT, "NaN distance refused")
     lib.dvh_mesh_free(both)
+
+    # Continuous collision: the tent moved from 10 above the sheet to 10 below it passes through
+    # it, though it meets it at neither end.
+    class DvhCcdOptions(ctypes.Structure):
+        _fields_ = [("mode", ctypes.c_uint32), ("threads", ctypes.c_uint32),
+                    ("max_impacts", ctypes.c_uint64), ("earliest_only", ctypes.c_bool)]
+
+    class DvhImpact(ctypes.Structure):
+        _fields_ = [("kind", ctypes.c_uint32), ("a0", ctypes.c_uint32), ("a1", ctypes.c_uint32),
+                    ("b0", ctypes.c_uint32), ("b1", ctypes.c_uint32), ("toi", ctypes.c_double)]
+
+    class DvhCcdStats(ctypes.Structure):
+        _fields_ = [("bv_tests", ctypes.c_uint64), ("primitive_tests", ctypes.c_uint64),
+                    ("impacts", ctypes.c_uint64), ("earliest_toi", ctypes.c_double), ("truncated", ctypes.c_bool)]
+
+    Doubles = ctypes.POINTER(ctypes.c_double)
+    lib.dvh_ccd_options_default.restype = DvhCcdOptions
+    lib.dvh_ccd_vertex_face.restype = DvhStatus
+    lib.dvh_ccd_vertex_face.argtypes = [Doubles, Doubles, ctypes.POINTER(DvhCcdOptions),
+                                        ctypes.POINTER(ctypes.c_bool), Doubles]
+    lib.dvh_mesh_refit_motion.restype = DvhStatus
+    lib.dvh_mesh_refit_motion.argtypes = [MeshPtr, Doubles, Doubles, ctypes.c_size_t]
+    lib.dvh_impacts_new.restype = ctypes.c_void_p
+    lib.dvh_impacts_len.restype = ctypes.c_size_t
+    lib.dvh_impacts_len.argtypes = [ctypes.c_void_p]
+    lib.dvh_impacts_data.restype = ctypes.POINTER(DvhImpact)
+    lib.dvh_impacts_data.argtypes = [ctypes.c_void_p]
+    lib.dvh_impacts_free.argtypes = [ctypes.c_void_p]
+    lib.dvh_continuous_collide.restype = DvhStatus
+    lib.dvh_continuous_collide.argtypes = [MeshPtr, MeshPtr, ctypes.POINTER(DvhCcdOptions), ctypes.c_void_p,
+                                           ctypes.POINTER(DvhCcdStats)]
+
+    def doubles(values):
+        return (ctypes.c_double * len(values))(*values)
+
+    falling_start = doubles([0.25, 0.25, 1.0, 0, 0, 0, 1, 0, 0, 0, 1, 0])
+    falling_end = doubles([0.25, 0.25, -3.0, 0, 0, 0, 1, 0, 0, 0, 1, 0])
+    hit, toi = ctypes.c_bool(False), ctypes.c_double(-1.0)
+    check(lib.dvh_ccd_vertex_face(falling_start, falling_end, None, ctypes.byref(hit), ctypes.byref(toi)) == DVH_STATUS_OK
+          and hit.value and toi.value == 0.25, "ccd: a point falling through a triangle at t = 0.25")
+    bad = doubles([0.25, 0.25, float("nan")] + [0.0] * 9)
+    check(lib.dvh_ccd_vertex_face(bad, falling_end, None, ctypes.byref(hit), ctypes.byref(toi)) == DVH_STATUS_NON_FINITE_COORDINATE
+          and "start[2]" in last_error() and toi.value == 0.25, "ccd: NaN named, outputs untouched: " + last_error())
+    up = doubles([x + (10.0 if i % 3 == 2 else 0.0) for i, x in enumerate(tent_pos)])
+    down = doubles([x - (10.0 if i % 3 == 2 else 0.0) for i, x in enumerate(tent_pos)])
+    check(lib.dvh_mesh_refit_motion(tent, up, down, 4) == DVH_STATUS_OK, "refit_motion")
+    check(lib.dvh_mesh_refit_motion(tent, up, down, 3) == DVH_STATUS_INVALID_ARGUMENT, "refit_motion: wrong count refused")
+    impacts = lib.dvh_impacts_new()
+    ccd_stats = DvhCcdStats()
+    options = lib.dvh_ccd_options_default()
+    check(lib.dvh_continuous_collide(sheet, tent, ctypes.byref(options), impacts, ctypes.byref(ccd_stats)) == DVH_STATUS_OK
+          and lib.dvh_impacts_len(impacts) > 0 and ccd_stats.impacts == lib.dvh_impacts_len(impacts),
+          "continuous collision finds the pass-through")
+    data = lib.dvh_impacts_data(impacts)
+    keys = [(data[i].kind, data[i].a0, data[i].a1, data[i].b0, data[i].b1) for i in range(lib.dvh_impacts_len(impacts))]
+    check(keys == sorted(keys) and all(0.0 <= data[i].toi <= 1.0 for i in range(len(keys))), "impacts sorted, times in the step")
+    options.mode = 9
+    check(lib.dvh_continuous_collide(sheet, tent, ctypes.byref(options), impacts, None) == DVH_STATUS_INVALID_ARGUMENT
+          and lib.dvh_impacts_len(impacts) == len(keys), "bad mode refused, impacts kept")
+    lib.dvh_impacts_free(impacts)
 
     lib.dvh_pairs_free(pairs)
     lib.dvh_mesh_free(sheet)
