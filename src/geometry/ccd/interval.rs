@@ -152,7 +152,7 @@ const MAX_CELLS: usize = 400;
 
 /// The floating-point path of [`super::exact::time_of_impact`].
 pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> Answer {
-    let m: Vec<Moving<IPoly>> = (0..4).map(|i| moving(&start[i], &end[i])).collect();
+    let m: [Moving<IPoly>; 4] = [0, 1, 2, 3].map(|i| moving(&start[i], &end[i]));
     let c = match kind {
         Primitive::VertexFace => vertex_face(&m[0], [&m[1], &m[2], &m[3]]),
         Primitive::EdgeEdge => edge_edge([&m[0], &m[1]], [&m[2], &m[3]]),
@@ -173,9 +173,15 @@ pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 
     let df = f.derivative();
     let ddf = df.derivative();
     // Depth-first, left half first: cells come out in increasing t.
-    let mut stack = vec![(0.0f64, 1.0f64)];
+    // Each level of the bisection leaves one right half pending, and cells stop at MIN_CELL
+    // (2^-30): a fixed stack holds them, so the search allocates nothing.
+    let mut stack = [(0.0f64, 0.0f64); 64];
+    stack[0] = (0.0, 1.0);
+    let mut top = 1;
     let mut opened = 0;
-    while let Some((a, b)) = stack.pop() {
+    while top > 0 {
+        top -= 1;
+        let (a, b) = stack[top];
         opened += 1;
         if opened > MAX_CELLS {
             return Answer::Unknown(a);
@@ -210,8 +216,9 @@ pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 
             return Answer::Unknown(a);
         }
         let mid = 0.5 * (a + b);
-        stack.push((mid, b));
-        stack.push((a, mid));
+        stack[top] = (mid, b);
+        stack[top + 1] = (a, mid);
+        top += 2;
     }
     Answer::Decided(None)
 }
