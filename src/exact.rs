@@ -105,7 +105,7 @@ pub fn vertex_face_impact_with(
     mode: CcdMode,
 ) -> Result<Option<f64>> {
     check_finite(start, end)?;
-    Ok(time_of_impact(Primitive::VertexFace, start, end, mode))
+    Ok(time_of_impact(Primitive::VertexFace, start, end, mode, 1.0))
 }
 
 /// Do two segments moving with their ends in straight lines share a point during the step,
@@ -125,7 +125,7 @@ pub fn edge_edge_impact_with(
     mode: CcdMode,
 ) -> Result<Option<f64>> {
     check_finite(start, end)?;
-    Ok(time_of_impact(Primitive::EdgeEdge, start, end, mode))
+    Ok(time_of_impact(Primitive::EdgeEdge, start, end, mode, 1.0))
 }
 
 fn check_finite(start: &[Point; 4], end: &[Point; 4]) -> Result<()> {

@@ -81,17 +81,6 @@ impl Mul for Interval {
     type Output = Interval;
     #[inline(always)]
     fn mul(self, o: Interval) -> Interval {
-        let p = [
-            self.lo * o.lo,
-            self.lo * o.hi,
-            self.hi * o.lo,
-            self.hi * o.hi,
-        ];
-        if p.iter().any(|x| x.is_nan()) {
-            return Interval::ALL;
-        }
-        let lo = p.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = p.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         // A product with an exact zero stays zero: widening it would hide exact zeros, which are
         // common (coordinates shared by both triangles). (A product that underflowed to zero is
         // not exact, and is widened below.)
@@ -99,6 +88,19 @@ impl Mul for Interval {
         if zero(&self) || zero(&o) {
             return Interval { lo: 0.0, hi: 0.0 };
         }
+        let p = [
+            self.lo * o.lo,
+            self.lo * o.hi,
+            self.hi * o.lo,
+            self.hi * o.hi,
+        ];
+        // One test for all four: a NaN product (an infinity times zero) makes the sum NaN. So
+        // do infinities of both signs, whose answer is everything anyway.
+        if (p[0] + p[1] + p[2] + p[3]).is_nan() {
+            return Interval::ALL;
+        }
+        let lo = p[0].min(p[1]).min(p[2].min(p[3]));
+        let hi = p[0].max(p[1]).max(p[2].max(p[3]));
         Interval::outward(lo, hi)
     }
 }

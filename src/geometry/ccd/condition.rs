@@ -152,7 +152,7 @@ impl Signs {
     fn le(self) -> Tri {
         Tri::of(!self.pos, self.zero || self.neg)
     }
-    fn eq(self) -> Tri {
+    pub(crate) fn eq(self) -> Tri {
         Tri::of(!self.neg && !self.pos, self.zero)
     }
 }
@@ -170,12 +170,106 @@ impl Tri {
     }
 }
 
-/// A contact condition: polynomials and a test of their signs.
+/// A contact condition: polynomials in a fixed layout, and a test of their signs.
+///
+/// Layout: the coplanarity determinant f first, then the orientations of each axis projection
+/// in turn (3 for vertex-face, 4 for edge-edge), then the coordinate differences of each axis
+/// in turn. Contact holds when f vanishes and every one of [`GROUPS`] groups holds: each group
+/// is necessary alone, so a search can stop at the first that cannot hold.
 pub(crate) struct Condition<P> {
-    /// The polynomials; the first is the coplanarity determinant.
     pub polys: Vec<P>,
+    pub edges: bool,
+}
+
+/// Groups of a condition besides f: the coordinate differences of each axis, then the
+/// orientations of each projection. This is the order they are judged in: differences are
+/// linear, the cheapest to build and evaluate, and rule out most of what they can.
+pub(crate) const GROUPS: usize = 6;
+
+/// The polynomials of group `g` in the layout of [`Condition`].
+pub(crate) fn group_range(edges: bool, g: usize) -> std::ops::Range<usize> {
+    let w = if edges { 4 } else { 3 };
+    let first = if g < 3 {
+        1 + 3 * w + w * g
+    } else {
+        1 + w * (g - 3)
+    };
+    first..first + w
+}
+
+/// Does group `g` hold, given the signs its polynomials may have?
+pub(crate) fn group_holds(edges: bool, g: usize, s: &[Signs]) -> Tri {
+    if g < 3 {
+        // Bounding boxes meet on this axis: the point (or some end of one edge) is on each
+        // side of some corner (end of the other), or level with it.
+        straddles(s)
+    } else if edges {
+        // Each segment's ends on both sides of the other's line, or on it.
+        apart_or_on(s[0], s[1]).and(apart_or_on(s[2], s[3]))
+    } else {
+        // The point on the inner side of the triangle's three edges, or on them.
+        all_of_one_sign(s)
+    }
+}
+
+/// Builds the polynomials of group `g` for the points `m` (the vertex and the triangle's
+/// corners, or edge a's ends and edge b's), in order, into `push`.
+pub(crate) fn build_group<P: Ring>(
+    edges: bool,
+    m: [&Moving<P>; 4],
+    g: usize,
+    mut push: impl FnMut(P),
+) {
+    if g < 3 {
+        let k = g;
+        if edges {
+            for ai in &m[..2] {
+                for bj in &m[2..] {
+                    push(ai[k].sub(&bj[k]));
+                }
+            }
+        } else {
+            for c in &m[1..] {
+                push(m[0][k].sub(&c[k]));
+            }
+        }
+    } else {
+        let (i, j) = PROJECTIONS[g - 3];
+        if edges {
+            let ([a0, a1], [b0, b1]) = ([m[0], m[1]], [m[2], m[3]]);
+            push(orient2d(a0, a1, b0, i, j));
+            push(orient2d(a0, a1, b1, i, j));
+            push(orient2d(b0, b1, a0, i, j));
+            push(orient2d(b0, b1, a1, i, j));
+        } else {
+            let (p, t) = (m[0], [m[1], m[2], m[3]]);
+            for e in 0..3 {
+                push(orient2d(t[e], t[(e + 1) % 3], p, i, j));
+            }
+        }
+    }
+}
+
+impl<P: Ring> Condition<P> {
+    /// The whole condition for the points `m`, built eagerly.
+    pub(crate) fn new(edges: bool, m: [&Moving<P>; 4]) -> Condition<P> {
+        let mut polys = Vec::with_capacity(if edges { 25 } else { 19 });
+        polys.push(coplanarity(edges, m));
+        // The layout's order: orientations (groups 3..6), then differences (0..3).
+        for g in (3..GROUPS).chain(0..3) {
+            build_group(edges, m, g, |p| polys.push(p));
+        }
+        Condition { polys, edges }
+    }
+}
+
+impl<P> Condition<P> {
     /// Does contact hold, given the signs each polynomial may have?
-    pub holds: fn(&[Signs]) -> Tri,
+    pub(crate) fn holds(&self, s: &[Signs]) -> Tri {
+        (0..GROUPS).fold(s[0].eq(), |all, g| {
+            all.and(group_holds(self.edges, g, &s[group_range(self.edges, g)]))
+        })
+    }
 }
 
 pub(crate) fn all_of_one_sign(s: &[Signs]) -> Tri {
@@ -201,53 +295,14 @@ pub(crate) fn coplanarity<P: Ring>(edges: bool, m: [&Moving<P>; 4]) -> P {
     }
 }
 
-/// Polynomials of vertex-face contact: [orientation, 3 × 3 edge orientations, 3 × 3 coordinate
-/// differences point - corner].
+/// Vertex-face contact of point `p` and triangle `t`: [orientation, 3 × 3 edge orientations,
+/// 3 × 3 coordinate differences point - corner].
 pub(crate) fn vertex_face<P: Ring>(p: &Moving<P>, t: [&Moving<P>; 3]) -> Condition<P> {
-    let mut polys = vec![coplanarity(false, [p, t[0], t[1], t[2]])];
-    for (i, j) in PROJECTIONS {
-        for e in 0..3 {
-            polys.push(orient2d(t[e], t[(e + 1) % 3], p, i, j));
-        }
-    }
-    for k in 0..3 {
-        for c in t {
-            polys.push(p[k].sub(&c[k]));
-        }
-    }
-    fn holds(s: &[Signs]) -> Tri {
-        let (o, d) = (&s[1..10], &s[10..19]);
-        s[0].eq()
-            .and(Tri::all(o.chunks(3).map(all_of_one_sign)))
-            .and(Tri::all(d.chunks(3).map(straddles)))
-    }
-    Condition { polys, holds }
+    Condition::new(false, [p, t[0], t[1], t[2]])
 }
 
-/// Polynomials of edge-edge contact: [orientation, 3 × 4 orientations, 3 × 4 coordinate
-/// differences a_i - b_j].
+/// Edge-edge contact of segments `a` and `b`: [orientation, 3 × 4 orientations, 3 × 4
+/// coordinate differences a_i - b_j].
 pub(crate) fn edge_edge<P: Ring>(a: [&Moving<P>; 2], b: [&Moving<P>; 2]) -> Condition<P> {
-    let mut polys = vec![coplanarity(true, [a[0], a[1], b[0], b[1]])];
-    for (i, j) in PROJECTIONS {
-        polys.push(orient2d(a[0], a[1], b[0], i, j));
-        polys.push(orient2d(a[0], a[1], b[1], i, j));
-        polys.push(orient2d(b[0], b[1], a[0], i, j));
-        polys.push(orient2d(b[0], b[1], a[1], i, j));
-    }
-    for k in 0..3 {
-        for ai in a {
-            for bj in b {
-                polys.push(ai[k].sub(&bj[k]));
-            }
-        }
-    }
-    fn holds(s: &[Signs]) -> Tri {
-        let (o, d) = (&s[1..13], &s[13..25]);
-        s[0].eq()
-            .and(Tri::all(o.chunks(4).map(|c| {
-                apart_or_on(c[0], c[1]).and(apart_or_on(c[2], c[3]))
-            })))
-            .and(Tri::all(d.chunks(4).map(straddles)))
-    }
-    Condition { polys, holds }
+    Condition::new(true, [a[0], a[1], b[0], b[1]])
 }

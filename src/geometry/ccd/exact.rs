@@ -19,7 +19,9 @@
 //!    increasing order against the whole [`Condition`]; when the motion is coplanar throughout,
 //!    every root of every polynomial of the condition is a candidate (as the oracle does).
 
-use super::condition::{Condition, Moving, Signs, Tri, edge_edge, vertex_face};
+use super::condition::{
+    Condition, GROUPS, Moving, Signs, Tri, edge_edge, group_holds, group_range, vertex_face,
+};
 use super::interval::{self, Answer};
 use super::poly::{self, Poly, Root, one};
 use super::scaled;
@@ -37,9 +39,17 @@ pub(crate) enum Primitive {
 /// The earliest time in [0, 1] at which the primitives meet, rounded down to a double, or
 /// `None`. `start` and `end` hold the four points: the vertex and the triangle's corners, or
 /// edge a's ends and edge b's. Every coordinate must be finite.
-pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> Option<f64> {
+///
+/// Only contacts at or before `until` are wanted: a later one is not searched for, and `None`
+/// is answered for it.
+pub(crate) fn time_of_impact(
+    kind: Primitive,
+    start: &[Point; 4],
+    end: &[Point; 4],
+    until: f64,
+) -> Option<f64> {
     if let Some(answer) = filtered(kind, start, end) {
-        return answer;
+        return answer.filter(|&t| t <= until);
     }
     // Contact is a condition on signs, unchanged when every coordinate is scaled by a power
     // of two: scaled so that all are integers, the polynomials have integer coefficients, and
@@ -57,19 +67,20 @@ pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 
             })
             .collect()
     };
-    match interval::time_of_impact(kind, start, end) {
-        Answer::Decided(toi) => toi,
+    match interval::time_of_impact(kind, start, end, until) {
+        Answer::Decided(toi) => toi.filter(|&t| t <= until),
         // Only the time is left to round: the cubic's sign at doubles between, in integers.
         Answer::ContactIn(lo, hi, at_lo) => {
-            Some(scaled::floor_root(kind, start, end, lo, hi, at_lo))
+            Some(scaled::floor_root(kind, start, end, lo, hi, at_lo)).filter(|&t| t <= until)
         }
+        Answer::Unknown(from) if from > until => None,
         Answer::Unknown(from) => {
             let m = exact_motion();
             let condition = match kind {
                 Primitive::VertexFace => vertex_face(&m[0], [&m[1], &m[2], &m[3]]),
                 Primitive::EdgeEdge => edge_edge([&m[0], &m[1]], [&m[2], &m[3]]),
             };
-            earliest(&condition, from)
+            earliest(&condition, from).filter(|&t| t <= until)
         }
     }
 }
@@ -79,18 +90,24 @@ pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 
 /// settle. Never misses a contact, and its time is never later than the exact one's; what it
 /// reports without a contact came within the intervals' rounding error of one (coplanar and
 /// touching to within it).
+///
+/// Answers after `until` are `None`, as in [`time_of_impact`]: the search meets its time
+/// spans in increasing order, so skipping those after `until` changes no answer at or before
+/// it.
 pub(crate) fn conservative_time_of_impact(
     kind: Primitive,
     start: &[Point; 4],
     end: &[Point; 4],
+    until: f64,
 ) -> Option<f64> {
-    if let Some(answer) = filtered(kind, start, end) {
-        return answer;
-    }
-    match interval::time_of_impact(kind, start, end) {
-        Answer::Decided(toi) => toi,
-        Answer::ContactIn(lo, _, _) | Answer::Unknown(lo) => Some(lo),
-    }
+    let toi = match filtered(kind, start, end) {
+        Some(answer) => answer,
+        None => match interval::time_of_impact(kind, start, end, until) {
+            Answer::Decided(toi) => toi,
+            Answer::ContactIn(lo, _, _) | Answer::Unknown(lo) => Some(lo),
+        },
+    };
+    toi.filter(|&t| t <= until)
 }
 
 /// The answer of the exact filters when they give one: boxes apart or never coplanar (none),
@@ -254,7 +271,7 @@ pub(crate) fn earliest_of_every_candidate(c: &Condition<Poly>, from: &BigRationa
         .iter()
         .map(|p| Signs::exact(p.sign_at(from)))
         .collect();
-    if (c.holds)(&at_from) == Tri::Yes {
+    if c.holds(&at_from) == Tri::Yes {
         return Some(poly::floor_f64(from));
     }
     let one = one();
@@ -268,8 +285,8 @@ pub(crate) fn earliest_of_every_candidate(c: &Condition<Poly>, from: &BigRationa
 }
 
 /// The earliest of the candidate times at which the condition holds, rounded down. Signs are
-/// found one polynomial at a time, the others left open, and a candidate is dropped as soon
-/// as the signs known rule contact out.
+/// found one polynomial at a time, group by group in the order of [`GROUPS`], the others left
+/// open, and a candidate is dropped as soon as the signs known rule contact out.
 pub(crate) fn first_holding(c: &Condition<Poly>, mut candidates: Vec<Root>) -> Option<f64> {
     candidates.sort_by(|a, b| a.cmp(b));
     let open = Signs {
@@ -279,13 +296,20 @@ pub(crate) fn first_holding(c: &Condition<Poly>, mut candidates: Vec<Root>) -> O
     };
     'roots: for mut r in candidates {
         let mut signs = vec![open; c.polys.len()];
-        for i in 0..signs.len() {
-            signs[i] = Signs::exact(r.sign_of(&c.polys[i]));
-            if (c.holds)(&signs) == Tri::No {
-                continue 'roots;
+        signs[0] = Signs::exact(r.sign_of(&c.polys[0]));
+        if signs[0] != Signs::exact(std::cmp::Ordering::Equal) {
+            continue;
+        }
+        for g in 0..GROUPS {
+            let range = group_range(c.edges, g);
+            for i in range.clone() {
+                signs[i] = Signs::exact(r.sign_of(&c.polys[i]));
+                if group_holds(c.edges, g, &signs[range.clone()]) == Tri::No {
+                    continue 'roots;
+                }
             }
         }
-        if (c.holds)(&signs) == Tri::Yes {
+        if c.holds(&signs) == Tri::Yes {
             return Some(r.floor_f64());
         }
     }
@@ -351,8 +375,28 @@ mod tests {
                     Primitive::VertexFace => vertex_face_toi(&s, &e),
                     Primitive::EdgeEdge => edge_edge_toi(&s, &e),
                 };
-                let got = time_of_impact(kind, &s, &e);
+                let got = time_of_impact(kind, &s, &e, 1.0);
                 assert_eq!(got, want, "case {case} {kind:?}: {s:?} -> {e:?}");
+                // A cut-off answers what is at or before it, in both modes, and nothing later.
+                let loose = conservative_time_of_impact(kind, &s, &e, 1.0);
+                let cuts = [
+                    0.0,
+                    want.unwrap_or(0.5),
+                    want.map_or(0.5, f64::next_down),
+                    0.25,
+                ];
+                for until in cuts {
+                    assert_eq!(
+                        time_of_impact(kind, &s, &e, until),
+                        want.filter(|&t| t <= until),
+                        "case {case} {kind:?} until {until}"
+                    );
+                    assert_eq!(
+                        conservative_time_of_impact(kind, &s, &e, until),
+                        loose.filter(|&t| t <= until),
+                        "case {case} {kind:?} until {until}, conservative"
+                    );
+                }
                 hits += usize::from(got.is_some());
                 filtered += usize::from(
                     boxes_apart(&s, &e, if kind == Primitive::VertexFace { 1 } else { 2 })
@@ -377,7 +421,7 @@ mod tests {
                     Primitive::EdgeEdge => edge_edge_toi(&s, &e),
                 };
                 contacts += usize::from(want.is_some());
-                match interval::time_of_impact(kind, &s, &e) {
+                match interval::time_of_impact(kind, &s, &e, 1.0) {
                     Answer::Decided(got) => {
                         assert_eq!(got, want, "case {case} {kind:?}: {s:?} -> {e:?}");
                         decided += usize::from(want.is_some());
@@ -407,8 +451,8 @@ mod tests {
         for case in 0..120 {
             let (s, e) = random_case(&mut rng, case, 4);
             let base = (
-                time_of_impact(Primitive::VertexFace, &s, &e),
-                time_of_impact(Primitive::EdgeEdge, &s, &e),
+                time_of_impact(Primitive::VertexFace, &s, &e, 1.0),
+                time_of_impact(Primitive::EdgeEdge, &s, &e, 1.0),
             );
             for (scale, shift) in [
                 (2f64.powi(-1060), 0.0),
@@ -420,8 +464,8 @@ mod tests {
                 let f = |p: &Prim| p.map(|v| v.map(|x| x * scale + shift));
                 let (fs, fe) = (f(&s), f(&e));
                 let got = (
-                    time_of_impact(Primitive::VertexFace, &fs, &fe),
-                    time_of_impact(Primitive::EdgeEdge, &fs, &fe),
+                    time_of_impact(Primitive::VertexFace, &fs, &fe, 1.0),
+                    time_of_impact(Primitive::EdgeEdge, &fs, &fe, 1.0),
                 );
                 // Exact scalings and shifts keep every answer; the oracle decides the rest.
                 let exact_map = fs
@@ -462,9 +506,9 @@ mod tests {
             [0x3fe5ff62135d4de2, 0x3fee7e46d0d83338, 0x3f917e796ccd6920],
             [0x3fe5967787088c53, 0x3fea5c49fe0ae69d, 0x3fd0c6cf96aa7dc4],
         ]);
-        assert_eq!(time_of_impact(Primitive::VertexFace, &s, &e), None);
+        assert_eq!(time_of_impact(Primitive::VertexFace, &s, &e, 1.0), None);
         assert_eq!(
-            conservative_time_of_impact(Primitive::VertexFace, &s, &e),
+            conservative_time_of_impact(Primitive::VertexFace, &s, &e, 1.0),
             None
         );
     }

@@ -6,8 +6,8 @@
 //! exactly on an edge or a corner).
 
 use super::condition::{
-    Condition, Moving, Ring, Signs, Tri, all_of_one_sign, apart_or_on, edge_edge, moving,
-    projection_normals, vertex_face,
+    GROUPS, Moving, Ring, Signs, Tri, build_group, coplanarity, group_holds, group_range, moving,
+    projection_normals,
 };
 use super::exact::Primitive;
 use crate::geometry::interval::Interval;
@@ -96,8 +96,11 @@ impl IPoly {
 
     /// An enclosure of the values over `t` (Horner in intervals).
     fn eval(&self, t: Interval) -> Interval {
-        let mut v = ZERO;
-        for c in self.c[..self.n].iter().rev() {
+        let Some((top, rest)) = self.c[..self.n].split_last() else {
+            return ZERO;
+        };
+        let mut v = *top;
+        for c in rest.iter().rev() {
             v = v * t + *c;
         }
         v
@@ -150,26 +153,93 @@ pub(crate) enum Answer {
 const MIN_CELL: f64 = 1.0 / (1u64 << 30) as f64;
 const MAX_CELLS: usize = 400;
 
-/// The floating-point path of [`super::exact::time_of_impact`].
-pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> Answer {
-    let m: [Moving<IPoly>; 4] = [0, 1, 2, 3].map(|i| moving(&start[i], &end[i]));
-    let c = match kind {
-        Primitive::VertexFace => vertex_face(&m[0], [&m[1], &m[2], &m[3]]),
-        Primitive::EdgeEdge => edge_edge([&m[0], &m[1]], [&m[2], &m[3]]),
-    };
-    let edges = kind == Primitive::EdgeEdge;
-    let normals = projection_normals(edges, [&m[0], &m[1], &m[2], &m[3]]);
+/// The condition's polynomials in intervals, each group built when first judged: most tests
+/// are settled by f and a group or two.
+struct Lazy {
+    edges: bool,
+    m: [Moving<IPoly>; 4],
+    /// In the layout of [`super::condition::Condition`].
+    polys: [IPoly; 25],
+    /// Bit `g`: group `g` is built.
+    built: u8,
+}
+
+impl Lazy {
+    fn new(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> Lazy {
+        let edges = kind == Primitive::EdgeEdge;
+        let m: [Moving<IPoly>; 4] = [0, 1, 2, 3].map(|i| moving(&start[i], &end[i]));
+        let mut polys = [IPoly { c: [ZERO; 4], n: 0 }; 25];
+        polys[0] = coplanarity(edges, [&m[0], &m[1], &m[2], &m[3]]);
+        Lazy {
+            edges,
+            m,
+            polys,
+            built: 0,
+        }
+    }
+
+    fn f(&self) -> &IPoly {
+        &self.polys[0]
+    }
+
+    /// The polynomials of group `g`, built on first use.
+    fn group(&mut self, g: usize) -> &[IPoly] {
+        let range = group_range(self.edges, g);
+        if self.built & (1 << g) == 0 {
+            let mut k = range.start;
+            let [a, b, c, d] = &self.m;
+            let polys = &mut self.polys;
+            build_group(self.edges, [a, b, c, d], g, |p| {
+                polys[k] = p;
+                k += 1;
+            });
+            self.built |= 1 << g;
+        }
+        &self.polys[range]
+    }
+
+    /// Group `g` judged by `value`, an enclosure of each polynomial's values.
+    fn judge(&mut self, g: usize, value: impl Fn(&IPoly) -> Interval) -> Tri {
+        let edges = self.edges;
+        let mut signs = [Signs::within(0.0, 0.0); 4];
+        let polys = self.group(g);
+        for (s, p) in signs.iter_mut().zip(polys) {
+            *s = value(p).signs();
+        }
+        group_holds(edges, g, &signs[..polys.len()])
+    }
+
+    /// The whole condition judged by `value`, f's signs being `f`: stops at the first group
+    /// that cannot hold.
+    fn holds(&mut self, f: Signs, value: impl Fn(&IPoly) -> Interval) -> Tri {
+        let mut all = f.eq();
+        for g in 0..GROUPS {
+            match self.judge(g, &value) {
+                Tri::No => return Tri::No,
+                v => all = all.and(v),
+            }
+        }
+        all
+    }
+}
+
+/// The floating-point path of [`super::exact::time_of_impact`]. Time spans that start after
+/// `until` are not searched: what it answers about a contact after `until` is only that none
+/// comes earlier.
+pub(crate) fn time_of_impact(
+    kind: Primitive,
+    start: &[Point; 4],
+    end: &[Point; 4],
+    until: f64,
+) -> Answer {
+    let mut c = Lazy::new(kind, start, end);
     // In contact at the start (resting contact, most often): certain from the start
     // positions alone.
-    let mut signs = [Signs::within(0.0, 0.0); 25];
-    let signs = &mut signs[..c.polys.len()];
-    for (s, p) in signs.iter_mut().zip(&c.polys) {
-        *s = p.at_zero().signs();
-    }
-    if (c.holds)(signs) == Tri::Yes {
+    let f0 = c.f().at_zero().signs();
+    if f0.zero && c.holds(f0, IPoly::at_zero) == Tri::Yes {
         return Answer::Decided(Some(0.0));
     }
-    let f = &c.polys[0];
+    let f = *c.f();
     let df = f.derivative();
     let ddf = df.derivative();
     // Depth-first, left half first: cells come out in increasing t.
@@ -182,21 +252,23 @@ pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 
     while top > 0 {
         top -= 1;
         let (a, b) = stack[top];
+        if a > until {
+            // Cells come out in increasing order of their starts: all that remain are later.
+            break;
+        }
         opened += 1;
         if opened > MAX_CELLS {
             return Answer::Unknown(a);
         }
         let cell = Interval::new(a, b);
-        if f.enclose(&df, a, b).sign() != 0 {
+        let fc = f.enclose(&df, a, b);
+        if fc.sign() != 0 {
             continue; // no root here
         }
-        // Every polynomial of the condition over the cell: where some projection certainly
-        // keeps the primitives apart (say a vertex beside a triangle while both stay in one
-        // plane, as in a flat sheet), nothing in the cell can touch, root of f or not.
-        for (s, p) in signs.iter_mut().zip(&c.polys) {
-            *s = p.eval(cell).signs();
-        }
-        if (c.holds)(signs) == Tri::No {
+        // The other groups over the cell: where some projection certainly keeps the
+        // primitives apart (say a vertex beside a triangle while both stay in one plane, as in
+        // a flat sheet), nothing in the cell can touch, root of f or not.
+        if c.holds(fc.signs(), |p| p.eval(cell)) == Tri::No {
             continue;
         }
         let (fa, fb) = (
@@ -207,7 +279,7 @@ pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 
             // Exactly one root, simple, strictly inside.
             // Undecided at the root, the answer's bound is where the root was narrowed to:
             // nothing before it in the cell can touch (f has no other root there).
-            match at_root(&c, &normals, edges, a, b, fa) {
+            match at_root(&mut c, a, b, fa) {
                 Answer::Decided(None) => continue,
                 answer => return answer,
             }
@@ -229,36 +301,22 @@ pub(crate) fn time_of_impact(kind: Primitive, start: &[Point; 4], end: &[Point; 
 /// At a root of f the primitives are coplanar, and a projection whose normal component is
 /// certainly non-zero over the enclosure decides by its orientations alone (the other
 /// projections may be degenerate there, their orientations vanishing with f).
-fn at_root(
-    c: &Condition<IPoly>,
-    normals: &[IPoly; 3],
-    edges: bool,
-    mut a: f64,
-    mut b: f64,
-    fa: i8,
-) -> Answer {
-    let f = &c.polys[0];
+fn at_root(c: &mut Lazy, mut a: f64, mut b: f64, fa: i8) -> Answer {
+    let f = *c.f();
+    let normals = {
+        let [p, q, r, s] = &c.m;
+        projection_normals(c.edges, [p, q, r, s])
+    };
     // Narrow the root's enclosure while the condition over it is undecided; once it is
     // decided, only the time remains to be narrowed, down to adjacent doubles.
     let mut decided = false;
     loop {
         if !decided {
             let t = Interval::new(a, b);
-            let verdict =
-                (0..3)
-                    .find(|&q| normals[q].eval(t).sign() != 0)
-                    .map_or(Tri::Maybe, |q| {
-                        let s = |k: usize| c.polys[k].eval(t).signs();
-                        if edges {
-                            // Layout of `edge_edge`: 4 orientations per projection after f.
-                            let o = 1 + 4 * q;
-                            apart_or_on(s(o), s(o + 1)).and(apart_or_on(s(o + 2), s(o + 3)))
-                        } else {
-                            // Layout of `vertex_face`: 3 orientations per projection after f.
-                            let o = 1 + 3 * q;
-                            all_of_one_sign(&[s(o), s(o + 1), s(o + 2)])
-                        }
-                    });
+            // Orientations of projection q are group 3 + q.
+            let verdict = (0..3)
+                .find(|&q| normals[q].eval(t).sign() != 0)
+                .map_or(Tri::Maybe, |q| c.judge(3 + q, |p| p.eval(t)));
             match verdict {
                 Tri::No => return Answer::Decided(None),
                 Tri::Yes => decided = true,

@@ -24,15 +24,18 @@ pub enum CcdMode {
     Conservative,
 }
 
-/// The earliest contact time of `kind` moving from `start` to `end`, decided as `mode` says.
+/// The earliest contact time of `kind` moving from `start` to `end`, decided as `mode` says,
+/// when it is at most `until`; `None` otherwise. Times after `until` are not searched, so a
+/// caller that wants only the earliest contact of many tests passes the earliest found so far.
 pub(crate) fn time_of_impact(
     kind: exact::Primitive,
     start: &[crate::geometry::predicates::Point; 4],
     end: &[crate::geometry::predicates::Point; 4],
     mode: CcdMode,
+    until: f64,
 ) -> Option<f64> {
     match mode {
-        CcdMode::Exact => exact::time_of_impact(kind, start, end),
-        CcdMode::Conservative => exact::conservative_time_of_impact(kind, start, end),
+        CcdMode::Exact => exact::time_of_impact(kind, start, end, until),
+        CcdMode::Conservative => exact::conservative_time_of_impact(kind, start, end, until),
     }
 }

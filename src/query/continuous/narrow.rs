@@ -238,7 +238,7 @@ impl Job<'_, '_> {
             start[N + i] = b.start[v as usize];
             end[N + i] = b.end[v as usize];
         }
-        time_of_impact(kind, &start, &end, self.mode)
+        time_of_impact(kind, &start, &end, self.mode, self.cut())
     }
 
     /// Records the test's outcome: an impact if it found one in time. Returns whether `limit`
