@@ -46,3 +46,48 @@ where
     });
     (ra, rb.expect("the scope waits for its jobs"))
 }
+
+/// Work items taken by several threads and finished in any order, counted in order from the
+/// first: a query cut short at `limit` results may stop once the items settled from the first
+/// hold that many, because one thread taking them in order would have stopped within them.
+pub(crate) struct Settled<'c> {
+    /// Results of each item, `usize::MAX` while it is not finished.
+    counts: &'c [std::sync::atomic::AtomicUsize],
+    /// Items settled from the first, and the results they hold.
+    state: std::sync::Mutex<(usize, usize)>,
+    limit: usize,
+}
+
+impl<'c> Settled<'c> {
+    /// Every item of `counts` unfinished.
+    pub(crate) fn new(counts: &'c [std::sync::atomic::AtomicUsize], limit: usize) -> Settled<'c> {
+        for c in counts {
+            c.store(usize::MAX, std::sync::atomic::Ordering::Relaxed);
+        }
+        Settled {
+            counts,
+            state: std::sync::Mutex::new((0, 0)),
+            limit,
+        }
+    }
+
+    /// Item `i` found `found` results. Returns whether the items settled from the first now
+    /// hold `limit` results (never, without a limit).
+    pub(crate) fn finish(&self, i: usize, found: usize) -> bool {
+        use std::sync::atomic::Ordering;
+        if self.limit == usize::MAX {
+            return false;
+        }
+        self.counts[i].store(found, Ordering::Release);
+        let mut s = self.state.lock().unwrap_or_else(|e| e.into_inner());
+        while s.0 < self.counts.len() {
+            let found = self.counts[s.0].load(Ordering::Acquire);
+            if found == usize::MAX {
+                break;
+            }
+            s.1 += found;
+            s.0 += 1;
+        }
+        s.1 >= self.limit
+    }
+}

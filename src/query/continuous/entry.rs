@@ -11,7 +11,6 @@ use crate::query::engine::{NodeVolumes, OneMesh, PairTest, Prepared, query, quer
 use crate::query::options::{QueryMode, QueryOptions};
 use crate::query::pairs::Pair;
 use crate::threads;
-use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 
 /// Every vertex-face and edge-edge pair of meshes `a` and `b` that meets while each moves
@@ -225,8 +224,7 @@ fn narrow(job: &Job, leaves: &[Pair], chunks: usize, limit: usize, workers: &mut
     let next = AtomicUsize::new(0);
     let halt = AtomicBool::new(false);
     let counts: Vec<AtomicUsize> = (0..chunks).map(|_| AtomicUsize::new(usize::MAX)).collect();
-    // Chunks settled in order from the first: how many, and the impacts they found.
-    let settled = Mutex::new((0usize, 0usize));
+    let settled = threads::Settled::new(&counts, limit);
     threads::on_each(workers, &|w: &mut Worker, _| {
         w.begin();
         while !halt.load(Ordering::Relaxed) {
@@ -240,22 +238,8 @@ fn narrow(job: &Job, leaves: &[Pair], chunks: usize, limit: usize, workers: &mut
                 halt.store(true, Ordering::Relaxed);
                 break;
             }
-            if limit != usize::MAX {
-                // Once the chunks settled from the first hold `limit` impacts, the rest are not
-                // needed: the calling thread alone would have stopped within them.
-                counts[c].store(w.out.len() - before, Ordering::Release);
-                let mut s = settled.lock().unwrap_or_else(|e| e.into_inner());
-                while s.0 < chunks {
-                    let found = counts[s.0].load(Ordering::Acquire);
-                    if found == usize::MAX {
-                        break;
-                    }
-                    s.1 += found;
-                    s.0 += 1;
-                }
-                if s.1 >= limit {
-                    halt.store(true, Ordering::Relaxed);
-                }
+            if settled.finish(c, w.out.len() - before) {
+                halt.store(true, Ordering::Relaxed);
             }
         }
     });

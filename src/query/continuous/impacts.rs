@@ -65,9 +65,10 @@ pub struct CcdOptions {
     pub max_impacts: Option<usize>,
     /// Report only the earliest impact (of several at that time, the first in the result's
     /// order): the fraction of the step that is free of contact, which a line search needs.
-    /// In the exact mode much cheaper than the whole list: triangle pairs whose sweeps up to
-    /// the earliest impact found so far are apart are not tested. (The conservative mode's
-    /// times may come before the contact, so it cannot prune so and tests every pair.)
+    /// Much cheaper than the whole list: each primitive test searches only up to the earliest
+    /// impact found so far, and in the exact mode triangle pairs whose sweeps up to that time
+    /// are apart are not tested at all. (The conservative mode's times may come before the
+    /// contact, so it cannot skip pairs so and tests every pair.)
     pub earliest_only: bool,
 }
 

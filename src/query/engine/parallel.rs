@@ -14,7 +14,6 @@ use super::workspace::{SideSpace, Worker, Workspace};
 use crate::query::options::QueryMode;
 use crate::query::pairs::{Pair, QueryStats};
 use crate::threads;
-use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 /// Items per thread: enough that a thread finishing early finds more to take when contact is
@@ -175,16 +174,11 @@ where
         if item_counts.len() < count {
             item_counts.resize_with(count, || AtomicUsize::new(usize::MAX));
         }
-        let counts = &item_counts[..count];
-        for c in counts {
-            c.store(usize::MAX, Ordering::Relaxed);
-        }
+        let limit = self.limit;
+        let settled = threads::Settled::new(&item_counts[..count], limit);
         let items = &items[..];
         let next = AtomicUsize::new(0);
         let halt = AtomicBool::new(false);
-        // Items settled in order from the first: how many, and the pairs they found.
-        let settled = Mutex::new((0usize, 0usize));
-        let limit = self.limit;
         // A query that cannot be cut short is sorted by the threads too: each distributes its
         // pairs into buckets, then the buckets are shared out.
         let buckets = sort::buckets_for(a_count);
@@ -222,22 +216,8 @@ where
                 }
                 let end = w.out.len();
                 w.done.push((i, start, end));
-                if limit != usize::MAX {
-                    // Once the items settled from the first hold `limit` pairs, the rest are not
-                    // needed: the single-threaded traversal stops within them.
-                    counts[i].store(end - start, Ordering::Release);
-                    let mut s = settled.lock().unwrap_or_else(|e| e.into_inner());
-                    while s.0 < count {
-                        let found = counts[s.0].load(Ordering::Acquire);
-                        if found == usize::MAX {
-                            break;
-                        }
-                        s.1 += found;
-                        s.0 += 1;
-                    }
-                    if s.1 >= limit {
-                        halt.store(true, Ordering::Relaxed);
-                    }
+                if settled.finish(i, end - start) {
+                    halt.store(true, Ordering::Relaxed);
                 }
             }
             if bucketed
