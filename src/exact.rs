@@ -5,6 +5,11 @@
 //! [`vertex_face_impact`] and [`edge_edge_impact`] say whether, and first when, the moving
 //! primitives meet.
 //!
+//! [`vertex_face_nearest`] and [`edge_edge_nearest`] give the closest points of a point and a
+//! triangle, or of two segments, within a distance: where each lies (a corner, an edge, the
+//! interior), the distance and the barycentric weights a simulator builds its contact forces
+//! from.
+//!
 //! Every answer is exact for the given `f64` coordinates (finite ones): it is the sign of a
 //! determinant or a polynomial, evaluated with a floating-point filter first and, when the
 //! filter cannot tell, with Shewchuk's adaptive arithmetic or big integers; never a tolerance.
@@ -31,8 +36,11 @@
 
 use crate::geometry::ccd::exact::Primitive;
 use crate::geometry::ccd::{CcdMode, time_of_impact};
+use crate::geometry::nearest::{self, Pair};
 use crate::geometry::{distance, predicates, tri_tri};
 use crate::{Error, Result};
+
+pub use crate::geometry::nearest::{Feature, Nearest};
 
 pub use crate::geometry::predicates::Point;
 pub use crate::geometry::tri_tri::Triangle;
@@ -126,6 +134,66 @@ pub fn edge_edge_impact_with(
 ) -> Result<Option<f64>> {
     check_finite(start, end)?;
     Ok(time_of_impact(Primitive::EdgeEdge, start, end, mode, 1.0))
+}
+
+/// The closest points of the point `points[0]` and the closed triangle `points[1..4]` when
+/// they are at most `distance` apart (exactly: a pair exactly `distance` apart is reported,
+/// and `distance = 0` asks whether they touch), else `None`.
+///
+/// The closest point on the triangle is unique; its feature is the lowest-dimensional one that
+/// holds it (a corner, then an open edge, then the interior), decided exactly. The distance is
+/// within one unit in the last place of the exact distance correctly rounded; the closest points
+/// and weights within two units of their exact values. A triangle of zero area is the segment or
+/// point it covers; where two of its edges hold the closest point alike, the first in the order
+/// 01, 12, 20 is reported.
+///
+/// Errors: [`Error::NonFiniteCoordinate`] naming the point (0 to 3) and axis;
+/// [`Error::InvalidDistance`] for a negative, NaN or infinite `distance`.
+///
+/// ```
+/// use dvh::exact::{vertex_face_nearest, Feature};
+///
+/// let floor = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+/// // A point 0.5 above the floor's hypotenuse, beyond it: closest on that edge.
+/// let n = vertex_face_nearest(&[[0.5, 0.5, 0.5], floor[0], floor[1], floor[2]], 1.0)?.unwrap();
+/// assert_eq!(n.features, [Feature::Vertex0, Feature::Edge12]);
+/// assert_eq!(n.distance, 0.5);
+/// assert_eq!(n.points[1], [0.5, 0.5, 0.0]);
+/// assert_eq!(n.weights[1], [0.0, 0.5, 0.5]);
+/// # Ok::<(), dvh::Error>(())
+/// ```
+pub fn vertex_face_nearest(points: &[Point; 4], distance: f64) -> Result<Option<Nearest>> {
+    check_nearest(points, distance)?;
+    Ok(nearest::nearest(Pair::VertexFace, points, distance))
+}
+
+/// The closest points of the closed segments `points[0..2]` and `points[2..4]` when they are at
+/// most `distance` apart, else `None`; exact as [`vertex_face_nearest`]. Where the closest points
+/// are not unique (parallel segments), and the lines' closest points are not both strictly
+/// inside the segments, the pair is taken at an end: a0 against b, a1 against b, b0 against a,
+/// b1 against a, the first of the closest. An edge's interior is [`Feature::Edge01`]; its
+/// weights are `(1 - s, s, 0)`.
+///
+/// Errors as [`vertex_face_nearest`].
+pub fn edge_edge_nearest(points: &[Point; 4], distance: f64) -> Result<Option<Nearest>> {
+    check_nearest(points, distance)?;
+    Ok(nearest::nearest(Pair::EdgeEdge, points, distance))
+}
+
+fn check_nearest(points: &[Point; 4], distance: f64) -> Result<()> {
+    for (vertex, p) in points.iter().enumerate() {
+        if let Some(axis) = p.iter().position(|x| !x.is_finite()) {
+            return Err(Error::NonFiniteCoordinate {
+                vertex,
+                axis,
+                value: p[axis],
+            });
+        }
+    }
+    if !(distance >= 0.0 && distance.is_finite()) {
+        return Err(Error::InvalidDistance { distance });
+    }
+    Ok(())
 }
 
 fn check_finite(start: &[Point; 4], end: &[Point; 4]) -> Result<()> {

@@ -133,7 +133,9 @@ fn decide_by_filter(t1: &Triangle, t2: &Triangle, d: f64) -> Option<bool> {
 
 /// The numbers the decision is computed with: an interval that may leave a sign unknown, or an
 /// exact integer.
-trait Num: Clone + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> {
+pub(crate) trait Num:
+    Clone + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self>
+{
     /// The sign, if known.
     fn sign(&self) -> Option<Sign>;
 }
@@ -154,7 +156,7 @@ impl Num for Interval {
 
 /// An exact integer.
 #[derive(Clone, Debug)]
-struct Big(BigInt);
+pub(crate) struct Big(pub(crate) BigInt);
 
 impl Add for Big {
     type Output = Big;
@@ -189,10 +191,10 @@ impl Num for Big {
     }
 }
 
-type V<T> = [T; 3];
+pub(crate) type V<T> = [T; 3];
 
 #[inline]
-fn sub<T: Num>(a: &V<T>, b: &V<T>) -> V<T> {
+pub(crate) fn sub<T: Num>(a: &V<T>, b: &V<T>) -> V<T> {
     [
         a[0].clone() - b[0].clone(),
         a[1].clone() - b[1].clone(),
@@ -201,12 +203,12 @@ fn sub<T: Num>(a: &V<T>, b: &V<T>) -> V<T> {
 }
 
 #[inline]
-fn dot<T: Num>(a: &V<T>, b: &V<T>) -> T {
+pub(crate) fn dot<T: Num>(a: &V<T>, b: &V<T>) -> T {
     a[0].clone() * b[0].clone() + a[1].clone() * b[1].clone() + a[2].clone() * b[2].clone()
 }
 
 #[inline]
-fn cross<T: Num>(a: &V<T>, b: &V<T>) -> V<T> {
+pub(crate) fn cross<T: Num>(a: &V<T>, b: &V<T>) -> V<T> {
     [
         a[1].clone() * b[2].clone() - a[2].clone() * b[1].clone(),
         a[2].clone() * b[0].clone() - a[0].clone() * b[2].clone(),
@@ -215,7 +217,7 @@ fn cross<T: Num>(a: &V<T>, b: &V<T>) -> V<T> {
 }
 
 /// `x <= y`, if the arithmetic can tell.
-fn at_most<T: Num>(x: T, y: T) -> Option<bool> {
+pub(crate) fn at_most<T: Num>(x: T, y: T) -> Option<bool> {
     Some((x - y).sign()? <= 0)
 }
 

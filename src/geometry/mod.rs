@@ -6,6 +6,7 @@ pub mod adjacent;
 pub(crate) mod ccd;
 pub mod distance;
 pub(crate) mod interval;
+pub mod nearest;
 pub mod polygon;
 pub mod pose;
 pub mod predicates;

@@ -1,0 +1,533 @@
+//! Closest points of a point and a closed triangle, and of two closed segments, exactly: which
+//! feature of each primitive holds the closest point, whether the distance is at most `d`, and
+//! the distance, closest points and barycentric weights rounded from their exact values.
+//!
+//! Every decision is the sign of a polynomial in the coordinates (and `d`), made as the
+//! proximity test makes it ([`super::distance`]): interval arithmetic first, big integers where
+//! an interval cannot tell. The values are rational functions of the coordinates: computed in
+//! intervals, and where an interval is wider than the rounding allows, again in exact rationals
+//! and rounded.
+//!
+//! The closest point of a point and a triangle (a convex set) is unique; the feature reported
+//! is the lowest-dimensional one holding it (a corner before an edge before the interior). Two
+//! segments may have many closest pairs (parallel ones): when their lines' closest points are
+//! not both strictly inside the segments, the pair is taken at an end, tried in the order
+//! a0 against b, a1 against b, b0 against a, b1 against a, the first of the closest kept. Of a
+//! degenerate triangle's edges that hold the closest point in the same way (a triangle folded
+//! flat onto a segment), the first in the order 01, 12, 20 is kept.
+
+use super::distance::{Big, Num, V, at_most, cross, dot, sub};
+use super::interval::Interval;
+use super::predicates::{Point, to_integers};
+use num_bigint::BigInt;
+use num_rational::BigRational;
+use num_traits::{One, Signed, ToPrimitive, Zero};
+use std::ops::{Add, Mul, Sub};
+
+/// Where a closest point lies on its primitive, numbered on the primitive's own corners: a
+/// vertex is its corner 0; an edge has corners 0 and 1 and its open segment
+/// [`Feature::Edge01`]; a triangle has three corners, three open edges and its interior.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Feature {
+    /// Corner 0 (a vertex primitive is always here).
+    Vertex0 = 0,
+    /// Corner 1.
+    Vertex1 = 1,
+    /// Corner 2 (of a triangle).
+    Vertex2 = 2,
+    /// The open edge from corner 0 to corner 1 (an edge primitive's interior).
+    Edge01 = 3,
+    /// The open edge from corner 1 to corner 2.
+    Edge12 = 4,
+    /// The open edge from corner 2 to corner 0.
+    Edge20 = 5,
+    /// The interior of a triangle.
+    Interior = 6,
+}
+
+impl Feature {
+    fn corner(k: usize) -> Feature {
+        [Feature::Vertex0, Feature::Vertex1, Feature::Vertex2][k]
+    }
+    fn edge(k: usize) -> Feature {
+        [Feature::Edge01, Feature::Edge12, Feature::Edge20][k]
+    }
+}
+
+/// The closest points of two primitives (a point and a triangle, or two segments) and how far
+/// apart they are. Index 0 is the first primitive (the point, or edge a), 1 the second.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Nearest {
+    /// Where each closest point lies.
+    pub features: [Feature; 2],
+    /// The distance, within one unit in the last place of the exact one correctly rounded.
+    pub distance: f64,
+    /// The closest points, each coordinate within two units in the last place of the exact one.
+    pub points: [Point; 2],
+    /// Their barycentric weights on each primitive's corners: a vertex (1, 0, 0), an edge
+    /// (1 - s, s, 0), a triangle three weights summing to one.
+    pub weights: [[f64; 3]; 2],
+}
+
+/// Which pair is closest, as an exact description.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Choice {
+    /// Vertex-face: the point's projection, strictly inside the triangle.
+    FaceInterior,
+    /// Vertex-face: inside edge `k` (corners `k`, `k + 1`).
+    FaceEdge(usize),
+    /// Vertex-face: corner `k`.
+    FaceCorner(usize),
+    /// Edge-edge: the lines' closest points, strictly inside both segments.
+    BothInside,
+    /// Edge-edge: point `p` (0, 1: edge a's ends; 2, 3: edge b's) and the other segment, at its
+    /// end `Some(j)` or inside it (`None`).
+    End { p: usize, on: Option<usize> },
+}
+
+/// A candidate: its squared distance `num / den` (`den > 0`) and what it is.
+struct Candidate<T> {
+    num: T,
+    den: T,
+    choice: Choice,
+}
+
+/// Is `x` strictly closer than `y`, if the arithmetic can tell?
+fn closer<T: Num>(x: &Candidate<T>, y: &Candidate<T>) -> Option<bool> {
+    Some((x.num.clone() * y.den.clone() - y.num.clone() * x.den.clone()).sign()? < 0)
+}
+
+/// The closest point of segment `[a, b]` to `p`: at `a` (`Some(0)`), at `b` (`Some(1)`), or
+/// inside (`None`); with its squared distance.
+fn point_segment<T: Num>(p: &V<T>, a: &V<T>, b: &V<T>, one: &T) -> Option<(Option<usize>, T, T)> {
+    let (u, w) = (sub(b, a), sub(p, a));
+    let (uu, along) = (dot(&u, &u), dot(&w, &u));
+    if uu.sign()? == 0 || along.sign()? <= 0 {
+        return Some((Some(0), dot(&w, &w), one.clone()));
+    }
+    if (along - uu.clone()).sign()? >= 0 {
+        let x = sub(p, b);
+        return Some((Some(1), dot(&x, &x), one.clone()));
+    }
+    let c = cross(&w, &u);
+    Some((None, dot(&c, &c), uu))
+}
+
+/// The vertex-face choice for point `p` and triangle `t`, if the arithmetic can tell.
+fn vertex_face<T: Num>(p: &V<T>, t: &[V<T>; 3], one: &T) -> Option<Candidate<T>> {
+    let n = cross(&sub(&t[1], &t[0]), &sub(&t[2], &t[0]));
+    let nn = dot(&n, &n);
+    if nn.sign()? > 0 {
+        let mut inside = true;
+        for k in 0..3 {
+            let (a, b) = (&t[k], &t[(k + 1) % 3]);
+            if dot(&n, &cross(&sub(b, a), &sub(p, a))).sign()? <= 0 {
+                inside = false;
+            }
+        }
+        if inside {
+            let h = dot(&n, &sub(p, &t[0]));
+            return Some(Candidate {
+                num: h.clone() * h,
+                den: nn,
+                choice: Choice::FaceInterior,
+            });
+        }
+    }
+    // On the boundary: the closest of the edges' closest points.
+    let mut best: Option<Candidate<T>> = None;
+    for k in 0..3 {
+        let (on, num, den) = point_segment(p, &t[k], &t[(k + 1) % 3], one)?;
+        let choice = match on {
+            Some(j) => Choice::FaceCorner((k + j) % 3),
+            None => Choice::FaceEdge(k),
+        };
+        let c = Candidate { num, den, choice };
+        if best.as_ref().map_or(Some(true), |b| closer(&c, b))? {
+            best = Some(c);
+        }
+    }
+    best
+}
+
+/// The edge-edge choice for segments `[q[0], q[1]]` and `[q[2], q[3]]`, if the arithmetic can
+/// tell.
+fn edge_edge<T: Num>(q: &[V<T>; 4], one: &T) -> Option<Candidate<T>> {
+    let (u, v, w) = (sub(&q[1], &q[0]), sub(&q[3], &q[2]), sub(&q[0], &q[2]));
+    let n = cross(&u, &v);
+    let nn = dot(&n, &n);
+    if nn.sign()? > 0 {
+        let (uu, uv, vv) = (dot(&u, &u), dot(&u, &v), dot(&v, &v));
+        let (uw, vw) = (dot(&u, &w), dot(&v, &w));
+        let s = uv.clone() * vw.clone() - vv * uw.clone();
+        let t = uu * vw - uv * uw;
+        let mut inside = true;
+        for x in [s, t] {
+            if x.sign()? <= 0 || (x - nn.clone()).sign()? >= 0 {
+                inside = false;
+            }
+        }
+        if inside {
+            let h = dot(&w, &n);
+            return Some(Candidate {
+                num: h.clone() * h,
+                den: nn,
+                choice: Choice::BothInside,
+            });
+        }
+    }
+    let mut best: Option<Candidate<T>> = None;
+    for p in 0..4 {
+        let (a, b) = if p < 2 {
+            (&q[2], &q[3])
+        } else {
+            (&q[0], &q[1])
+        };
+        let (on, num, den) = point_segment(&q[p], a, b, one)?;
+        let c = Candidate {
+            num,
+            den,
+            choice: Choice::End { p, on },
+        };
+        if best.as_ref().map_or(Some(true), |b| closer(&c, b))? {
+            best = Some(c);
+        }
+    }
+    best
+}
+
+/// Which test.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub(crate) enum Pair {
+    /// A point (`p[0]`) and a triangle (`p[1..4]`).
+    VertexFace,
+    /// Two segments (`p[0..2]`, `p[2..4]`).
+    EdgeEdge,
+}
+
+/// The choice and the decision "distance at most `d`" for the points `v` (12 coordinates) and
+/// `d`, in the arithmetic `T`.
+fn decide<T: Num>(pair: Pair, v: &[T; 13], one: &T) -> Option<(Choice, bool)> {
+    let point =
+        |k: usize| -> V<T> { [v[3 * k].clone(), v[3 * k + 1].clone(), v[3 * k + 2].clone()] };
+    let q = [point(0), point(1), point(2), point(3)];
+    let c = match pair {
+        Pair::VertexFace => vertex_face(&q[0], &[q[1].clone(), q[2].clone(), q[3].clone()], one)?,
+        Pair::EdgeEdge => edge_edge(&q, one)?,
+    };
+    let dd = v[12].clone() * v[12].clone();
+    let within = at_most(c.num.clone(), dd * c.den.clone())?;
+    Some((c.choice, within))
+}
+
+/// The closest points of the primitives `p` (as [`Pair`] says) when their distance is at most
+/// `d`, else `None`. `d` must be finite and not negative, the coordinates finite.
+pub(crate) fn nearest(pair: Pair, p: &[Point; 4], d: f64) -> Option<Nearest> {
+    debug_assert!(d >= 0.0 && d.is_finite());
+    let mut values = [0.0; 13];
+    for (k, x) in p.iter().flatten().enumerate() {
+        values[k] = *x;
+    }
+    values[12] = d;
+    let decided = decide(pair, &values.map(Interval::point), &Interval::point(1.0)).or_else(|| {
+        // The same signs in integers: every double is an integer times a power of two, and
+        // scaling all inputs by one power changes no sign (each test compares terms of one
+        // degree). The constant one is not scaled, so the comparisons that use it (a vertex
+        // candidate's denominator) must be of one degree on both sides: they are (num is a
+        // squared length, the others' num / den too).
+        decide(pair, &to_integers(values).map(Big), &Big(BigInt::one()))
+    });
+    let (choice, within) = decided.expect("exact arithmetic decides every sign");
+    within.then(|| values_of(pair, p, choice))
+}
+
+/// Arithmetic for the values: intervals, or exact rationals.
+trait Field: Clone + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> {
+    fn of(x: f64) -> Self;
+    /// `self / d`, `d` positive; `None` when the arithmetic cannot divide (an interval holding
+    /// zero).
+    fn over(&self, d: &Self) -> Option<Self>;
+}
+
+impl Field for Interval {
+    fn of(x: f64) -> Interval {
+        Interval::point(x)
+    }
+    fn over(&self, d: &Interval) -> Option<Interval> {
+        let finite = d.hi.is_finite() && self.lo.is_finite() && self.hi.is_finite();
+        if d.lo.is_nan() || d.lo <= 0.0 || !finite {
+            return None;
+        }
+        // d > 0: the extremes are at these corners, each quotient rounded outwards by one unit.
+        let lo = if self.lo >= 0.0 {
+            self.lo / d.hi
+        } else {
+            self.lo / d.lo
+        };
+        let hi = if self.hi >= 0.0 {
+            self.hi / d.lo
+        } else {
+            self.hi / d.hi
+        };
+        Some(Interval {
+            lo: if lo == 0.0 && self.lo == 0.0 {
+                0.0
+            } else {
+                lo.next_down()
+            },
+            hi: if hi == 0.0 && self.hi == 0.0 {
+                0.0
+            } else {
+                hi.next_up()
+            },
+        })
+    }
+}
+
+impl Field for BigRational {
+    fn of(x: f64) -> BigRational {
+        BigRational::from_float(x).expect("finite")
+    }
+    fn over(&self, d: &BigRational) -> Option<BigRational> {
+        Some(self / d)
+    }
+}
+
+/// The exact values of a choice: squared distance, closest points and weights.
+struct Values<F> {
+    squared: F,
+    points: [V<F>; 2],
+    weights: [[F; 3]; 2],
+}
+
+fn values_in<F: Field>(pair: Pair, p: &[Point; 4], choice: Choice) -> Option<Values<F>> {
+    let q: [V<F>; 4] = p.map(|x| x.map(F::of));
+    let (zero, one) = (F::of(0.0), F::of(1.0));
+    let d3 = |a: &V<F>, b: &V<F>| -> F {
+        a[0].clone() * b[0].clone() + a[1].clone() * b[1].clone() + a[2].clone() * b[2].clone()
+    };
+    let minus = |a: &V<F>, b: &V<F>| -> V<F> {
+        [
+            a[0].clone() - b[0].clone(),
+            a[1].clone() - b[1].clone(),
+            a[2].clone() - b[2].clone(),
+        ]
+    };
+    let cr = |a: &V<F>, b: &V<F>| -> V<F> {
+        [
+            a[1].clone() * b[2].clone() - a[2].clone() * b[1].clone(),
+            a[2].clone() * b[0].clone() - a[0].clone() * b[2].clone(),
+            a[0].clone() * b[1].clone() - a[1].clone() * b[0].clone(),
+        ]
+    };
+    // The point `a + s (b - a)`.
+    let along = |a: &V<F>, b: &V<F>, s: &F| -> V<F> {
+        [0, 1, 2].map(|k| a[k].clone() + s.clone() * (b[k].clone() - a[k].clone()))
+    };
+    // Weights on a segment or a triangle's edge `k` at parameter `s`.
+    let on_edge = |k: usize, s: &F| -> [F; 3] {
+        let mut w = [zero.clone(), zero.clone(), zero.clone()];
+        w[k] = one.clone() - s.clone();
+        w[(k + 1) % 3] = s.clone();
+        w
+    };
+    let unit = |k: usize| -> [F; 3] {
+        let mut w = [zero.clone(), zero.clone(), zero.clone()];
+        w[k] = one.clone();
+        w
+    };
+    // Point `x` against segment `[a, b]` at parameter `s` = along / uu, inside.
+    let segment_param = |x: &V<F>, a: &V<F>, b: &V<F>| -> Option<(F, F)> {
+        let (u, w) = (minus(b, a), minus(x, a));
+        let uu = d3(&u, &u);
+        let s = d3(&w, &u).over(&uu)?;
+        let c = cr(&w, &u);
+        Some((s, d3(&c, &c).over(&uu)?))
+    };
+    Some(match (pair, choice) {
+        (Pair::VertexFace, Choice::FaceInterior) => {
+            let t = [&q[1], &q[2], &q[3]];
+            let n = cr(&minus(t[1], t[0]), &minus(t[2], t[0]));
+            let nn = d3(&n, &n);
+            let w = [0, 1, 2].map(|k| {
+                let (b, c) = (t[(k + 1) % 3], t[(k + 2) % 3]);
+                d3(&n, &cr(&minus(b, &q[0]), &minus(c, &q[0]))).over(&nn)
+            });
+            let w = [w[0].clone()?, w[1].clone()?, w[2].clone()?];
+            let h = d3(&n, &minus(&q[0], t[0]));
+            let point = [0, 1, 2].map(|k| {
+                w[0].clone() * t[0][k].clone()
+                    + w[1].clone() * t[1][k].clone()
+                    + w[2].clone() * t[2][k].clone()
+            });
+            Values {
+                squared: (h.clone() * h).over(&nn)?,
+                points: [q[0].clone(), point],
+                weights: [unit(0), w],
+            }
+        }
+        (Pair::VertexFace, Choice::FaceEdge(k)) => {
+            let (a, b) = (&q[1 + k], &q[1 + (k + 1) % 3]);
+            let (s, squared) = segment_param(&q[0], a, b)?;
+            Values {
+                squared,
+                points: [q[0].clone(), along(a, b, &s)],
+                weights: [unit(0), on_edge(k, &s)],
+            }
+        }
+        (Pair::VertexFace, Choice::FaceCorner(k)) => {
+            let x = minus(&q[0], &q[1 + k]);
+            Values {
+                squared: d3(&x, &x),
+                points: [q[0].clone(), q[1 + k].clone()],
+                weights: [unit(0), unit(k)],
+            }
+        }
+        (Pair::EdgeEdge, Choice::BothInside) => {
+            let (u, v, w) = (
+                minus(&q[1], &q[0]),
+                minus(&q[3], &q[2]),
+                minus(&q[0], &q[2]),
+            );
+            let n = cr(&u, &v);
+            let nn = d3(&n, &n);
+            let (uu, uv, vv) = (d3(&u, &u), d3(&u, &v), d3(&v, &v));
+            let (uw, vw) = (d3(&u, &w), d3(&v, &w));
+            let s = (uv.clone() * vw.clone() - vv * uw.clone()).over(&nn)?;
+            let t = (uu * vw - uv * uw).over(&nn)?;
+            let h = d3(&w, &n);
+            Values {
+                squared: (h.clone() * h).over(&nn)?,
+                points: [along(&q[0], &q[1], &s), along(&q[2], &q[3], &t)],
+                weights: [on_edge(0, &s), on_edge(0, &t)],
+            }
+        }
+        (Pair::EdgeEdge, Choice::End { p, on }) => {
+            let other = if p < 2 { 1 } else { 0 };
+            let (a, b) = (&q[2 * other], &q[2 * other + 1]);
+            let (point, weights, squared) = match on {
+                Some(j) => {
+                    let x = minus(&q[p], &q[2 * other + j]);
+                    (q[2 * other + j].clone(), unit(j), d3(&x, &x))
+                }
+                None => {
+                    let (s, squared) = segment_param(&q[p], a, b)?;
+                    (along(a, b, &s), on_edge(0, &s), squared)
+                }
+            };
+            let mut points = [q[p].clone(), q[p].clone()];
+            let mut ws = [unit(p % 2), unit(p % 2)];
+            points[other] = point;
+            ws[other] = weights;
+            Values {
+                squared,
+                points,
+                weights: ws,
+            }
+        }
+        _ => unreachable!("a choice of the other kind of pair"),
+    })
+}
+
+/// The features of a choice.
+fn features(choice: Choice) -> [Feature; 2] {
+    let on_segment = |on: Option<usize>| on.map_or(Feature::Edge01, Feature::corner);
+    match choice {
+        Choice::FaceInterior => [Feature::Vertex0, Feature::Interior],
+        Choice::FaceEdge(k) => [Feature::Vertex0, Feature::edge(k)],
+        Choice::FaceCorner(k) => [Feature::Vertex0, Feature::corner(k)],
+        Choice::BothInside => [Feature::Edge01, Feature::Edge01],
+        Choice::End { p, on } if p < 2 => [Feature::corner(p), on_segment(on)],
+        Choice::End { p, on } => [on_segment(on), Feature::corner(p - 2)],
+    }
+}
+
+/// A double within two units in the last place of every value in `x`, if there is one.
+fn tight(x: Interval) -> Option<f64> {
+    if x.lo == x.hi {
+        return Some(x.lo);
+    }
+    let mid = x.lo + 0.5 * (x.hi - x.lo);
+    (mid.is_finite() && mid.next_up().next_up() >= x.hi && mid.next_down().next_down() <= x.lo)
+        .then_some(mid)
+}
+
+/// The square root of a value in `x`, within one unit in the last place of the correctly
+/// rounded root of every value in `x`, if there is one. Rounded roots are monotone, so every
+/// value's rounded root lies between those of the ends: equal ends give it exactly, adjacent
+/// ones within one unit.
+fn tight_sqrt(x: Interval) -> Option<f64> {
+    let (lo, hi) = (x.lo.max(0.0).sqrt(), x.hi.sqrt());
+    (hi.is_finite() && hi <= lo.next_up()).then_some(lo)
+}
+
+/// The square root of `x >= 0`, within one unit in the last place of the correctly rounded one:
+/// the integer square root of `x` scaled by an even power of two to at least 110 bits, rounded.
+fn sqrt_rational(x: &BigRational) -> f64 {
+    if x.is_zero() {
+        return 0.0;
+    }
+    let (n, d) = (x.numer().abs(), x.denom().clone());
+    // x 4^k >= 2^110: the root's integer part has at least 55 bits.
+    let shift = 110i64 - (n.bits() as i64 - d.bits() as i64);
+    let k = shift.div_euclid(2) + 1;
+    let scaled = if k >= 0 {
+        (n << (2 * k as usize)) / d
+    } else {
+        n / (d << (-2 * k) as usize)
+    };
+    let root = scaled.sqrt();
+    // root 2^-k, truncated at 55 bits or more: rounding it to a double adds under one unit.
+    let r = BigRational::new(root, BigInt::one()) * pow2(-k);
+    r.to_f64().expect("a finite root")
+}
+
+fn pow2(e: i64) -> BigRational {
+    if e >= 0 {
+        BigRational::from_integer(BigInt::one() << e as usize)
+    } else {
+        BigRational::new(BigInt::one(), BigInt::one() << (-e) as usize)
+    }
+}
+
+/// The rounded values of `choice` for the points `p`.
+fn values_of(pair: Pair, p: &[Point; 4], choice: Choice) -> Nearest {
+    let features = features(choice);
+    if let Some(v) = values_in::<Interval>(pair, p, choice)
+        && let Some(rounded) = round_intervals(&v)
+    {
+        return Nearest {
+            features,
+            distance: rounded.0,
+            points: rounded.1,
+            weights: rounded.2,
+        };
+    }
+    let v = values_in::<BigRational>(pair, p, choice).expect("exact division by a positive value");
+    let f = |x: &BigRational| x.to_f64().expect("a finite value");
+    Nearest {
+        features,
+        distance: sqrt_rational(&v.squared),
+        points: v.points.map(|x| [f(&x[0]), f(&x[1]), f(&x[2])]),
+        weights: v.weights.map(|w| [f(&w[0]), f(&w[1]), f(&w[2])]),
+    }
+}
+
+type Rounded = (f64, [Point; 2], [[f64; 3]; 2]);
+
+fn round_intervals(v: &Values<Interval>) -> Option<Rounded> {
+    let distance = tight_sqrt(v.squared)?;
+    let mut points = [[0.0; 3]; 2];
+    let mut weights = [[0.0; 3]; 2];
+    for s in 0..2 {
+        for k in 0..3 {
+            points[s][k] = tight(v.points[s][k])?;
+            weights[s][k] = tight(v.weights[s][k])?;
+        }
+    }
+    Some((distance, points, weights))
+}
+
+#[cfg(test)]
+mod tests;
