@@ -95,7 +95,24 @@ struct Candidate<T> {
 
 /// Is `x` strictly closer than `y`, if the arithmetic can tell?
 fn closer<T: Num>(x: &Candidate<T>, y: &Candidate<T>) -> Option<bool> {
+    if corners(x.choice).is_some() && corners(x.choice) == corners(y.choice) {
+        // The same two corners, reached from two edges: equal exactly (an interval could not
+        // tell, and the exact arithmetic would be asked for nothing).
+        return Some(false);
+    }
     Some((x.num.clone() * y.den.clone() - y.num.clone() * x.den.clone()).sign()? < 0)
+}
+
+/// The two input points a corner-to-corner choice joins, lower first.
+fn corners(c: Choice) -> Option<(usize, usize)> {
+    match c {
+        Choice::FaceCorner(k) => Some((0, 1 + k)),
+        Choice::End { p, on: Some(j) } => {
+            let other = if p < 2 { 2 + j } else { j };
+            Some((p.min(other), p.max(other)))
+        }
+        _ => None,
+    }
 }
 
 /// The closest point of segment `[a, b]` to `p`: at `a` (`Some(0)`), at `b` (`Some(1)`), or
