@@ -18,7 +18,7 @@
 
 use super::distance::{Big, Num, V, at_most, cross, dot, sub};
 use super::interval::Interval;
-use super::predicates::{Point, to_integers};
+use super::predicates::{Point, to_integers, to_integers_scaled};
 use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed, ToPrimitive, Zero};
@@ -242,6 +242,9 @@ fn decide<T: Num>(pair: Pair, v: &[T; 13], one: &T) -> Option<(Choice, bool)> {
 /// `d`, else `None`. `d` must be finite and not negative, the coordinates finite.
 pub(crate) fn nearest(pair: Pair, p: &[Point; 4], d: f64) -> Option<Nearest> {
     debug_assert!(d >= 0.0 && d.is_finite());
+    if boxes_apart(pair, p, d) {
+        return None;
+    }
     let mut values = [0.0; 13];
     for (k, x) in p.iter().flatten().enumerate() {
         values[k] = *x;
@@ -257,6 +260,22 @@ pub(crate) fn nearest(pair: Pair, p: &[Point; 4], d: f64) -> Option<Nearest> {
     });
     let (choice, within) = decided.expect("exact arithmetic decides every sign");
     within.then(|| values_of(pair, p, choice))
+}
+
+/// Are the boxes of the two primitives certainly more than `d` apart along some axis? (Then
+/// so are the primitives.) The gap is rounded down, so the answer is exact when it says yes.
+fn boxes_apart(pair: Pair, p: &[Point; 4], d: f64) -> bool {
+    let split = match pair {
+        Pair::VertexFace => 1,
+        Pair::EdgeEdge => 2,
+    };
+    (0..3).any(|k| {
+        let (a, b) = (&p[..split], &p[split..]);
+        let lo = |s: &[Point]| s.iter().map(|x| x[k]).fold(f64::INFINITY, f64::min);
+        let hi = |s: &[Point]| s.iter().map(|x| x[k]).fold(f64::NEG_INFINITY, f64::max);
+        let gap = |lo: f64, hi: f64| (Interval::point(lo) - Interval::point(hi)).lo;
+        gap(lo(b), hi(a)) > d || gap(lo(a), hi(b)) > d
+    })
 }
 
 /// Arithmetic for the values: intervals, or exact rationals.
@@ -302,12 +321,87 @@ impl Field for Interval {
     }
 }
 
-impl Field for BigRational {
-    fn of(x: f64) -> BigRational {
-        BigRational::from_float(x).expect("finite")
+/// An exact fraction kept unreduced: `BigRational` divides by a gcd after every operation,
+/// which costs more than the few operations here gain from it. The denominator is positive.
+#[derive(Clone, Debug)]
+struct Frac {
+    num: BigInt,
+    den: BigInt,
+}
+
+impl Frac {
+    fn integer(num: BigInt) -> Frac {
+        Frac {
+            num,
+            den: BigInt::one(),
+        }
     }
-    fn over(&self, d: &BigRational) -> Option<BigRational> {
-        Some(self / d)
+    /// The value times `2^power`, as a rational (unreduced).
+    fn scaled(&self, power: i32) -> BigRational {
+        let s = power.unsigned_abs() as usize;
+        if power >= 0 {
+            BigRational::new_raw(&self.num << s, self.den.clone())
+        } else {
+            BigRational::new_raw(self.num.clone(), &self.den << s)
+        }
+    }
+}
+
+impl Add for Frac {
+    type Output = Frac;
+    fn add(self, o: Frac) -> Frac {
+        if self.den == o.den {
+            return Frac {
+                num: self.num + o.num,
+                den: self.den,
+            };
+        }
+        Frac {
+            num: self.num * &o.den + o.num * &self.den,
+            den: self.den * o.den,
+        }
+    }
+}
+
+impl Sub for Frac {
+    type Output = Frac;
+    fn sub(self, o: Frac) -> Frac {
+        self + Frac {
+            num: -o.num,
+            den: o.den,
+        }
+    }
+}
+
+impl Mul for Frac {
+    type Output = Frac;
+    fn mul(self, o: Frac) -> Frac {
+        Frac {
+            num: self.num * o.num,
+            den: self.den * o.den,
+        }
+    }
+}
+
+impl Field for Frac {
+    /// Only the constants 0 and 1 are made so: coordinates come as integers.
+    fn of(x: f64) -> Frac {
+        debug_assert!(x == 0.0 || x == 1.0);
+        Frac::integer(BigInt::from(x as i64))
+    }
+    fn over(&self, d: &Frac) -> Option<Frac> {
+        if d.num.is_zero() {
+            return None;
+        }
+        let (num, den) = (&self.num * &d.den, &self.den * &d.num);
+        Some(if den.is_negative() {
+            Frac {
+                num: -num,
+                den: -den,
+            }
+        } else {
+            Frac { num, den }
+        })
     }
 }
 
@@ -318,8 +412,7 @@ struct Values<F> {
     weights: [[F; 3]; 2],
 }
 
-fn values_in<F: Field>(pair: Pair, p: &[Point; 4], choice: Choice) -> Option<Values<F>> {
-    let q: [V<F>; 4] = p.map(|x| x.map(F::of));
+fn values_in<F: Field>(pair: Pair, q: [V<F>; 4], choice: Choice) -> Option<Values<F>> {
     let (zero, one) = (F::of(0.0), F::of(1.0));
     let d3 = |a: &V<F>, b: &V<F>| -> F {
         a[0].clone() * b[0].clone() + a[1].clone() * b[1].clone() + a[2].clone() * b[2].clone()
@@ -496,22 +589,18 @@ fn sqrt_rational(x: &BigRational) -> f64 {
     };
     let root = scaled.sqrt();
     // root 2^-k, truncated at 55 bits or more: rounding it to a double adds under one unit.
-    let r = BigRational::new(root, BigInt::one()) * pow2(-k);
-    r.to_f64().expect("a finite root")
-}
-
-fn pow2(e: i64) -> BigRational {
-    if e >= 0 {
-        BigRational::from_integer(BigInt::one() << e as usize)
+    let r = if k >= 0 {
+        BigRational::new_raw(root, BigInt::one() << k as usize)
     } else {
-        BigRational::new(BigInt::one(), BigInt::one() << (-e) as usize)
-    }
+        BigRational::new_raw(root << (-k) as usize, BigInt::one())
+    };
+    r.to_f64().expect("a finite root")
 }
 
 /// The rounded values of `choice` for the points `p`.
 fn values_of(pair: Pair, p: &[Point; 4], choice: Choice) -> Nearest {
     let features = features(choice);
-    if let Some(v) = values_in::<Interval>(pair, p, choice)
+    if let Some(v) = values_in(pair, p.map(|x| x.map(Interval::point)), choice)
         && let Some(rounded) = round_intervals(&v)
     {
         return Nearest {
@@ -521,13 +610,23 @@ fn values_of(pair: Pair, p: &[Point; 4], choice: Choice) -> Nearest {
             weights: rounded.2,
         };
     }
-    let v = values_in::<BigRational>(pair, p, choice).expect("exact division by a positive value");
-    let f = |x: &BigRational| x.to_f64().expect("a finite value");
+    // In integers: every coordinate an integer times one power of two, 2^e. Weights are ratios
+    // of terms of one degree, free of the scale; points are of degree one (times 2^e), squared
+    // distances of degree two (times 2^2e).
+    let mut flat = [0.0; 12];
+    for (k, x) in p.iter().flatten().enumerate() {
+        flat[k] = *x;
+    }
+    let (ints, e) = to_integers_scaled(flat);
+    let mut ints = ints.into_iter().map(Frac::integer);
+    let q: [V<Frac>; 4] = std::array::from_fn(|_| std::array::from_fn(|_| ints.next().unwrap()));
+    let v = values_in(pair, q, choice).expect("exact division by a positive value");
+    let f = |x: &Frac, power: i32| x.scaled(power).to_f64().expect("a finite value");
     Nearest {
         features,
-        distance: sqrt_rational(&v.squared),
-        points: v.points.map(|x| [f(&x[0]), f(&x[1]), f(&x[2])]),
-        weights: v.weights.map(|w| [f(&w[0]), f(&w[1]), f(&w[2])]),
+        distance: sqrt_rational(&v.squared.scaled(2 * e)),
+        points: v.points.map(|x| [f(&x[0], e), f(&x[1], e), f(&x[2], e)]),
+        weights: v.weights.map(|w| [f(&w[0], 0), f(&w[1], 0), f(&w[2], 0)]),
     }
 }
 

@@ -389,6 +389,11 @@ fn decompose(x: f64) -> (i64, i32) {
 
 /// The values scaled by one common power of two, as exact integers.
 pub(crate) fn to_integers<const N: usize>(values: [f64; N]) -> [BigInt; N] {
+    to_integers_scaled(values).0
+}
+
+/// [`to_integers`], with the power: each value is its integer times `2^power`.
+pub(crate) fn to_integers_scaled<const N: usize>(values: [f64; N]) -> ([BigInt; N], i32) {
     let parts = values.map(decompose);
     let lowest = parts
         .iter()
@@ -396,7 +401,10 @@ pub(crate) fn to_integers<const N: usize>(values: [f64; N]) -> [BigInt; N] {
         .map(|&(_, e)| e)
         .min()
         .unwrap_or(0);
-    parts.map(|(m, e)| BigInt::from(m) << ((e - lowest) as usize))
+    (
+        parts.map(|(m, e)| BigInt::from(m) << ((e - lowest) as usize)),
+        lowest,
+    )
 }
 
 fn sign_of_big(v: &BigInt) -> Sign {
