@@ -133,9 +133,7 @@ fn decide_by_filter(t1: &Triangle, t2: &Triangle, d: f64) -> Option<bool> {
 
 /// The numbers the decision is computed with: an interval that may leave a sign unknown, or an
 /// exact integer.
-pub(crate) trait Num:
-    Clone + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self>
-{
+pub(crate) trait Num: Ring {
     /// The sign, if known.
     fn sign(&self) -> Option<Sign>;
 }
@@ -191,10 +189,18 @@ impl Num for Big {
     }
 }
 
+/// Numbers that add, subtract and multiply: what the vector helpers below need.
+pub(crate) trait Ring:
+    Clone + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self>
+{
+}
+
+impl<T: Clone + Add<Output = T> + Sub<Output = T> + Mul<Output = T>> Ring for T {}
+
 pub(crate) type V<T> = [T; 3];
 
 #[inline]
-pub(crate) fn sub<T: Num>(a: &V<T>, b: &V<T>) -> V<T> {
+pub(crate) fn sub<T: Ring>(a: &V<T>, b: &V<T>) -> V<T> {
     [
         a[0].clone() - b[0].clone(),
         a[1].clone() - b[1].clone(),
@@ -203,12 +209,12 @@ pub(crate) fn sub<T: Num>(a: &V<T>, b: &V<T>) -> V<T> {
 }
 
 #[inline]
-pub(crate) fn dot<T: Num>(a: &V<T>, b: &V<T>) -> T {
+pub(crate) fn dot<T: Ring>(a: &V<T>, b: &V<T>) -> T {
     a[0].clone() * b[0].clone() + a[1].clone() * b[1].clone() + a[2].clone() * b[2].clone()
 }
 
 #[inline]
-pub(crate) fn cross<T: Num>(a: &V<T>, b: &V<T>) -> V<T> {
+pub(crate) fn cross<T: Ring>(a: &V<T>, b: &V<T>) -> V<T> {
     [
         a[1].clone() * b[2].clone() - a[2].clone() * b[1].clone(),
         a[2].clone() * b[0].clone() - a[0].clone() * b[2].clone(),

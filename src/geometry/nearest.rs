@@ -16,7 +16,7 @@
 //! degenerate triangle's edges that hold the closest point in the same way (a triangle folded
 //! flat onto a segment), the first in the order 01, 12, 20 is kept.
 
-use super::distance::{Big, Num, V, at_most, cross, dot, sub};
+use super::distance::{Big, Num, Ring, V, at_most, cross, dot, sub};
 use super::interval::Interval;
 use super::predicates::{Point, to_integers, to_integers_scaled};
 use num_bigint::BigInt;
@@ -103,6 +103,15 @@ fn closer<T: Num>(x: &Candidate<T>, y: &Candidate<T>) -> Option<bool> {
     Some((x.num.clone() * y.den.clone() - y.num.clone() * x.den.clone()).sign()? < 0)
 }
 
+/// Keeps `c` in `best` when it is strictly closer (or the first): of equals, the first stays.
+/// `None` when the arithmetic cannot tell.
+fn keep_closer<T: Num>(best: &mut Option<Candidate<T>>, c: Candidate<T>) -> Option<()> {
+    if best.as_ref().map_or(Some(true), |b| closer(&c, b))? {
+        *best = Some(c);
+    }
+    Some(())
+}
+
 /// The two input points a corner-to-corner choice joins, lower first.
 fn corners(c: Choice) -> Option<(usize, usize)> {
     match c {
@@ -160,10 +169,7 @@ fn vertex_face<T: Num>(p: &V<T>, t: &[V<T>; 3], one: &T) -> Option<Candidate<T>>
             Some(j) => Choice::FaceCorner((k + j) % 3),
             None => Choice::FaceEdge(k),
         };
-        let c = Candidate { num, den, choice };
-        if best.as_ref().map_or(Some(true), |b| closer(&c, b))? {
-            best = Some(c);
-        }
+        keep_closer(&mut best, Candidate { num, den, choice })?;
     }
     best
 }
@@ -202,14 +208,8 @@ fn edge_edge<T: Num>(q: &[V<T>; 4], one: &T) -> Option<Candidate<T>> {
             (&q[0], &q[1])
         };
         let (on, num, den) = point_segment(&q[p], a, b, one)?;
-        let c = Candidate {
-            num,
-            den,
-            choice: Choice::End { p, on },
-        };
-        if best.as_ref().map_or(Some(true), |b| closer(&c, b))? {
-            best = Some(c);
-        }
+        let choice = Choice::End { p, on };
+        keep_closer(&mut best, Candidate { num, den, choice })?;
     }
     best
 }
@@ -279,7 +279,7 @@ fn boxes_apart(pair: Pair, p: &[Point; 4], d: f64) -> bool {
 }
 
 /// Arithmetic for the values: intervals, or exact rationals.
-trait Field: Clone + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> {
+trait Field: Ring {
     fn of(x: f64) -> Self;
     /// `self / d`, `d` positive; `None` when the arithmetic cannot divide (an interval holding
     /// zero).
@@ -414,23 +414,6 @@ struct Values<F> {
 
 fn values_in<F: Field>(pair: Pair, q: [V<F>; 4], choice: Choice) -> Option<Values<F>> {
     let (zero, one) = (F::of(0.0), F::of(1.0));
-    let d3 = |a: &V<F>, b: &V<F>| -> F {
-        a[0].clone() * b[0].clone() + a[1].clone() * b[1].clone() + a[2].clone() * b[2].clone()
-    };
-    let minus = |a: &V<F>, b: &V<F>| -> V<F> {
-        [
-            a[0].clone() - b[0].clone(),
-            a[1].clone() - b[1].clone(),
-            a[2].clone() - b[2].clone(),
-        ]
-    };
-    let cr = |a: &V<F>, b: &V<F>| -> V<F> {
-        [
-            a[1].clone() * b[2].clone() - a[2].clone() * b[1].clone(),
-            a[2].clone() * b[0].clone() - a[0].clone() * b[2].clone(),
-            a[0].clone() * b[1].clone() - a[1].clone() * b[0].clone(),
-        ]
-    };
     // The point `a + s (b - a)`.
     let along = |a: &V<F>, b: &V<F>, s: &F| -> V<F> {
         [0, 1, 2].map(|k| a[k].clone() + s.clone() * (b[k].clone() - a[k].clone()))
@@ -449,23 +432,23 @@ fn values_in<F: Field>(pair: Pair, q: [V<F>; 4], choice: Choice) -> Option<Value
     };
     // Point `x` against segment `[a, b]` at parameter `s` = along / uu, inside.
     let segment_param = |x: &V<F>, a: &V<F>, b: &V<F>| -> Option<(F, F)> {
-        let (u, w) = (minus(b, a), minus(x, a));
-        let uu = d3(&u, &u);
-        let s = d3(&w, &u).over(&uu)?;
-        let c = cr(&w, &u);
-        Some((s, d3(&c, &c).over(&uu)?))
+        let (u, w) = (sub(b, a), sub(x, a));
+        let uu = dot(&u, &u);
+        let s = dot(&w, &u).over(&uu)?;
+        let c = cross(&w, &u);
+        Some((s, dot(&c, &c).over(&uu)?))
     };
     Some(match (pair, choice) {
         (Pair::VertexFace, Choice::FaceInterior) => {
             let t = [&q[1], &q[2], &q[3]];
-            let n = cr(&minus(t[1], t[0]), &minus(t[2], t[0]));
-            let nn = d3(&n, &n);
+            let n = cross(&sub(t[1], t[0]), &sub(t[2], t[0]));
+            let nn = dot(&n, &n);
             let w = [0, 1, 2].map(|k| {
                 let (b, c) = (t[(k + 1) % 3], t[(k + 2) % 3]);
-                d3(&n, &cr(&minus(b, &q[0]), &minus(c, &q[0]))).over(&nn)
+                dot(&n, &cross(&sub(b, &q[0]), &sub(c, &q[0]))).over(&nn)
             });
             let w = [w[0].clone()?, w[1].clone()?, w[2].clone()?];
-            let h = d3(&n, &minus(&q[0], t[0]));
+            let h = dot(&n, &sub(&q[0], t[0]));
             let point = [0, 1, 2].map(|k| {
                 w[0].clone() * t[0][k].clone()
                     + w[1].clone() * t[1][k].clone()
@@ -487,26 +470,22 @@ fn values_in<F: Field>(pair: Pair, q: [V<F>; 4], choice: Choice) -> Option<Value
             }
         }
         (Pair::VertexFace, Choice::FaceCorner(k)) => {
-            let x = minus(&q[0], &q[1 + k]);
+            let x = sub(&q[0], &q[1 + k]);
             Values {
-                squared: d3(&x, &x),
+                squared: dot(&x, &x),
                 points: [q[0].clone(), q[1 + k].clone()],
                 weights: [unit(0), unit(k)],
             }
         }
         (Pair::EdgeEdge, Choice::BothInside) => {
-            let (u, v, w) = (
-                minus(&q[1], &q[0]),
-                minus(&q[3], &q[2]),
-                minus(&q[0], &q[2]),
-            );
-            let n = cr(&u, &v);
-            let nn = d3(&n, &n);
-            let (uu, uv, vv) = (d3(&u, &u), d3(&u, &v), d3(&v, &v));
-            let (uw, vw) = (d3(&u, &w), d3(&v, &w));
+            let (u, v, w) = (sub(&q[1], &q[0]), sub(&q[3], &q[2]), sub(&q[0], &q[2]));
+            let n = cross(&u, &v);
+            let nn = dot(&n, &n);
+            let (uu, uv, vv) = (dot(&u, &u), dot(&u, &v), dot(&v, &v));
+            let (uw, vw) = (dot(&u, &w), dot(&v, &w));
             let s = (uv.clone() * vw.clone() - vv * uw.clone()).over(&nn)?;
             let t = (uu * vw - uv * uw).over(&nn)?;
-            let h = d3(&w, &n);
+            let h = dot(&w, &n);
             Values {
                 squared: (h.clone() * h).over(&nn)?,
                 points: [along(&q[0], &q[1], &s), along(&q[2], &q[3], &t)],
@@ -518,8 +497,8 @@ fn values_in<F: Field>(pair: Pair, q: [V<F>; 4], choice: Choice) -> Option<Value
             let (a, b) = (&q[2 * other], &q[2 * other + 1]);
             let (point, weights, squared) = match on {
                 Some(j) => {
-                    let x = minus(&q[p], &q[2 * other + j]);
-                    (q[2 * other + j].clone(), unit(j), d3(&x, &x))
+                    let x = sub(&q[p], &q[2 * other + j]);
+                    (q[2 * other + j].clone(), unit(j), dot(&x, &x))
                 }
                 None => {
                     let (s, squared) = segment_param(&q[p], a, b)?;
