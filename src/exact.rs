@@ -36,7 +36,7 @@
 
 use crate::geometry::ccd::exact::Primitive;
 use crate::geometry::ccd::{CcdMode, time_of_impact};
-use crate::geometry::nearest::{self, Pair};
+use crate::geometry::nearest;
 use crate::geometry::{distance, predicates, tri_tri};
 use crate::{Error, Result};
 
@@ -164,7 +164,7 @@ pub fn edge_edge_impact_with(
 /// ```
 pub fn vertex_face_nearest(points: &[Point; 4], distance: f64) -> Result<Option<Nearest>> {
     check_nearest(points, distance)?;
-    Ok(nearest::nearest(Pair::VertexFace, points, distance))
+    Ok(nearest::nearest(Primitive::VertexFace, points, distance))
 }
 
 /// The closest points of the closed segments `points[0..2]` and `points[2..4]` when they are at
@@ -177,7 +177,7 @@ pub fn vertex_face_nearest(points: &[Point; 4], distance: f64) -> Result<Option<
 /// Errors as [`vertex_face_nearest`].
 pub fn edge_edge_nearest(points: &[Point; 4], distance: f64) -> Result<Option<Nearest>> {
     check_nearest(points, distance)?;
-    Ok(nearest::nearest(Pair::EdgeEdge, points, distance))
+    Ok(nearest::nearest(Primitive::EdgeEdge, points, distance))
 }
 
 fn check_nearest(points: &[Point; 4], distance: f64) -> Result<()> {

@@ -83,9 +83,10 @@ pub use mesh::{
     RefitStats, TreeStats,
 };
 pub use query::{
-    CcdOptions, CcdStats, Impact, ImpactKind, Impacts, Pair, PairKind, Pairs, QueryMode,
-    QueryOptions, QueryStats, brute_force, collide, continuous_collide, proximity, self_collide,
-    self_continuous_collide, self_proximity,
+    CcdOptions, CcdStats, Impact, ImpactKind, Impacts, NearPair, NearPairs, Pair, PairKind, Pairs,
+    QueryMode, QueryOptions, QueryStats, brute_force, collide, continuous_collide,
+    nearest_features, proximity, self_collide, self_continuous_collide, self_nearest_features,
+    self_proximity,
 };
 pub use scene::{Contact, Contacts, Scene, SceneStats};
 pub use tree::TreeKind;

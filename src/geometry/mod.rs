@@ -13,6 +13,16 @@ pub mod predicates;
 pub mod sphere;
 pub mod tri_tri;
 
+/// Which primitive pair a test takes, as four points: a point and a triangle's corners, or two
+/// segments' ends.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub(crate) enum Primitive {
+    /// A point against a triangle.
+    VertexFace,
+    /// A segment against a segment.
+    EdgeEdge,
+}
+
 /// Largest magnitude a posed mesh's transformed coordinates may reach. Beyond it, differences of
 /// world coordinates could overflow and the sphere tests would no longer be conservative.
 pub const MAX_POSED_MAGNITUDE: f64 = 1e300;

@@ -16,6 +16,7 @@
 //! degenerate triangle's edges that hold the closest point in the same way (a triangle folded
 //! flat onto a segment), the first in the order 01, 12, 20 is kept.
 
+pub(crate) use super::Primitive;
 use super::distance::{Big, Num, Ring, V, at_most, cross, dot, sub};
 use super::interval::Interval;
 use super::predicates::{Point, to_integers, to_integers_scaled};
@@ -214,33 +215,26 @@ fn edge_edge<T: Num>(q: &[V<T>; 4], one: &T) -> Option<Candidate<T>> {
     best
 }
 
-/// Which test.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub(crate) enum Pair {
-    /// A point (`p[0]`) and a triangle (`p[1..4]`).
-    VertexFace,
-    /// Two segments (`p[0..2]`, `p[2..4]`).
-    EdgeEdge,
-}
-
 /// The choice and the decision "distance at most `d`" for the points `v` (12 coordinates) and
 /// `d`, in the arithmetic `T`.
-fn decide<T: Num>(pair: Pair, v: &[T; 13], one: &T) -> Option<(Choice, bool)> {
+fn decide<T: Num>(pair: Primitive, v: &[T; 13], one: &T) -> Option<(Choice, bool)> {
     let point =
         |k: usize| -> V<T> { [v[3 * k].clone(), v[3 * k + 1].clone(), v[3 * k + 2].clone()] };
     let q = [point(0), point(1), point(2), point(3)];
     let c = match pair {
-        Pair::VertexFace => vertex_face(&q[0], &[q[1].clone(), q[2].clone(), q[3].clone()], one)?,
-        Pair::EdgeEdge => edge_edge(&q, one)?,
+        Primitive::VertexFace => {
+            vertex_face(&q[0], &[q[1].clone(), q[2].clone(), q[3].clone()], one)?
+        }
+        Primitive::EdgeEdge => edge_edge(&q, one)?,
     };
     let dd = v[12].clone() * v[12].clone();
     let within = at_most(c.num.clone(), dd * c.den.clone())?;
     Some((c.choice, within))
 }
 
-/// The closest points of the primitives `p` (as [`Pair`] says) when their distance is at most
+/// The closest points of the primitives `p` (as [`Primitive`] says) when their distance is at most
 /// `d`, else `None`. `d` must be finite and not negative, the coordinates finite.
-pub(crate) fn nearest(pair: Pair, p: &[Point; 4], d: f64) -> Option<Nearest> {
+pub(crate) fn nearest(pair: Primitive, p: &[Point; 4], d: f64) -> Option<Nearest> {
     debug_assert!(d >= 0.0 && d.is_finite());
     if boxes_apart(pair, p, d) {
         return None;
@@ -264,10 +258,10 @@ pub(crate) fn nearest(pair: Pair, p: &[Point; 4], d: f64) -> Option<Nearest> {
 
 /// Are the boxes of the two primitives certainly more than `d` apart along some axis? (Then
 /// so are the primitives.) The gap is rounded down, so the answer is exact when it says yes.
-fn boxes_apart(pair: Pair, p: &[Point; 4], d: f64) -> bool {
+fn boxes_apart(pair: Primitive, p: &[Point; 4], d: f64) -> bool {
     let split = match pair {
-        Pair::VertexFace => 1,
-        Pair::EdgeEdge => 2,
+        Primitive::VertexFace => 1,
+        Primitive::EdgeEdge => 2,
     };
     (0..3).any(|k| {
         let (a, b) = (&p[..split], &p[split..]);
@@ -412,7 +406,7 @@ struct Values<F> {
     weights: [[F; 3]; 2],
 }
 
-fn values_in<F: Field>(pair: Pair, q: [V<F>; 4], choice: Choice) -> Option<Values<F>> {
+fn values_in<F: Field>(pair: Primitive, q: [V<F>; 4], choice: Choice) -> Option<Values<F>> {
     let (zero, one) = (F::of(0.0), F::of(1.0));
     // The point `a + s (b - a)`.
     let along = |a: &V<F>, b: &V<F>, s: &F| -> V<F> {
@@ -439,7 +433,7 @@ fn values_in<F: Field>(pair: Pair, q: [V<F>; 4], choice: Choice) -> Option<Value
         Some((s, dot(&c, &c).over(&uu)?))
     };
     Some(match (pair, choice) {
-        (Pair::VertexFace, Choice::FaceInterior) => {
+        (Primitive::VertexFace, Choice::FaceInterior) => {
             let t = [&q[1], &q[2], &q[3]];
             let n = cross(&sub(t[1], t[0]), &sub(t[2], t[0]));
             let nn = dot(&n, &n);
@@ -460,7 +454,7 @@ fn values_in<F: Field>(pair: Pair, q: [V<F>; 4], choice: Choice) -> Option<Value
                 weights: [unit(0), w],
             }
         }
-        (Pair::VertexFace, Choice::FaceEdge(k)) => {
+        (Primitive::VertexFace, Choice::FaceEdge(k)) => {
             let (a, b) = (&q[1 + k], &q[1 + (k + 1) % 3]);
             let (s, squared) = segment_param(&q[0], a, b)?;
             Values {
@@ -469,7 +463,7 @@ fn values_in<F: Field>(pair: Pair, q: [V<F>; 4], choice: Choice) -> Option<Value
                 weights: [unit(0), on_edge(k, &s)],
             }
         }
-        (Pair::VertexFace, Choice::FaceCorner(k)) => {
+        (Primitive::VertexFace, Choice::FaceCorner(k)) => {
             let x = sub(&q[0], &q[1 + k]);
             Values {
                 squared: dot(&x, &x),
@@ -477,7 +471,7 @@ fn values_in<F: Field>(pair: Pair, q: [V<F>; 4], choice: Choice) -> Option<Value
                 weights: [unit(0), unit(k)],
             }
         }
-        (Pair::EdgeEdge, Choice::BothInside) => {
+        (Primitive::EdgeEdge, Choice::BothInside) => {
             let (u, v, w) = (sub(&q[1], &q[0]), sub(&q[3], &q[2]), sub(&q[0], &q[2]));
             let n = cross(&u, &v);
             let nn = dot(&n, &n);
@@ -492,7 +486,7 @@ fn values_in<F: Field>(pair: Pair, q: [V<F>; 4], choice: Choice) -> Option<Value
                 weights: [on_edge(0, &s), on_edge(0, &t)],
             }
         }
-        (Pair::EdgeEdge, Choice::End { p, on }) => {
+        (Primitive::EdgeEdge, Choice::End { p, on }) => {
             let other = if p < 2 { 1 } else { 0 };
             let (a, b) = (&q[2 * other], &q[2 * other + 1]);
             let (point, weights, squared) = match on {
@@ -577,7 +571,7 @@ fn sqrt_rational(x: &BigRational) -> f64 {
 }
 
 /// The rounded values of `choice` for the points `p`.
-fn values_of(pair: Pair, p: &[Point; 4], choice: Choice) -> Nearest {
+fn values_of(pair: Primitive, p: &[Point; 4], choice: Choice) -> Nearest {
     let features = features(choice);
     if let Some(v) = values_in(pair, p.map(|x| x.map(Interval::point)), choice)
         && let Some(rounded) = round_intervals(&v)

@@ -6,8 +6,10 @@ mod brute_force;
 mod collide;
 mod continuous;
 mod engine;
+mod nearest;
 mod options;
 mod pairs;
+mod primitives;
 mod proximity;
 mod self_collide;
 #[cfg(test)]
@@ -19,6 +21,7 @@ pub(crate) use collide::collide_lazy;
 pub use continuous::{
     CcdOptions, CcdStats, Impact, ImpactKind, Impacts, continuous_collide, self_continuous_collide,
 };
+pub use nearest::{NearPair, NearPairs, nearest_features, self_nearest_features};
 pub use options::{QueryMode, QueryOptions};
 pub(crate) use pairs::result_buffer;
 pub use pairs::{Pair, PairKind, Pairs, QueryStats};

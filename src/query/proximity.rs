@@ -77,7 +77,7 @@ pub fn self_proximity(
 }
 
 /// A distance must be finite and not negative.
-fn check_distance(d: f64) -> Result<()> {
+pub(crate) fn check_distance(d: f64) -> Result<()> {
     if d >= 0.0 && d.is_finite() {
         Ok(())
     } else {
@@ -88,9 +88,9 @@ fn check_distance(d: f64) -> Result<()> {
 /// Which triangles lie within `d` of each other: of two meshes, or of one (pairs sharing no
 /// vertex).
 #[derive(Clone, Copy)]
-struct Near {
-    d: f64,
-    one_mesh: bool,
+pub(crate) struct Near {
+    pub d: f64,
+    pub one_mesh: bool,
 }
 
 impl<'m> PairTest<'m> for Near {

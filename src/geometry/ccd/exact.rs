@@ -25,16 +25,10 @@ use super::condition::{
 use super::interval::{self, Answer};
 use super::poly::{self, Poly, Root, one};
 use super::scaled;
+pub(crate) use crate::geometry::Primitive;
 use crate::geometry::predicates::{Point, orient3d};
 use crate::geometry::tri_tri::triangles_intersect;
 use num_rational::BigRational;
-
-/// Which test: a point against a triangle, or a segment against a segment.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub(crate) enum Primitive {
-    VertexFace,
-    EdgeEdge,
-}
 
 /// The earliest time in [0, 1] at which the primitives meet, rounded down to a double, or
 /// `None`. `start` and `end` hold the four points: the vertex and the triangle's corners, or

@@ -75,11 +75,11 @@ fn point_segment_cands(x: &QV, a: &QV, b: &QV) -> Vec<(Option<usize>, QV, Q)> {
     out
 }
 
-fn oracle(pair: Pair, p: &[Point; 4]) -> Vec<Cand> {
+fn oracle(pair: Primitive, p: &[Point; 4]) -> Vec<Cand> {
     let v: Vec<QV> = p.iter().map(qv).collect();
     let mut c = Vec::new();
     match pair {
-        Pair::VertexFace => {
+        Primitive::VertexFace => {
             for k in 0..3 {
                 c.push(Cand {
                     features: [Feature::Vertex0, Feature::corner(k)],
@@ -117,7 +117,7 @@ fn oracle(pair: Pair, p: &[Point; 4]) -> Vec<Cand> {
                 }
             }
         }
-        Pair::EdgeEdge => {
+        Primitive::EdgeEdge => {
             for x in 0..4 {
                 let other = if x < 2 { 1 } else { 0 };
                 let (a, b) = (&v[2 * other], &v[2 * other + 1]);
@@ -171,7 +171,7 @@ fn ulps(got: f64, want: &Q) -> u64 {
 }
 
 /// Checks `closest` against the oracle for `p` at distance `d`.
-fn check(pair: Pair, p: &[Point; 4], d: f64) -> bool {
+fn check(pair: Primitive, p: &[Point; 4], d: f64) -> bool {
     let cands = oracle(pair, p);
     let min = cands.iter().map(Cand::squared).min().unwrap();
     let dd = q(d) * q(d);
@@ -187,7 +187,7 @@ fn check(pair: Pair, p: &[Point; 4], d: f64) -> bool {
         .find(|c| c.features == got.features)
         .unwrap_or_else(|| panic!("{pair:?} {p:?}: feature {:?} is not closest", got.features));
     // The lowest-dimensional feature of the unique closest point (vertex-face).
-    if pair == Pair::VertexFace {
+    if pair == Primitive::VertexFace {
         let best = closest_cands.iter().map(|c| c.features[1]).min().unwrap();
         let rank = |f: Feature| match f {
             Feature::Vertex0 | Feature::Vertex1 | Feature::Vertex2 => 0,
@@ -251,12 +251,12 @@ fn every_feature_and_value_is_the_oracles() {
     for case in 0..3000 {
         let grid = [2, 3, 4, 8, 1 << 20][case % 5];
         let p = grid_points(&mut rng, grid, 1.0, 0.0);
-        for pair in [Pair::VertexFace, Pair::EdgeEdge] {
+        for pair in [Primitive::VertexFace, Primitive::EdgeEdge] {
             let d = [0.0, 0.1, 0.3, 0.5, 2.0][rng.below(5) as usize];
             if check(pair, &p, d) {
                 within += 1;
                 seen.insert((
-                    pair == Pair::VertexFace,
+                    pair == Primitive::VertexFace,
                     nearest(pair, &p, d).unwrap().features,
                 ));
             }
@@ -281,7 +281,7 @@ fn extreme_scales_and_far_from_the_origin() {
         ][case % 6];
         let grid = [3, 1 << 10, 1 << 30][case % 3];
         let p = grid_points(&mut rng, grid, scale, offset);
-        for pair in [Pair::VertexFace, Pair::EdgeEdge] {
+        for pair in [Primitive::VertexFace, Primitive::EdgeEdge] {
             for d in [0.0, 0.3 * scale, 2.0 * scale] {
                 check(pair, &p, d);
             }
@@ -294,7 +294,7 @@ fn touching_is_within_zero() {
     // A vertex on an edge, an edge through a triangle's corner, crossing edges.
     let t = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
     let on_edge = [[0.5, 0.5, 0.0], t[0], t[1], t[2]];
-    let c = nearest(Pair::VertexFace, &on_edge, 0.0).unwrap();
+    let c = nearest(Primitive::VertexFace, &on_edge, 0.0).unwrap();
     assert_eq!(c.features, [Feature::Vertex0, Feature::Edge12]);
     assert_eq!(c.distance, 0.0);
     assert_eq!(c.weights[1], [0.0, 0.5, 0.5]);
@@ -304,7 +304,7 @@ fn touching_is_within_zero() {
         [1.0, 0.0, 0.0],
         [0.0, 1.0, 0.0],
     ];
-    let c = nearest(Pair::EdgeEdge, &crossing, 0.0).unwrap();
+    let c = nearest(Primitive::EdgeEdge, &crossing, 0.0).unwrap();
     assert_eq!(c.features, [Feature::Edge01, Feature::Edge01]);
     assert_eq!(c.points, [[0.5, 0.5, 0.0]; 2]);
     // Parallel overlapping edges: the first end in the documented order, a0 against b.
@@ -314,11 +314,11 @@ fn touching_is_within_zero() {
         [1.0, 1.0, 0.0],
         [3.0, 1.0, 0.0],
     ];
-    let c = nearest(Pair::EdgeEdge, &parallel, 1.0).unwrap();
+    let c = nearest(Primitive::EdgeEdge, &parallel, 1.0).unwrap();
     assert_eq!(c.features, [Feature::Vertex1, Feature::Edge01]);
     assert_eq!(c.distance, 1.0);
     assert_eq!(c.points, [[2.0, 0.0, 0.0], [2.0, 1.0, 0.0]]);
-    assert!(nearest(Pair::EdgeEdge, &parallel, 1.0f64.next_down()).is_none());
+    assert!(nearest(Primitive::EdgeEdge, &parallel, 1.0f64.next_down()).is_none());
 }
 
 #[test]

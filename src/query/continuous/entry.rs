@@ -4,14 +4,13 @@
 //! thread count).
 
 use super::impacts::{CcdOptions, CcdStats, Impact, Impacts};
-use super::narrow::{Job, Moving, Worker};
-use crate::error::{Error, Result};
+use super::narrow::{Motion, Sweeps};
+use crate::error::Result;
 use crate::mesh::Mesh;
 use crate::query::engine::{NodeVolumes, OneMesh, PairTest, Prepared, query, query_one};
 use crate::query::options::{QueryMode, QueryOptions};
-use crate::query::pairs::Pair;
-use crate::threads;
-use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use crate::query::primitives::{self, Narrow, Owners};
+use std::sync::atomic::AtomicU64;
 
 /// Every vertex-face and edge-edge pair of meshes `a` and `b` that meets while each moves
 /// through its last motion ([`Mesh::refit_motion`]; a mesh refit without one stays still), with
@@ -53,11 +52,11 @@ pub fn self_continuous_collide(
 /// mesh hold its whole motion). Only the coarse mode is run, so the triangle test is never
 /// asked.
 #[derive(Clone, Copy)]
-struct Sweeps {
+struct Motions {
     one_mesh: bool,
 }
 
-impl<'m> PairTest<'m> for Sweeps {
+impl<'m> PairTest<'m> for Motions {
     type SideA<K: NodeVolumes<'m>> = K;
     const CHECKS_DOMAIN: bool = false;
 
@@ -76,16 +75,11 @@ impl<'m> PairTest<'m> for Sweeps {
     }
 }
 
-/// Below this many leaf pairs, the narrow phase runs on the calling thread.
-const PARALLEL_MIN_LEAF_PAIRS: usize = 256;
-/// Chunks of leaf pairs per thread: enough to balance uneven contact.
-const CHUNKS_PER_THREAD: usize = 64;
-
 fn run(a: &Mesh, b: Option<&Mesh>, options: &CcdOptions, out: &mut Impacts) -> Result<CcdStats> {
     let one_mesh = b.is_none();
     let b = b.unwrap_or(a);
     let broad_options = QueryOptions::with_mode(QueryMode::Leaves).with_threads(options.threads);
-    let test = Sweeps { one_mesh };
+    let test = Motions { one_mesh };
     let broad = if one_mesh {
         query_one(a, test, &broad_options, &mut out.leaves)?
     } else {
@@ -120,35 +114,20 @@ fn run(a: &Mesh, b: Option<&Mesh>, options: &CcdOptions, out: &mut Impacts) -> R
         return Ok(stats);
     }
     let best = AtomicU64::new(1.0f64.to_bits());
-    let job = Job {
-        a: Moving::new(a),
-        b: Moving::new(b),
+    let narrow = Narrow {
+        a: Owners::new(a),
+        b: Owners::new(b),
         one_mesh,
-        mode: options.mode,
-        earliest_only: options.earliest_only,
-        best: &best,
+        test: Sweeps {
+            a: Motion::new(a),
+            b: Motion::new(b),
+            mode: options.mode,
+            earliest_only: options.earliest_only,
+            best: &best,
+        },
     };
-    let threads = if leaves.len() < PARALLEL_MIN_LEAF_PAIRS {
-        1
-    } else {
-        threads::resolve(options.threads)
-    };
-    if workers.len() < threads {
-        workers.resize_with(threads, Worker::default);
-    }
-    let workers = &mut workers[..threads];
-    let chunks = if threads == 1 {
-        1
-    } else {
-        leaves.len().min(threads * CHUNKS_PER_THREAD)
-    };
-    narrow(&job, leaves, chunks, limit, workers);
-    for w in workers.iter() {
-        if let Some(bytes) = w.out_of_memory {
-            return Err(Error::OutOfMemory { bytes });
-        }
-        stats.primitive_tests += w.primitive_tests;
-    }
+    let joined = primitives::run(&narrow, leaves, options.threads, limit, workers, spare)?;
+    stats.primitive_tests = joined.primitive_tests;
     if options.earliest_only {
         let first = workers
             .iter()
@@ -156,91 +135,11 @@ fn run(a: &Mesh, b: Option<&Mesh>, options: &CcdOptions, out: &mut Impacts) -> R
             .min_by(|x, y| (x.toi, x.key()).partial_cmp(&(y.toi, y.key())).unwrap());
         spare.extend(first);
     } else {
-        // Join the chunks in order, up to the limit.
-        let mut order: Vec<(usize, usize, usize, usize)> = Vec::new();
-        let total: usize = workers
-            .iter()
-            .map(|w| w.done.iter().map(|d| d.2 - d.1).sum::<usize>())
-            .sum();
-        let wanted = total.min(limit);
-        if spare.try_reserve(wanted).is_err()
-            || order
-                .try_reserve(workers.iter().map(|w| w.done.len()).sum())
-                .is_err()
-        {
-            return Err(Error::OutOfMemory {
-                bytes: wanted * std::mem::size_of::<Impact>(),
-            });
-        }
-        for (wi, w) in workers.iter().enumerate() {
-            order.extend(w.done.iter().map(|&(c, s, e)| (c, wi, s, e)));
-        }
-        order.sort_unstable();
-        for &(_, wi, s, e) in &order {
-            if spare.len() >= limit {
-                break;
-            }
-            let found = &workers[wi].out[s..e];
-            let take = found.len().min(limit - spare.len());
-            spare.extend_from_slice(&found[..take]);
-        }
-        // As the discrete queries: the limit reached stops the query.
-        stats.truncated = limit != usize::MAX && spare.len() >= limit;
+        stats.truncated = joined.truncated;
         spare.sort_unstable_by_key(Impact::key);
     }
     stats.impacts = spare.len() as u64;
     stats.earliest_toi = spare.iter().map(|i| i.toi).fold(f64::INFINITY, f64::min);
     std::mem::swap(items, spare);
     Ok(stats)
-}
-
-/// The narrow phase over `leaves`, cut into `chunks` chunks taken in order by the workers.
-fn narrow(job: &Job, leaves: &[Pair], chunks: usize, limit: usize, workers: &mut [Worker]) {
-    let chunk = |c: usize| &leaves[c * leaves.len() / chunks..(c + 1) * leaves.len() / chunks];
-    // The whole of one chunk, its impacts appended to `w.out` up to `limit` of its own; returns
-    // whether it stopped at the limit (or out of memory).
-    let run_chunk = |w: &mut Worker, c: usize| -> bool {
-        let start = w.out.len();
-        let mut stopped = false;
-        for p in chunk(c) {
-            if job.leaf_pair(w, p.a, p.b, start.saturating_add(limit)) {
-                stopped = true;
-                break;
-            }
-        }
-        w.done.push((c, start, w.out.len()));
-        stopped
-    };
-    if workers.len() == 1 {
-        let w = &mut workers[0];
-        w.begin();
-        for c in 0..chunks {
-            if run_chunk(w, c) {
-                break;
-            }
-        }
-        return;
-    }
-    let next = AtomicUsize::new(0);
-    let halt = AtomicBool::new(false);
-    let counts: Vec<AtomicUsize> = (0..chunks).map(|_| AtomicUsize::new(usize::MAX)).collect();
-    let settled = threads::Settled::new(&counts, limit);
-    threads::on_each(workers, &|w: &mut Worker, _| {
-        w.begin();
-        while !halt.load(Ordering::Relaxed) {
-            let c = next.fetch_add(1, Ordering::Relaxed);
-            if c >= chunks {
-                break;
-            }
-            let before = w.out.len();
-            run_chunk(w, c);
-            if w.out_of_memory.is_some() {
-                halt.store(true, Ordering::Relaxed);
-                break;
-            }
-            if settled.finish(c, w.out.len() - before) {
-                halt.store(true, Ordering::Relaxed);
-            }
-        }
-    });
 }

@@ -1,25 +1,11 @@
 //! What continuous collision reports: impacts, the reusable buffer they go to, options and
 //! counters.
 
-use super::narrow::Worker;
 use crate::csr::heap_bytes;
 use crate::geometry::ccd::CcdMode;
 use crate::query::pairs::Pairs;
-
-/// Which primitives of an [`Impact`] meet, and what its indices name.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
-#[repr(u32)]
-pub enum ImpactKind {
-    /// A vertex of the first mesh (`a0`) against a triangle of the second (`b0`).
-    #[default]
-    VertexFace = 0,
-    /// A triangle of the first mesh (`a0`) against a vertex of the second (`b0`). Not reported
-    /// by self queries, whose vertex-face impacts are all [`ImpactKind::VertexFace`].
-    FaceVertex = 1,
-    /// An edge of the first mesh (`a0 < a1`) against an edge of the second (`b0 < b1`); of one
-    /// mesh, `(a0, a1) < (b0, b1)`.
-    EdgeEdge = 2,
-}
+pub use crate::query::primitives::ImpactKind;
+use crate::query::primitives::Worker;
 
 /// Two primitives that meet during the step, and the earliest time they do.
 ///
@@ -138,7 +124,7 @@ pub struct Impacts {
     pub(crate) spare: Vec<Impact>,
     /// The traversal's leaf pairs, and its scratch space.
     pub(crate) leaves: Pairs,
-    pub(crate) workers: Vec<Worker>,
+    pub(crate) workers: Vec<Worker<Impact>>,
 }
 
 impl Impacts {

@@ -1,0 +1,245 @@
+//! The closest-point queries: the traversal with volumes widened by the distance finds the node
+//! pairs that may hold stencils; the shared narrow phase tests their primitive pairs exactly.
+
+use super::near_pairs::{NearPair, NearPairs};
+use crate::error::Result;
+use crate::geometry::Primitive;
+use crate::geometry::aabb::Aabb;
+use crate::geometry::nearest::nearest;
+use crate::geometry::pose::Pose;
+use crate::geometry::predicates::Point;
+use crate::mesh::Mesh;
+use crate::query::engine::{query, query_one};
+use crate::query::options::{QueryMode, QueryOptions};
+use crate::query::pairs::QueryStats;
+use crate::query::primitives::{self, ImpactKind, Key, Narrow, Owners, PrimitiveTest, Side};
+use crate::query::proximity::{Near, check_distance};
+
+/// Every vertex-face and edge-edge pair of mesh `a` placed by `pose_a` and mesh `b` placed by
+/// `pose_b` (`None`: the mesh's coordinates are world coordinates) whose distance is at most
+/// `distance`, with the distance, the closest point on each primitive and where it lies: every
+/// vertex of `a` against every triangle of `b` ([`ImpactKind::VertexFace`]), every triangle of
+/// `a` against every vertex of `b` ([`ImpactKind::FaceVertex`]), every edge of `a` against every
+/// edge of `b` (an edge is a pair of distinct vertices joined by a triangle side, counted once).
+/// Vertices that belong to no triangle are not tested. These are the stencils from which
+/// repulsion, barrier and constraint forces are built.
+///
+/// The decision "distance at most `distance`" is exact for the placed coordinates (those
+/// [`Pose::transform_point`] computes, as in [`crate::collide`]), so `distance = 0` gives the
+/// touching pairs. The values are those of [`crate::exact::vertex_face_nearest`] and
+/// [`crate::exact::edge_edge_nearest`] on the placed coordinates: the distance within one unit
+/// in the last place of the correctly rounded one, the points and weights within two, the
+/// features classified exactly, with the documented choice where closest points are not unique.
+///
+/// [`QueryOptions`]: [`QueryMode::Triangles`] reports every stencil; [`QueryMode::FirstHit`]
+/// the first found in the traversal's order (the same whatever the thread count), or none.
+/// The coarse modes ([`QueryMode::Leaves`], [`QueryMode::Depth`], [`QueryMode::Budget`]) stop
+/// the traversal where they say and test every primitive pair under the node pairs it reaches:
+/// the stencils are still exact and the same as [`QueryMode::Triangles`]'s, only the split of
+/// the work between traversal and primitive tests changes (a budget bounds the traversal only).
+/// `max_pairs` stops the query once that many stencils are found (which ones does not depend on
+/// the thread count); `threads` shares the work out. The result replaces the contents of `out`,
+/// sorted by `(kind, a0, a1, b0, b1)`. In the counters returned,
+/// [`QueryStats::triangle_tests`] counts the primitive pairs given to the exact test.
+///
+/// Errors: [`crate::Error::InvalidDistance`] for a negative, NaN or infinite `distance`;
+/// [`crate::Error::PoseOutOfRange`]; [`crate::Error::ZeroBudget`];
+/// [`crate::Error::OutOfMemory`]. On error `out` still holds the previous result.
+pub fn nearest_features(
+    a: &Mesh,
+    pose_a: Option<&Pose>,
+    b: &Mesh,
+    pose_b: Option<&Pose>,
+    distance: f64,
+    options: &QueryOptions,
+    out: &mut NearPairs,
+) -> Result<QueryStats> {
+    run(a, pose_a, Some((b, pose_b)), distance, options, out)
+}
+
+/// The stencils of one mesh with itself: every vertex against every triangle that does not
+/// contain it (reported as [`ImpactKind::VertexFace`], the vertex in `a0`), every pair of edges
+/// that share no vertex (`(a0, a1) < (b0, b1)`), at distance at most `distance`. Otherwise as
+/// [`nearest_features`].
+pub fn self_nearest_features(
+    mesh: &Mesh,
+    distance: f64,
+    options: &QueryOptions,
+    out: &mut NearPairs,
+) -> Result<QueryStats> {
+    run(mesh, None, None, distance, options, out)
+}
+
+/// The closest-point test: primitive pairs whose boxes come within `d`, then the exact one.
+struct Stencils<'p> {
+    a: &'p [Point],
+    b: &'p [Point],
+    d: f64,
+}
+
+impl Stencils<'_> {
+    #[inline]
+    fn side(&self, side: Side) -> &[Point] {
+        match side {
+            Side::A => self.a,
+            Side::B => self.b,
+        }
+    }
+}
+
+impl PrimitiveTest for Stencils<'_> {
+    type Found = NearPair;
+
+    #[inline]
+    fn grow(&self, side: Side, v: u32, b: &mut Aabb) {
+        b.grow(&self.side(side)[v as usize]);
+    }
+
+    #[inline(always)]
+    fn reach(&self, b: Aabb) -> Aabb {
+        b.widened(self.d)
+    }
+
+    #[inline]
+    fn test<const N: usize, const M: usize>(
+        &self,
+        kind: Primitive,
+        first: Side,
+        pa: [u32; N],
+        second: Side,
+        pb: [u32; M],
+        (kind_out, a0, a1, b0, b1): Key,
+    ) -> Option<NearPair> {
+        let (pos_a, pos_b) = (self.side(first), self.side(second));
+        let mut p = [[0.0; 3]; 4];
+        for (i, &v) in pa.iter().enumerate() {
+            p[i] = pos_a[v as usize];
+        }
+        for (i, &v) in pb.iter().enumerate() {
+            p[N + i] = pos_b[v as usize];
+        }
+        let n = nearest(kind, &p, self.d)?;
+        // The test's first primitive is the reported second one when a triangle of `a` meets a
+        // vertex of `b`.
+        let (ia, ib) = if kind_out == ImpactKind::FaceVertex {
+            (1, 0)
+        } else {
+            (0, 1)
+        };
+        Some(NearPair {
+            kind: kind_out,
+            a0,
+            a1,
+            b0,
+            b1,
+            feature_a: n.features[ia],
+            feature_b: n.features[ib],
+            distance: n.distance,
+            closest_a: n.points[ia],
+            closest_b: n.points[ib],
+            weights_a: n.weights[ia],
+            weights_b: n.weights[ib],
+        })
+    }
+}
+
+/// The vertices of `mesh` placed by `pose` into `buf`, or the mesh's own.
+fn placed<'p>(mesh: &'p Mesh, pose: Option<&Pose>, buf: &'p mut Vec<Point>) -> &'p [Point] {
+    match pose {
+        Some(pose) if !pose.is_identity() => {
+            buf.clear();
+            buf.extend(mesh.positions().iter().map(|p| pose.transform_point(p)));
+            buf
+        }
+        _ => mesh.positions(),
+    }
+}
+
+fn run(
+    a: &Mesh,
+    pose_a: Option<&Pose>,
+    b: Option<(&Mesh, Option<&Pose>)>,
+    distance: f64,
+    options: &QueryOptions,
+    out: &mut NearPairs,
+) -> Result<QueryStats> {
+    check_distance(distance)?;
+    let one_mesh = b.is_none();
+    let (b, pose_b) = b.unwrap_or((a, pose_a));
+    // The traversal finds node pairs; the stencils are the narrow phase's.
+    let broad_mode = match options.mode {
+        QueryMode::Triangles | QueryMode::FirstHit => QueryMode::Leaves,
+        coarse => coarse,
+    };
+    let broad_options = QueryOptions::with_mode(broad_mode).with_threads(options.threads);
+    let near = Near {
+        d: distance,
+        one_mesh,
+    };
+    let broad = if one_mesh {
+        query_one(a, near, &broad_options, &mut out.nodes)?
+    } else {
+        query(
+            (a, pose_a, None),
+            (b, pose_b, None),
+            near,
+            &broad_options,
+            &mut out.nodes,
+        )?
+    };
+    let mut limit = options.max_pairs.unwrap_or(usize::MAX);
+    if options.mode == QueryMode::FirstHit {
+        limit = limit.min(1);
+    }
+    let NearPairs {
+        items,
+        spare,
+        nodes,
+        workers,
+        placed: [buf_a, buf_b],
+    } = out;
+    let mut stats = QueryStats {
+        bv_tests: broad.bv_tests,
+        leaf_pairs: broad.leaf_pairs,
+        nodes_refit: broad.nodes_refit,
+        frontier_pairs: broad.frontier_pairs,
+        ..QueryStats::default()
+    };
+    spare.clear();
+    if limit == 0 {
+        stats.truncated = options.mode != QueryMode::FirstHit;
+        std::mem::swap(items, spare);
+        return Ok(stats);
+    }
+    let (pa, pb) = if one_mesh {
+        let p = placed(a, None, buf_a);
+        (p, p)
+    } else {
+        (placed(a, pose_a, buf_a), placed(b, pose_b, buf_b))
+    };
+    let narrow = Narrow {
+        a: Owners::new(a),
+        b: Owners::new(b),
+        one_mesh,
+        test: Stencils {
+            a: pa,
+            b: pb,
+            d: distance,
+        },
+    };
+    let joined = primitives::run(
+        &narrow,
+        nodes.as_slice(),
+        options.threads,
+        limit,
+        workers,
+        spare,
+    )?;
+    spare.sort_unstable_by_key(NearPair::key);
+    stats.triangle_tests = joined.primitive_tests;
+    // As the discrete queries: FirstHit stopping at its one stencil is not a cut.
+    stats.truncated = joined.truncated && options.mode != QueryMode::FirstHit;
+    stats.pairs = spare.len() as u64;
+    std::mem::swap(items, spare);
+    Ok(stats)
+}

@@ -1,0 +1,116 @@
+//! What the closest-point query reports, and the reusable buffer it goes to.
+
+use crate::csr::heap_bytes;
+use crate::geometry::nearest::Feature;
+use crate::geometry::predicates::Point;
+use crate::query::pairs::Pairs;
+use crate::query::primitives::{ImpactKind, Key, Worker};
+
+/// A vertex-face or edge-edge pair within the query's distance: a contact stencil, with the
+/// closest point on each primitive.
+///
+/// The kinds and indices are those of [`crate::Impact`]: a vertex of `a` and a triangle of `b`
+/// ([`ImpactKind::VertexFace`]), a triangle of `a` and a vertex of `b`
+/// ([`ImpactKind::FaceVertex`]), or two edges, each with its lower vertex first
+/// ([`ImpactKind::EdgeEdge`]). Fields ending in `_a` describe the primitive named by `a0, a1`.
+///
+/// Features and weights are numbered on the primitive's own corners: a vertex is corner 0; an
+/// edge `(a0, a1)` has corners `a0`, `a1`; a triangle has its corners in the mesh's order.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
+pub struct NearPair {
+    /// Which primitives.
+    pub kind: ImpactKind,
+    /// The first mesh's vertex, triangle, or edge's lower vertex.
+    pub a0: u32,
+    /// The first mesh's edge's higher vertex; 0 otherwise.
+    pub a1: u32,
+    /// The second mesh's triangle, vertex, or edge's lower vertex.
+    pub b0: u32,
+    /// The second mesh's edge's higher vertex; 0 otherwise.
+    pub b1: u32,
+    /// Where the closest point of the first primitive lies.
+    pub feature_a: Feature,
+    /// Where the closest point of the second primitive lies.
+    pub feature_b: Feature,
+    /// The distance, within one unit in the last place of the exact one correctly rounded.
+    pub distance: f64,
+    /// The closest point of the first primitive, in world coordinates (each within two units in
+    /// the last place of the exact one).
+    pub closest_a: Point,
+    /// The closest point of the second primitive, in world coordinates.
+    pub closest_b: Point,
+    /// The first closest point's barycentric weights on its primitive's corners: a vertex
+    /// `(1, 0, 0)`, an edge `(1 - s, s, 0)`, a triangle three weights summing to one.
+    pub weights_a: [f64; 3],
+    /// The second closest point's barycentric weights.
+    pub weights_b: [f64; 3],
+}
+
+impl NearPair {
+    /// The order of a result: `(kind, a0, a1, b0, b1)`.
+    pub(crate) fn key(&self) -> Key {
+        (self.kind, self.a0, self.a1, self.b0, self.b1)
+    }
+}
+
+/// A caller-owned, reusable buffer of closest-point stencils, with the scratch space the
+/// queries need (so that once grown to a scene's needs, a query on one thread allocates
+/// little). Use one per calling thread.
+#[derive(Debug, Default)]
+pub struct NearPairs {
+    pub(crate) items: Vec<NearPair>,
+    /// Where a query writes; swapped with `items` when it succeeds.
+    pub(crate) spare: Vec<NearPair>,
+    /// The traversal's node pairs, and its scratch space.
+    pub(crate) nodes: Pairs,
+    pub(crate) workers: Vec<Worker<NearPair>>,
+    /// The placed vertices of a posed mesh (each side).
+    pub(crate) placed: [Vec<Point>; 2],
+}
+
+impl NearPairs {
+    /// An empty buffer.
+    pub fn new() -> NearPairs {
+        NearPairs::default()
+    }
+
+    /// The stencils of the last successful query, sorted by `(kind, a0, a1, b0, b1)`.
+    pub fn as_slice(&self) -> &[NearPair] {
+        &self.items
+    }
+
+    /// Number of stencils.
+    pub fn len(&self) -> usize {
+        self.items.len()
+    }
+
+    /// No stencils?
+    pub fn is_empty(&self) -> bool {
+        self.items.is_empty()
+    }
+
+    /// Iterates over the stencils.
+    pub fn iter(&self) -> std::slice::Iter<'_, NearPair> {
+        self.items.iter()
+    }
+
+    /// Bytes of memory the buffer holds beyond the struct itself: the result, its spare, and
+    /// the scratch space of the queries it served.
+    pub fn memory_bytes(&self) -> usize {
+        heap_bytes(&self.items)
+            + heap_bytes(&self.spare)
+            + self.nodes.memory_bytes()
+            + heap_bytes(&self.workers)
+            + self.workers.iter().map(Worker::heap_bytes).sum::<usize>()
+            + self.placed.iter().map(heap_bytes).sum::<usize>()
+    }
+}
+
+impl<'a> IntoIterator for &'a NearPairs {
+    type Item = &'a NearPair;
+    type IntoIter = std::slice::Iter<'a, NearPair>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.items.iter()
+    }
+}

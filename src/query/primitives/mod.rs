@@ -1,0 +1,14 @@
+//! The narrow phase of the queries on vertex-face and edge-edge pairs (continuous collision,
+//! closest-point stencils): from the node pairs a traversal reports, the primitive pairs of
+//! their rings' triangles, each enumerated once (the owners' rule of [`crate::mesh::Features`])
+//! after box filters, handed to a test generic over what it computes, on one thread or shared
+//! out in chunks whose results are joined in order (so the answer does not depend on the thread
+//! count).
+
+mod kind;
+mod narrow;
+mod run;
+
+pub use kind::ImpactKind;
+pub(crate) use narrow::{Key, Narrow, Owners, PrimitiveTest, Side, Worker};
+pub(crate) use run::run;

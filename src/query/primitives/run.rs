@@ -1,0 +1,151 @@
+//! The narrow phase over a traversal's node pairs: on the calling thread, or cut into chunks
+//! taken in order by several, the results joined in the order of the chunks.
+
+use super::narrow::{Narrow, PrimitiveTest, Worker};
+use crate::error::{Error, Result};
+use crate::query::pairs::Pair;
+use crate::threads;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
+/// Below this many node pairs, the narrow phase runs on the calling thread.
+const PARALLEL_MIN_PAIRS: usize = 256;
+/// Chunks of node pairs per thread: enough to balance uneven contact.
+const CHUNKS_PER_THREAD: usize = 64;
+
+/// What the workers found, joined.
+pub(crate) struct Joined {
+    /// Primitive pairs tested.
+    pub primitive_tests: u64,
+    /// Did the limit stop the narrow phase?
+    pub truncated: bool,
+}
+
+/// Runs the narrow phase of `narrow` over the node pairs `pairs` on up to `threads` threads
+/// ([`crate::QueryOptions::threads`]), with `workers` grown to the threads used. Unless the
+/// test keeps only a best result ([`Worker::best`]), the results, up to `limit` of them in the
+/// order of `pairs` (so the same whatever the thread count), are appended to `out`, which must
+/// be empty.
+///
+/// Errors: [`Error::OutOfMemory`] when a result cannot grow.
+pub(crate) fn run<T: PrimitiveTest>(
+    narrow: &Narrow<T>,
+    pairs: &[Pair],
+    threads: u32,
+    limit: usize,
+    workers: &mut Vec<Worker<T::Found>>,
+    out: &mut Vec<T::Found>,
+) -> Result<Joined> {
+    let threads = if pairs.len() < PARALLEL_MIN_PAIRS {
+        1
+    } else {
+        threads::resolve(threads)
+    };
+    if workers.len() < threads {
+        workers.resize_with(threads, Worker::default);
+    }
+    let workers = &mut workers[..threads];
+    let chunks = if threads == 1 {
+        1
+    } else {
+        pairs.len().min(threads * CHUNKS_PER_THREAD)
+    };
+    in_chunks(narrow, pairs, chunks, limit, workers);
+    let mut joined = Joined {
+        primitive_tests: 0,
+        truncated: false,
+    };
+    for w in workers.iter() {
+        if let Some(bytes) = w.out_of_memory {
+            return Err(Error::OutOfMemory { bytes });
+        }
+        joined.primitive_tests += w.primitive_tests;
+    }
+    // Join the chunks in order, up to the limit.
+    let mut order: Vec<(usize, usize, usize, usize)> = Vec::new();
+    let total: usize = workers
+        .iter()
+        .map(|w| w.done.iter().map(|d| d.2 - d.1).sum::<usize>())
+        .sum();
+    let wanted = total.min(limit);
+    if out.try_reserve(wanted).is_err()
+        || order
+            .try_reserve(workers.iter().map(|w| w.done.len()).sum())
+            .is_err()
+    {
+        return Err(Error::OutOfMemory {
+            bytes: wanted * std::mem::size_of::<T::Found>(),
+        });
+    }
+    for (wi, w) in workers.iter().enumerate() {
+        order.extend(w.done.iter().map(|&(c, s, e)| (c, wi, s, e)));
+    }
+    order.sort_unstable();
+    for &(_, wi, s, e) in &order {
+        if out.len() >= limit {
+            break;
+        }
+        let found = &workers[wi].out[s..e];
+        let take = found.len().min(limit - out.len());
+        out.extend_from_slice(&found[..take]);
+    }
+    // As the discrete queries: the limit reached stops the query.
+    joined.truncated = limit != usize::MAX && out.len() >= limit;
+    Ok(joined)
+}
+
+/// The narrow phase over `pairs`, cut into `chunks` chunks taken in order by the workers.
+fn in_chunks<T: PrimitiveTest>(
+    narrow: &Narrow<T>,
+    pairs: &[Pair],
+    chunks: usize,
+    limit: usize,
+    workers: &mut [Worker<T::Found>],
+) {
+    let chunk = |c: usize| &pairs[c * pairs.len() / chunks..(c + 1) * pairs.len() / chunks];
+    // The whole of one chunk, its results appended to `w.out` up to `limit` of its own; returns
+    // whether it stopped at the limit (or out of memory).
+    let run_chunk = |w: &mut Worker<T::Found>, c: usize| -> bool {
+        let start = w.out.len();
+        let mut stopped = false;
+        for p in chunk(c) {
+            if narrow.node_pair(w, p.a, p.b, start.saturating_add(limit)) {
+                stopped = true;
+                break;
+            }
+        }
+        w.done.push((c, start, w.out.len()));
+        stopped
+    };
+    if workers.len() == 1 {
+        let w = &mut workers[0];
+        w.begin();
+        for c in 0..chunks {
+            if run_chunk(w, c) {
+                break;
+            }
+        }
+        return;
+    }
+    let next = AtomicUsize::new(0);
+    let halt = AtomicBool::new(false);
+    let counts: Vec<AtomicUsize> = (0..chunks).map(|_| AtomicUsize::new(usize::MAX)).collect();
+    let settled = threads::Settled::new(&counts, limit);
+    threads::on_each(workers, &|w: &mut Worker<T::Found>, _| {
+        w.begin();
+        while !halt.load(Ordering::Relaxed) {
+            let c = next.fetch_add(1, Ordering::Relaxed);
+            if c >= chunks {
+                break;
+            }
+            let before = w.out.len();
+            run_chunk(w, c);
+            if w.out_of_memory.is_some() {
+                halt.store(true, Ordering::Relaxed);
+                break;
+            }
+            if settled.finish(c, w.out.len() - before) {
+                halt.store(true, Ordering::Relaxed);
+            }
+        }
+    });
+}
