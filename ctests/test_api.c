@@ -1774,6 +1774,475 @@ static void test_self_continuous_collide(void) {
     dvh_pairs_free(pairs);
 }
 
+/* ---- closest-point stencils ---- */
+
+/* A mesh in world coordinates, integers (a terrain placed by an exact pose). */
+typedef struct World {
+    size_t vertex_count, triangle_count;
+    const uint32_t *tris;
+    int64_t *p; /* 3 per vertex */
+} World;
+
+static World world_of(const Mesh *m, const IPose *pose) {
+    World w;
+    size_t v;
+    w.vertex_count = m->vertex_count;
+    w.triangle_count = m->triangle_count;
+    w.tris = m->tris;
+    w.p = malloc(m->vertex_count * 3 * sizeof *w.p);
+    if (w.p == NULL) exit(2);
+    for (v = 0; v < m->vertex_count; v++) {
+        if (pose != NULL)
+            ipose_apply(pose, &m->ipos[3 * v], &w.p[3 * v]);
+        else
+            memcpy(&w.p[3 * v], &m->ipos[3 * v], 3 * sizeof(int64_t));
+    }
+    return w;
+}
+
+static void sub3(const int64_t *a, const int64_t *b, int64_t out[3]) {
+    out[0] = a[0] - b[0];
+    out[1] = a[1] - b[1];
+    out[2] = a[2] - b[2];
+}
+
+static void cross3(const int64_t a[3], const int64_t b[3], int64_t out[3]) {
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* The best candidate so far: squared distance num / den, exactly, and whether it is <= d^2 =
+ * quarter_d2 / 4. Every candidate is the distance of two points of the primitives, and the
+ * least of them is the primitives' distance, so "some candidate within" decides exactly. */
+typedef struct Gap {
+    int within;
+    double least; /* the least squared distance, rounded */
+} Gap;
+
+static void candidate(Gap *g, int64_t num, int64_t den, int64_t quarter_d2) {
+    /* 4 num <= quarter_d2 den; small integer coordinates keep these products in 64 bits. */
+    if (4 * num <= quarter_d2 * den) g->within = 1;
+    if ((double)num / (double)den < g->least) g->least = (double)num / (double)den;
+}
+
+/* Point x against the closed segment [a, b]. */
+static void point_segment(Gap *g, const int64_t *x, const int64_t *a, const int64_t *b, int64_t q) {
+    int64_t u[3], w[3], c[3], uu, along;
+    sub3(b, a, u);
+    sub3(x, a, w);
+    uu = dot3(u, u);
+    along = dot3(w, u);
+    if (uu == 0 || along <= 0) {
+        candidate(g, dot3(w, w), 1, q);
+    } else if (along >= uu) {
+        int64_t y[3];
+        sub3(x, b, y);
+        candidate(g, dot3(y, y), 1, q);
+    } else {
+        cross3(w, u, c);
+        candidate(g, dot3(c, c), uu, q);
+    }
+}
+
+/* Vertex x against the closed triangle t0 t1 t2. */
+static Gap vertex_face_gap(const int64_t *x, const int64_t *t0, const int64_t *t1, const int64_t *t2, int64_t q) {
+    Gap g = {0, INFINITY};
+    const int64_t *t[3];
+    int64_t e1[3], e2[3], n[3], nn;
+    int k, inside = 1;
+    t[0] = t0; t[1] = t1; t[2] = t2;
+    for (k = 0; k < 3; k++) point_segment(&g, x, t[k], t[(k + 1) % 3], q);
+    sub3(t1, t0, e1);
+    sub3(t2, t0, e2);
+    cross3(e1, e2, n);
+    nn = dot3(n, n);
+    if (nn == 0) return g;
+    for (k = 0; k < 3; k++) {
+        int64_t ab[3], ax[3], c[3];
+        sub3(t[(k + 1) % 3], t[k], ab);
+        sub3(x, t[k], ax);
+        cross3(ab, ax, c);
+        if (dot3(n, c) <= 0) inside = 0;
+    }
+    if (inside) {
+        int64_t w[3], h;
+        sub3(x, t0, w);
+        h = dot3(n, w);
+        candidate(&g, h * h, nn, q);
+    }
+    return g;
+}
+
+/* The closed segments [a0, a1] and [b0, b1]. */
+static Gap edge_edge_gap(const int64_t *a0, const int64_t *a1, const int64_t *b0, const int64_t *b1, int64_t q) {
+    Gap g = {0, INFINITY};
+    int64_t u[3], v[3], w[3], n[3], nn;
+    point_segment(&g, a0, b0, b1, q);
+    point_segment(&g, a1, b0, b1, q);
+    point_segment(&g, b0, a0, a1, q);
+    point_segment(&g, b1, a0, a1, q);
+    sub3(a1, a0, u);
+    sub3(b1, b0, v);
+    sub3(a0, b0, w);
+    cross3(u, v, n);
+    nn = dot3(n, n);
+    if (nn != 0) {
+        int64_t uu = dot3(u, u), uv = dot3(u, v), vv = dot3(v, v), uw = dot3(u, w), vw = dot3(v, w);
+        int64_t s = uv * vw - vv * uw, t = uu * vw - uv * uw, h = dot3(w, n);
+        if (s > 0 && s < nn && t > 0 && t < nn) candidate(&g, h * h, nn, q);
+    }
+    return g;
+}
+
+typedef struct NearList {
+    DvhNearPair *v;
+    size_t n, cap;
+} NearList;
+
+static void near_push(NearList *l, DvhImpactKind kind, uint32_t a0, uint32_t a1, uint32_t b0, uint32_t b1, Gap g) {
+    DvhNearPair p;
+    if (!g.within) return;
+    if (l->n == l->cap) {
+        l->cap = l->cap * 2 + 16;
+        l->v = realloc(l->v, l->cap * sizeof *l->v);
+        if (l->v == NULL) exit(2);
+    }
+    memset(&p, 0, sizeof p);
+    p.kind = kind; p.a0 = a0; p.a1 = a1; p.b0 = b0; p.b1 = b1;
+    p.distance = sqrt(g.least);
+    l->v[l->n++] = p;
+}
+
+static int near_key_cmp(const void *x, const void *y) {
+    const DvhNearPair *a = x, *b = y;
+    uint32_t ka[5], kb[5];
+    int i;
+    ka[0] = a->kind; ka[1] = a->a0; ka[2] = a->a1; ka[3] = a->b0; ka[4] = a->b1;
+    kb[0] = b->kind; kb[1] = b->a0; kb[2] = b->a1; kb[3] = b->b0; kb[4] = b->b1;
+    for (i = 0; i < 5; i++)
+        if (ka[i] != kb[i]) return ka[i] < kb[i] ? -1 : 1;
+    return 0;
+}
+
+/* Every stencil of `a` against `b` (of `a` with itself when `b` is NULL) within d, d^2 =
+ * quarter_d2 / 4, decided exactly, keys and distances only; sorted as the query sorts. */
+static size_t near_brute_force(const World *a, const World *b, int64_t quarter_d2, DvhNearPair **out) {
+    const int self = b == NULL;
+    const World *mb = self ? a : b;
+    NearList l = {NULL, 0, 0};
+    uint32_t *ea, *eb;
+    size_t na, nb, i, j, t;
+    Motion ma, mbm;
+    unsigned char *used_a, *used_b;
+    ma.vertex_count = a->vertex_count; ma.triangle_count = a->triangle_count; ma.tris = a->tris;
+    mbm.vertex_count = mb->vertex_count; mbm.triangle_count = mb->triangle_count; mbm.tris = mb->tris;
+    used_a = vertices_used(&ma);
+    used_b = vertices_used(&mbm);
+    for (i = 0; i < a->vertex_count; i++) {
+        if (!used_a[i]) continue;
+        for (t = 0; t < mb->triangle_count; t++) {
+            const uint32_t *c = &mb->tris[3 * t];
+            if (self && (c[0] == i || c[1] == i || c[2] == i)) continue;
+            near_push(&l, DVH_IMPACT_KIND_VERTEX_FACE, (uint32_t)i, 0, (uint32_t)t, 0,
+                      vertex_face_gap(&a->p[3 * i], &mb->p[3 * c[0]], &mb->p[3 * c[1]], &mb->p[3 * c[2]], quarter_d2));
+        }
+    }
+    if (!self)
+        for (t = 0; t < a->triangle_count; t++) {
+            const uint32_t *c = &a->tris[3 * t];
+            for (i = 0; i < mb->vertex_count; i++) {
+                if (!used_b[i]) continue;
+                near_push(&l, DVH_IMPACT_KIND_FACE_VERTEX, (uint32_t)t, 0, (uint32_t)i, 0,
+                          vertex_face_gap(&mb->p[3 * i], &a->p[3 * c[0]], &a->p[3 * c[1]], &a->p[3 * c[2]], quarter_d2));
+            }
+        }
+    na = motion_edges(&ma, &ea);
+    nb = motion_edges(&mbm, &eb);
+    for (i = 0; i < na; i++)
+        for (j = self ? i + 1 : 0; j < nb; j++) {
+            const uint32_t *x = &ea[2 * i], *y = &eb[2 * j];
+            if (self && (y[0] == x[0] || y[0] == x[1] || y[1] == x[0] || y[1] == x[1])) continue;
+            near_push(&l, DVH_IMPACT_KIND_EDGE_EDGE, x[0], x[1], y[0], y[1],
+                      edge_edge_gap(&a->p[3 * x[0]], &a->p[3 * x[1]], &mb->p[3 * y[0]], &mb->p[3 * y[1]], quarter_d2));
+        }
+    if (l.n > 0) qsort(l.v, l.n, sizeof *l.v, near_key_cmp);
+    free(ea);
+    free(eb);
+    free(used_a);
+    free(used_b);
+    *out = l.v;
+    return l.n;
+}
+
+/* A stencil's values against its own primitives: weights in [0, 1] summing to one, zero past the
+ * primitive's corners, one at a corner feature, the closest points the weighted corners, their
+ * distance the reported one. */
+static int stencil_consistent(const DvhNearPair *p, const World *a, const World *b) {
+    const int64_t *ca[3], *cb[3];
+    size_t na = 0, nb = 0, k;
+    int side, ok = 1;
+    switch (p->kind) {
+    case DVH_IMPACT_KIND_VERTEX_FACE:
+        ca[na++] = &a->p[3 * p->a0];
+        for (k = 0; k < 3; k++) cb[nb++] = &b->p[3 * b->tris[3 * p->b0 + k]];
+        break;
+    case DVH_IMPACT_KIND_FACE_VERTEX:
+        for (k = 0; k < 3; k++) ca[na++] = &a->p[3 * a->tris[3 * p->a0 + k]];
+        cb[nb++] = &b->p[3 * p->b0];
+        break;
+    default:
+        ca[na++] = &a->p[3 * p->a0];
+        ca[na++] = &a->p[3 * p->a1];
+        cb[nb++] = &b->p[3 * p->b0];
+        cb[nb++] = &b->p[3 * p->b1];
+    }
+    for (side = 0; side < 2; side++) {
+        const double *w = side == 0 ? p->weights_a : p->weights_b, *x = side == 0 ? p->closest_a : p->closest_b;
+        const int64_t **c = side == 0 ? ca : cb;
+        size_t n = side == 0 ? na : nb;
+        uint32_t f = side == 0 ? p->feature_a : p->feature_b;
+        double sum = 0.0;
+        int axis;
+        for (k = 0; k < 3; k++) {
+            ok &= w[k] >= 0.0 && w[k] <= 1.0;
+            if (k >= n) ok &= w[k] == 0.0;
+            sum += w[k];
+        }
+        ok &= fabs(sum - 1.0) < 1e-12;
+        ok &= f <= DVH_FEATURE_INTERIOR;
+        if (f <= DVH_FEATURE_VERTEX_2) ok &= f < n && w[f] == 1.0;
+        if (n == 1) ok &= f == DVH_FEATURE_VERTEX_0;
+        if (n == 2) ok &= f <= DVH_FEATURE_VERTEX_1 || f == DVH_FEATURE_EDGE_01;
+        if (f == DVH_FEATURE_INTERIOR) ok &= w[0] > 0.0 && w[1] > 0.0 && w[2] > 0.0;
+        for (axis = 0; axis < 3; axis++) {
+            double y = 0.0;
+            for (k = 0; k < n; k++) y += w[k] * (double)c[k][axis];
+            ok &= fabs(y - x[axis]) < 1e-12 * 64;
+        }
+    }
+    {
+        double dx = p->closest_a[0] - p->closest_b[0], dy = p->closest_a[1] - p->closest_b[1],
+               dz = p->closest_a[2] - p->closest_b[2];
+        ok &= fabs(sqrt(dx * dx + dy * dy + dz * dz) - p->distance) < 1e-12 * 64;
+    }
+    if (!ok)
+        fprintf(stderr, "inconsistent stencil kind %u (%u %u %u %u) features %u %u distance %.17g\n", p->kind, p->a0,
+                p->a1, p->b0, p->b1, p->feature_a, p->feature_b, p->distance);
+    return ok;
+}
+
+/* The query on `a` (placed by `pa`) and `b` (by `pb`; NULL `mb`: `a` with itself) at distance
+ * sqrt(quarter_d2) / 2 against the exact brute force: the same keys in the same order, distances
+ * within a few units of the last place, values consistent; every mode and thread count the same
+ * answer, FIRST_HIT one of it, max_pairs a sorted part of it. Returns the number of stencils. */
+static size_t check_nearest(const DvhMesh *a, const Mesh *ma, const IPose *pa, const DvhMesh *b, const Mesh *mb,
+                            const IPose *pb, int64_t quarter_d2, DvhNearPairs *out) {
+    World wa = world_of(ma, pa), wb = world_of(mb != NULL ? mb : ma, pb);
+    DvhPose da, db;
+    DvhNearPair *expected, *first = NULL;
+    DvhQueryStats stats;
+    DvhQueryOptions q;
+    const double d = sqrt((double)quarter_d2) / 2.0;
+    size_t n, k, first_n = 0;
+    int mode, threads;
+    static const DvhQueryMode modes[] = {DVH_QUERY_MODE_TRIANGLES, DVH_QUERY_MODE_LEAVES, DVH_QUERY_MODE_DEPTH,
+                                         DVH_QUERY_MODE_BUDGET, DVH_QUERY_MODE_FIRST_HIT};
+    if (pa != NULL) da = ipose_to_dvh(pa);
+    if (pb != NULL) db = ipose_to_dvh(pb);
+    n = near_brute_force(&wa, mb != NULL ? &wb : NULL, quarter_d2, &expected);
+    for (threads = 1; threads <= 2; threads++)
+        for (mode = 0; mode < 5; mode++) {
+            const DvhNearPair *got;
+            size_t len;
+            q = dvh_query_options_default();
+            q.threads = (uint32_t)threads;
+            q.mode = modes[mode];
+            q.max_depth = 2;
+            q.budget = 5;
+            if (mb != NULL)
+                CHECK_STATUS(dvh_nearest_features(a, pa != NULL ? &da : NULL, b, pb != NULL ? &db : NULL, d, &q, out, &stats),
+                             DVH_STATUS_OK, NULL);
+            else
+                CHECK_STATUS(dvh_self_nearest_features(a, d, &q, out, &stats), DVH_STATUS_OK, NULL);
+            got = dvh_near_pairs_data(out);
+            len = dvh_near_pairs_len(out);
+            CHECK(stats.pairs == len && !stats.truncated);
+            if (modes[mode] == DVH_QUERY_MODE_FIRST_HIT) {
+                CHECK(len == (n > 0 ? 1u : 0u));
+                if (len == 1) {
+                    CHECK(bsearch(got, expected, n, sizeof *expected, near_key_cmp) != NULL);
+                    if (first == NULL) {
+                        first = malloc(sizeof *first);
+                        *first = got[0];
+                        first_n = 1;
+                    } else {
+                        CHECK(memcmp(first, got, sizeof *first) == 0);
+                    }
+                }
+                continue;
+            }
+            CHECK(len == n);
+            if (len != n) continue;
+            for (k = 0; k < n; k++) {
+                CHECK(near_key_cmp(&got[k], &expected[k]) == 0);
+                CHECK(fabs(got[k].distance - expected[k].distance) <= 4e-16 * (expected[k].distance + 1e-300));
+                CHECK(got[k].distance <= d);
+                if (threads == 1 && mode == 0) CHECK(stencil_consistent(&got[k], &wa, &wb));
+            }
+        }
+    if (n > 3) {
+        const DvhNearPair *got;
+        q = dvh_query_options_default();
+        q.max_pairs = 3;
+        if (mb != NULL)
+            CHECK_STATUS(dvh_nearest_features(a, pa != NULL ? &da : NULL, b, pb != NULL ? &db : NULL, d, &q, out, &stats),
+                         DVH_STATUS_OK, NULL);
+        else
+            CHECK_STATUS(dvh_self_nearest_features(a, d, &q, out, &stats), DVH_STATUS_OK, NULL);
+        got = dvh_near_pairs_data(out);
+        CHECK(dvh_near_pairs_len(out) == 3 && stats.truncated);
+        for (k = 0; k < 3; k++) {
+            CHECK(bsearch(&got[k], expected, n, sizeof *expected, near_key_cmp) != NULL);
+            if (k > 0) CHECK(near_key_cmp(&got[k - 1], &got[k]) < 0);
+        }
+    }
+    (void)first_n;
+    free(first);
+    free(expected);
+    free(wa.p);
+    free(wb.p);
+    return n;
+}
+
+static int same_near_pairs(const DvhNearPairs *r, const DvhNearPair *expected, size_t n) {
+    return dvh_near_pairs_len(r) == n && (n == 0 || memcmp(dvh_near_pairs_data(r), expected, n * sizeof *expected) == 0);
+}
+
+static void test_nearest_features(void) {
+    DvhNearPairs *out = dvh_near_pairs_new();
+    DvhQueryStats stats, sentinel;
+    size_t found = 0;
+
+    /* Hand-worked: a vertex 1/2 above a right triangle's interior, an edge 1/4 above two of its
+     * edges, parallel to the third. */
+    {
+        static const double pa[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+        static const double pb[] = {0.25, 0.25, 0.5, 0.25, -1, 0.25, 0.25, 2, 0.25};
+        static const uint32_t tri[] = {0, 1, 2};
+        DvhMesh *a = NULL, *b = NULL;
+        const DvhNearPair *p;
+        CHECK_STATUS(dvh_mesh_create(pa, 3, tri, 1, NULL, &a), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_mesh_create(pb, 3, tri, 1, NULL, &b), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_nearest_features(a, NULL, b, NULL, 0.25, NULL, out, &stats), DVH_STATUS_OK, NULL);
+        CHECK(dvh_near_pairs_len(out) == 2 && stats.pairs == 2);
+        p = dvh_near_pairs_data(out);
+        if (dvh_near_pairs_len(out) == 2) {
+            CHECK(p[0].kind == DVH_IMPACT_KIND_EDGE_EDGE && p[0].a0 == 0 && p[0].a1 == 1 && p[0].b0 == 1 && p[0].b1 == 2);
+            CHECK(p[1].kind == DVH_IMPACT_KIND_EDGE_EDGE && p[1].a0 == 1 && p[1].a1 == 2 && p[1].b0 == 1 && p[1].b1 == 2);
+            CHECK(p[0].distance == 0.25 && p[0].feature_a == DVH_FEATURE_EDGE_01 && p[0].feature_b == DVH_FEATURE_EDGE_01);
+            CHECK(p[0].closest_a[0] == 0.25 && p[0].closest_a[1] == 0 && p[0].closest_a[2] == 0);
+            CHECK(p[0].closest_b[0] == 0.25 && p[0].closest_b[1] == 0 && p[0].closest_b[2] == 0.25);
+            CHECK(p[0].weights_a[0] == 0.75 && p[0].weights_a[1] == 0.25 && p[0].weights_a[2] == 0);
+            CHECK(p[0].weights_b[0] == 2.0 / 3.0 && p[0].weights_b[1] == 1.0 / 3.0 && p[0].weights_b[2] == 0);
+        }
+        CHECK_STATUS(dvh_nearest_features(a, NULL, b, NULL, 0.5, NULL, out, NULL), DVH_STATUS_OK, NULL);
+        {
+            size_t k, seen = 0;
+            p = dvh_near_pairs_data(out);
+            for (k = 0; k < dvh_near_pairs_len(out); k++)
+                if (p[k].kind == DVH_IMPACT_KIND_FACE_VERTEX && p[k].b0 == 0) {
+                    seen++;
+                    CHECK(p[k].a0 == 0 && p[k].distance == 0.5);
+                    CHECK(p[k].feature_a == DVH_FEATURE_INTERIOR && p[k].feature_b == DVH_FEATURE_VERTEX_0);
+                    CHECK(p[k].closest_a[0] == 0.25 && p[k].closest_a[1] == 0.25 && p[k].closest_a[2] == 0);
+                    CHECK(p[k].weights_a[0] == 0.5 && p[k].weights_a[1] == 0.25 && p[k].weights_a[2] == 0.25);
+                    CHECK(p[k].weights_b[0] == 1 && p[k].weights_b[1] == 0 && p[k].weights_b[2] == 0);
+                }
+            CHECK(seen == 1);
+        }
+        dvh_mesh_free(a);
+        dvh_mesh_free(b);
+    }
+
+    /* Terrains, placed and not, against the exact brute force at several distances. */
+    {
+        Mesh ma = mesh_terrain(5, 0, 0, wave), mb = mesh_terrain(5, 1, 2, ridge);
+        DvhMesh *a = create(&ma, NULL), *b = create(&mb, NULL);
+        IPose up = ipose_make(0, 0, 0, 2), turned = ipose_make(5, 6, 1, 1);
+        static const int64_t quarter_d2[] = {0, 1, 4, 9, 17};
+        size_t k;
+        for (k = 0; k < sizeof quarter_d2 / sizeof quarter_d2[0]; k++) {
+            found += check_nearest(a, &ma, NULL, b, &mb, &up, quarter_d2[k], out);
+            found += check_nearest(b, &mb, &turned, a, &ma, NULL, quarter_d2[k], out);
+            found += check_nearest(a, &ma, NULL, NULL, NULL, NULL, quarter_d2[k], out);
+            found += check_nearest(b, &mb, NULL, NULL, NULL, NULL, quarter_d2[k], out);
+        }
+        CHECK(found > 1000);
+
+        /* Errors leave the buffer and the counters as they were. */
+        {
+            static const double bad[] = {-1.0, NAN, INFINITY, -INFINITY};
+            DvhNearPair *before;
+            DvhPose nan_pose = ipose_to_dvh(&up), squashed = ipose_to_dvh(&up);
+            DvhQueryOptions q = dvh_query_options_default();
+            DvhPairs *wrong = dvh_pairs_new();
+            size_t n;
+            CHECK_STATUS(dvh_self_nearest_features(a, 2.0, NULL, out, NULL), DVH_STATUS_OK, NULL);
+            n = dvh_near_pairs_len(out);
+            CHECK(n > 0);
+            before = malloc(n * sizeof *before);
+            memcpy(before, dvh_near_pairs_data(out), n * sizeof *before);
+            memset(&sentinel, 0xab, sizeof sentinel);
+            stats = sentinel;
+            for (k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+                CHECK_STATUS(dvh_nearest_features(a, NULL, b, NULL, bad[k], NULL, out, &stats), DVH_STATUS_INVALID_ARGUMENT,
+                             "distance");
+                CHECK_STATUS(dvh_self_nearest_features(a, bad[k], NULL, out, &stats), DVH_STATUS_INVALID_ARGUMENT, "distance");
+            }
+            CHECK_STATUS(dvh_nearest_features(NULL, NULL, b, NULL, 1.0, NULL, out, &stats), DVH_STATUS_NULL_ARGUMENT, "`a`");
+            CHECK_STATUS(dvh_nearest_features(a, NULL, NULL, NULL, 1.0, NULL, out, &stats), DVH_STATUS_NULL_ARGUMENT, "`b`");
+            CHECK_STATUS(dvh_nearest_features(a, NULL, b, NULL, 1.0, NULL, NULL, &stats), DVH_STATUS_NULL_ARGUMENT,
+                         "`pairs_out`");
+            CHECK_STATUS(dvh_self_nearest_features(NULL, 1.0, NULL, out, &stats), DVH_STATUS_NULL_ARGUMENT, "`mesh`");
+            CHECK_STATUS(dvh_self_nearest_features(a, 1.0, NULL, NULL, &stats), DVH_STATUS_NULL_ARGUMENT, "`pairs_out`");
+            CHECK_STATUS(dvh_self_nearest_features(a, 1.0, NULL, (DvhNearPairs *)(void *)wrong, &stats),
+                         DVH_STATUS_INVALID_ARGUMENT, "DvhNearPairs");
+            CHECK_STATUS(dvh_nearest_features((const DvhMesh *)(const void *)wrong, NULL, b, NULL, 1.0, NULL, out, &stats),
+                         DVH_STATUS_INVALID_ARGUMENT, "DvhMesh");
+            nan_pose.translation[2] = NAN;
+            CHECK_STATUS(dvh_nearest_features(a, NULL, b, &nan_pose, 1.0, NULL, out, &stats), DVH_STATUS_NON_FINITE_COORDINATE,
+                         "pose_b");
+            squashed.rotation[0] = 2.0;
+            CHECK_STATUS(dvh_nearest_features(a, &squashed, b, NULL, 1.0, NULL, out, &stats), DVH_STATUS_NON_RIGID_POSE,
+                         "pose_a");
+            q.mode = DVH_QUERY_MODE_BUDGET;
+            CHECK_STATUS(dvh_self_nearest_features(a, 1.0, &q, out, &stats), DVH_STATUS_INVALID_ARGUMENT, "options->budget = 0");
+            q.mode = 42;
+            CHECK_STATUS(dvh_nearest_features(a, NULL, b, NULL, 1.0, &q, out, &stats), DVH_STATUS_INVALID_ARGUMENT,
+                         "options->mode = 42");
+            CHECK(memcmp(&stats, &sentinel, sizeof stats) == 0);
+            CHECK(same_near_pairs(out, before, n));
+            free(before);
+            dvh_pairs_free(wrong);
+        }
+        dvh_mesh_free(a);
+        dvh_mesh_free(b);
+        mesh_free(&ma);
+        mesh_free(&mb);
+    }
+
+    /* The accessors on NULL and on a new buffer. */
+    CHECK(dvh_near_pairs_len(NULL) == 0 && dvh_near_pairs_data(NULL) == NULL);
+    {
+        DvhNearPairs *fresh = dvh_near_pairs_new();
+        CHECK(fresh != NULL && dvh_near_pairs_len(fresh) == 0 && dvh_near_pairs_data(fresh) == NULL);
+        dvh_near_pairs_free(fresh);
+    }
+    dvh_near_pairs_free(NULL);
+    dvh_near_pairs_free(out);
+}
+
 int main(void) {
     test_versions_and_names();
     test_defaults();
@@ -1792,5 +2261,6 @@ int main(void) {
     test_continuous_collide();
     test_continuous_terrains();
     test_self_continuous_collide();
+    test_nearest_features();
     return finish("test_api");
 }

@@ -5,6 +5,7 @@
 // UndefinedBehaviorSanitizer.
 #include <dvh.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -60,7 +61,7 @@ constexpr bool move_only() {
            std::is_nothrow_move_assignable_v<T>;
 }
 static_assert(move_only<dvh::Mesh>() && move_only<dvh::Pairs>() && move_only<dvh::Scene>() && move_only<dvh::Contacts>() &&
-                  move_only<dvh::Impacts>(),
+                  move_only<dvh::Impacts>() && move_only<dvh::NearPairs>(),
               "owners are move-only");
 static_assert(std::is_base_of_v<std::runtime_error, dvh::Error>, "dvh::Error is a std::runtime_error");
 static_assert(!std::is_convertible_v<DvhMesh*, dvh::Mesh> && !std::is_convertible_v<DvhImpacts*, dvh::Impacts>,
@@ -1084,6 +1085,81 @@ void test_continuous() {
 
 }  // namespace
 
+bool same(const DvhNearPair& x, const DvhNearPair& y) { return std::memcmp(&x, &y, sizeof x) == 0; }
+
+// The wrapper's stencils equal the C buffer's, byte for byte, in the same order.
+bool same(const dvh::NearPairs& pairs, const DvhNearPairs* c) {
+    const dvh::Span<DvhNearPair> v = pairs.view();
+    if (v.size() != dvh_near_pairs_len(c) || pairs.size() != v.size()) return false;
+    if (v.empty()) return v.data() == nullptr && dvh_near_pairs_data(c) == nullptr;
+    for (std::size_t i = 0; i < v.size(); i++)
+        if (!same(v[i], dvh_near_pairs_data(c)[i])) return false;
+    return true;
+}
+
+void test_nearest() {
+    // Two terrains and one through the wrappers and through the C API, every form, several
+    // distances and options; the owner's moves.
+    const Geometry ga = terrain(5, 0, 0, wave), gb = terrain(5, 1, 2, ridge);
+    const dvh::Mesh a(ga.positions, ga.triangles), b(gb.positions, gb.triangles);
+    DvhMesh* c_a = c_mesh(ga);
+    DvhMesh* c_b = c_mesh(gb);
+    DvhNearPairs* c_pairs = dvh_near_pairs_new();
+    dvh::NearPairs pairs;
+    REQUIRE(pairs && pairs.empty() && pairs.view().data() == nullptr && pairs.begin() == pairs.end());
+    const DvhPose up = translation(0, 0, 2), turn = turned(6, 1, 1);
+    std::size_t found = 0;
+    for (const double d : {0.0, 0.5, 1.0, 2.0})
+        for (const dvh::QueryOptions& o : {dvh::QueryOptions{}, dvh::QueryOptions{}.threads(1).max_pairs(4),
+                                           dvh::QueryOptions{}.mode(DVH_QUERY_MODE_FIRST_HIT)}) {
+            DvhQueryStats c_stats{};
+            REQUIRE(dvh_nearest_features(c_a, nullptr, c_b, &up, d, &o.c(), c_pairs, &c_stats) == DVH_STATUS_OK);
+            DvhQueryStats stats = dvh::nearest_features(a, nullptr, b, &up, d, o, pairs);
+            REQUIRE(same(pairs, c_pairs) && same(stats, c_stats));
+            REQUIRE(same(dvh::nearest_features(a, nullptr, b, &up, d, o), c_pairs));
+            found += pairs.size();
+            REQUIRE(dvh_nearest_features(c_b, &turn, c_a, nullptr, d, &o.c(), c_pairs, &c_stats) == DVH_STATUS_OK);
+            stats = dvh::nearest_features(b, &turn, a, nullptr, d, o, pairs);
+            REQUIRE(same(pairs, c_pairs) && same(stats, c_stats));
+            REQUIRE(dvh_self_nearest_features(c_a, d, &o.c(), c_pairs, &c_stats) == DVH_STATUS_OK);
+            stats = dvh::self_nearest_features(a, d, o, pairs);
+            REQUIRE(same(pairs, c_pairs) && same(stats, c_stats));
+            REQUIRE(same(dvh::self_nearest_features(a, d, o), c_pairs));
+            found += pairs.size();
+            for (const DvhNearPair& p : pairs) REQUIRE(p.distance <= d && p.kind != DVH_IMPACT_KIND_FACE_VERTEX);
+        }
+    REQUIRE(found > 100);
+
+    // A failed query throws and leaves the buffer as it was.
+    dvh::self_nearest_features(a, 1.0, dvh::QueryOptions{}, pairs);
+    const std::vector<DvhNearPair> before(pairs.begin(), pairs.end());
+    REQUIRE(!before.empty());
+    REQUIRE_ERROR(dvh::self_nearest_features(a, -1.0, dvh::QueryOptions{}, pairs), DVH_STATUS_INVALID_ARGUMENT, "distance");
+    REQUIRE_ERROR(dvh::nearest_features(a, nullptr, b, nullptr, std::nan(""), dvh::QueryOptions{}, pairs),
+                  DVH_STATUS_INVALID_ARGUMENT, "distance");
+    const DvhPose far{{1, 0, 0, 0, 1, 0, 0, 0, 1}, {1e301, 0, 0}};
+    REQUIRE_ERROR(dvh::nearest_features(a, &far, b, nullptr, 1.0, dvh::QueryOptions{}, pairs), DVH_STATUS_POSE_OUT_OF_RANGE,
+                  "");
+    REQUIRE(pairs.size() == before.size() && std::equal(before.begin(), before.end(), pairs.begin(),
+                                                         [](const DvhNearPair& x, const DvhNearPair& y) { return same(x, y); }));
+
+    // Moves: the buffer goes with the owner; a moved-from owner refuses queries.
+    const DvhNearPair* data = pairs.view().data();
+    dvh::NearPairs moved_to(std::move(pairs));
+    REQUIRE(moved_to.view().data() == data && !pairs && pairs.size() == 0 && pairs.empty());
+    REQUIRE_ERROR(dvh::self_nearest_features(a, 1.0, dvh::QueryOptions{}, pairs), DVH_STATUS_NULL_ARGUMENT, "`pairs_out`");
+    pairs = std::move(moved_to);
+    REQUIRE(pairs.view().data() == data && !moved_to);
+    DvhNearPairs* raw = pairs.release();
+    REQUIRE(!pairs && raw != nullptr);
+    dvh::NearPairs adopted(raw);
+    REQUIRE(adopted.size() == before.size());
+
+    dvh_near_pairs_free(c_pairs);
+    dvh_mesh_free(c_a);
+    dvh_mesh_free(c_b);
+}
+
 int main() {
     test_version_status_and_messages();
     test_span();
@@ -1096,6 +1172,7 @@ int main() {
     test_ccd_primitives();
     test_impacts_owner();
     test_continuous();
+    test_nearest();
     std::printf("test_cpp (C++%ld): all checks passed\n", (long)(__cplusplus / 100 % 100));
     return 0;
 }

@@ -67,6 +67,12 @@ typedef struct DvhImpacts DvhImpacts;
 typedef struct DvhMesh DvhMesh;
 
 /**
+ * A reusable result buffer for the closest-point queries. Opaque; created by
+ * `dvh_near_pairs_new`, released by `dvh_near_pairs_free`. Use one per thread.
+ */
+typedef struct DvhNearPairs DvhNearPairs;
+
+/**
  * A reusable result buffer with the scratch space queries need. Opaque; created by
  * `dvh_pairs_new`, released by `dvh_pairs_free`. Use one per thread.
  */
@@ -275,6 +281,21 @@ typedef struct DvhRefitStats {
 } DvhRefitStats;
 
 /**
+ * A rigid placement of a mesh: `world = R * p + t`, with `rotation` row-major. The rotation must
+ * be orthonormal within 1e-5 with determinant +1.
+ */
+typedef struct DvhPose {
+  /**
+   * `R`, row-major: `rotation[3 * i + j]` is row `i`, column `j`.
+   */
+  double rotation[9];
+  /**
+   * `t`.
+   */
+  double translation[3];
+} DvhPose;
+
+/**
  * What a query reports: a `DVH_QUERY_MODE_*` value.
  */
 typedef uint32_t DvhQueryMode;
@@ -310,41 +331,6 @@ typedef struct DvhQueryOptions {
    */
   uint32_t threads;
 } DvhQueryOptions;
-
-/**
- * One result: an index into mesh `a` and one into mesh `b` (triangles or nodes, see
- * `dvh_pairs_kind`).
- */
-typedef struct DvhPair {
-  /**
-   * Index in mesh `a`.
-   */
-  uint32_t a;
-  /**
-   * Index in mesh `b`.
-   */
-  uint32_t b;
-} DvhPair;
-
-/**
- * What the indices of a result refer to: a `DVH_PAIR_KIND_*` value.
- */
-typedef uint32_t DvhPairKind;
-
-/**
- * A rigid placement of a mesh: `world = R * p + t`, with `rotation` row-major. The rotation must
- * be orthonormal within 1e-5 with determinant +1.
- */
-typedef struct DvhPose {
-  /**
-   * `R`, row-major: `rotation[3 * i + j]` is row `i`, column `j`.
-   */
-  double rotation[9];
-  /**
-   * `t`.
-   */
-  double translation[3];
-} DvhPose;
 
 /**
  * Counters of one query: the terms of the paper's cost model `T = NV*CV + NP*CP + NU*CU`.
@@ -386,6 +372,88 @@ typedef struct DvhQueryStats {
    */
   uint64_t frontier_pairs;
 } DvhQueryStats;
+
+/**
+ * A vertex-face or edge-edge pair within the query's distance, with its closest points: a
+ * contact stencil. Kinds and indices as in `DvhImpact`; fields ending in `_a` describe the
+ * primitive named by `a0, a1`. Features and weights are numbered on each primitive's own
+ * corners: a vertex is corner 0, an edge `(a0, a1)` has corners `a0`, `a1`, a triangle its
+ * corners in the mesh's order. Results are sorted by `(kind, a0, a1, b0, b1)`.
+ */
+typedef struct DvhNearPair {
+  /**
+   * A `DVH_IMPACT_KIND_*` value.
+   */
+  DvhImpactKind kind;
+  /**
+   * VERTEX_FACE: a vertex of the first mesh; FACE_VERTEX: a triangle of the first mesh;
+   * EDGE_EDGE: the edge's lower vertex.
+   */
+  uint32_t a0;
+  /**
+   * EDGE_EDGE: the first edge's higher vertex; 0 otherwise.
+   */
+  uint32_t a1;
+  /**
+   * VERTEX_FACE: a triangle of the second mesh; FACE_VERTEX: a vertex of the second mesh;
+   * EDGE_EDGE: the second edge's lower vertex.
+   */
+  uint32_t b0;
+  /**
+   * EDGE_EDGE: the second edge's higher vertex; 0 otherwise.
+   */
+  uint32_t b1;
+  /**
+   * A `DVH_FEATURE_*` value: where the first primitive's closest point lies.
+   */
+  uint32_t feature_a;
+  /**
+   * A `DVH_FEATURE_*` value: where the second primitive's closest point lies.
+   */
+  uint32_t feature_b;
+  /**
+   * The distance, within one unit in the last place of the exact one correctly rounded.
+   */
+  double distance;
+  /**
+   * The first primitive's closest point, in world coordinates (each within two units in the
+   * last place of the exact one).
+   */
+  double closest_a[3];
+  /**
+   * The second primitive's closest point, in world coordinates.
+   */
+  double closest_b[3];
+  /**
+   * The first closest point's barycentric weights: a vertex (1, 0, 0), an edge
+   * (1 - s, s, 0), a triangle three weights summing to one.
+   */
+  double weights_a[3];
+  /**
+   * The second closest point's barycentric weights.
+   */
+  double weights_b[3];
+} DvhNearPair;
+
+/**
+ * One result: an index into mesh `a` and one into mesh `b` (triangles or nodes, see
+ * `dvh_pairs_kind`).
+ */
+typedef struct DvhPair {
+  /**
+   * Index in mesh `a`.
+   */
+  uint32_t a;
+  /**
+   * Index in mesh `b`.
+   */
+  uint32_t b;
+} DvhPair;
+
+/**
+ * What the indices of a result refer to: a `DVH_PAIR_KIND_*` value.
+ */
+typedef uint32_t DvhPairKind;
 
 /**
  * Counters of one scene query.
@@ -451,6 +519,11 @@ typedef struct DvhContact {
    */
   uint32_t b;
 } DvhContact;
+
+/**
+ * Where a closest point of a `DvhNearPair` lies, numbered on its primitive's own corners.
+ */
+typedef uint32_t DvhFeature;
 
 /**
  * The call succeeded.
@@ -627,6 +700,41 @@ typedef struct DvhContact {
  * queries `(a0, a1) < (b0, b1)`.
  */
 #define DVH_IMPACT_KIND_EDGE_EDGE 2
+
+/**
+ * Corner 0 (a vertex primitive is always here).
+ */
+#define DVH_FEATURE_VERTEX_0 0
+
+/**
+ * Corner 1.
+ */
+#define DVH_FEATURE_VERTEX_1 1
+
+/**
+ * Corner 2 (of a triangle).
+ */
+#define DVH_FEATURE_VERTEX_2 2
+
+/**
+ * The open edge from corner 0 to corner 1 (an edge primitive's interior).
+ */
+#define DVH_FEATURE_EDGE_01 3
+
+/**
+ * The open edge from corner 1 to corner 2.
+ */
+#define DVH_FEATURE_EDGE_12 4
+
+/**
+ * The open edge from corner 2 to corner 0.
+ */
+#define DVH_FEATURE_EDGE_20 5
+
+/**
+ * The interior of a triangle.
+ */
+#define DVH_FEATURE_INTERIOR 6
 
 #ifdef __cplusplus
 extern "C" {
@@ -1026,6 +1134,118 @@ DvhStatus dvh_mesh_node_triangles(const struct DvhMesh *mesh,
  * `mesh` is NULL or a live mesh.
  */
 DvhStatus dvh_mesh_validate(const struct DvhMesh *mesh);
+
+/**
+ * Every vertex-face and edge-edge pair of mesh `a` placed by `pose_a` and mesh `b` placed by
+ * `pose_b` (NULL: identity) whose distance is at most `distance`, with the distance, the
+ * closest point on each primitive, its barycentric weights and the feature it lies on: the
+ * stencils from which repulsion, barrier and constraint forces are built. Each vertex of `a`
+ * against each triangle of `b` (VERTEX_FACE), each triangle of `a` against each vertex of `b`
+ * (FACE_VERTEX), each edge of `a` against each edge of `b` (EDGE_EDGE; an edge is a pair of
+ * distinct vertices joined by a triangle side, reported once). Vertices of no triangle are
+ * not tested.
+ *
+ * The decision "distance <= d" is exact for the placed coordinates, so `distance = 0` gives
+ * the touching pairs. The distance is within one unit in the last place of the correctly
+ * rounded one, points and weights within two units of the exact ones; where the closest
+ * points are not unique (parallel edges), the pair is taken at an end, tried in the order
+ * a0, a1, b0, b1, the first of the closest kept.
+ *
+ * `options` (NULL: the defaults): TRIANGLES reports every stencil; FIRST_HIT the first found
+ * in the traversal's order (the same whatever the thread count), or none; LEAVES, DEPTH and
+ * BUDGET stop the traversal where they say and test every primitive pair under the node pairs
+ * it reaches, so the stencils are the same as TRIANGLES' (a budget bounds the traversal only).
+ * `max_pairs` stops the query once that many stencils are found; `threads` shares the work
+ * out, the result the same for every count. In the counters, `triangle_tests` counts the
+ * primitive pairs given to the exact test.
+ *
+ * On success the stencils replace the contents of `pairs_out`, sorted by
+ * `(kind, a0, a1, b0, b1)`, and the counters go to `*stats_out` unless it is NULL; on failure
+ * neither changes.
+ *
+ * Errors: NULL_ARGUMENT (`a`, `b`, `pairs_out`); INVALID_ARGUMENT (a negative, NaN or infinite
+ * `distance`; options out of range; a pointer that is not a live handle); NON_FINITE_COORDINATE
+ * and NON_RIGID_POSE (a pose); POSE_OUT_OF_RANGE; BUSY; OUT_OF_MEMORY (set `max_pairs`);
+ * INTERNAL_PANIC.
+ *
+ * Thread safety: `a` and `b` are only read: any number of threads may query them at once, each
+ * with its own `pairs_out`; no refit of either may run meanwhile (BUSY).
+ *
+ * # Safety
+ * `a` and `b` are NULL or live meshes; `pose_a`, `pose_b` and `options` are NULL or readable;
+ * `pairs_out` is NULL or a live buffer used by no other thread; `stats_out` is NULL or
+ * writable.
+ */
+DvhStatus dvh_nearest_features(const struct DvhMesh *a,
+                               const struct DvhPose *pose_a,
+                               const struct DvhMesh *b,
+                               const struct DvhPose *pose_b,
+                               double distance,
+                               const struct DvhQueryOptions *options,
+                               struct DvhNearPairs *pairs_out,
+                               struct DvhQueryStats *stats_out);
+
+/**
+ * The stencils of one mesh with itself: each vertex against each triangle that does not
+ * contain it (VERTEX_FACE, the vertex in `a0`), each pair of edges that share no vertex
+ * (EDGE_EDGE, `(a0, a1) < (b0, b1)`), at distance at most `distance`. No FACE_VERTEX pairs.
+ * Otherwise as `dvh_nearest_features`.
+ *
+ * Errors: NULL_ARGUMENT (`mesh`, `pairs_out`); INVALID_ARGUMENT; BUSY; OUT_OF_MEMORY;
+ * INTERNAL_PANIC.
+ *
+ * Thread safety: as `dvh_nearest_features`.
+ *
+ * # Safety
+ * `mesh` is NULL or a live mesh; `options` is NULL or readable; `pairs_out` is NULL or a live
+ * buffer used by no other thread; `stats_out` is NULL or writable.
+ */
+DvhStatus dvh_self_nearest_features(const struct DvhMesh *mesh,
+                                    double distance,
+                                    const struct DvhQueryOptions *options,
+                                    struct DvhNearPairs *pairs_out,
+                                    struct DvhQueryStats *stats_out);
+
+/**
+ * A new, empty stencil buffer, or NULL when memory ran out. Owned by the caller, released with
+ * `dvh_near_pairs_free`. It keeps the scratch space of the queries that use it.
+ *
+ * Thread safety: any thread; a buffer must be used by one thread at a time.
+ */
+struct DvhNearPairs *dvh_near_pairs_new(void);
+
+/**
+ * Number of stencils of the last successful query into `pairs` (0 for NULL or a new buffer).
+ *
+ * Thread safety: not alongside a query writing the same buffer (0 then).
+ *
+ * # Safety
+ * `pairs` is NULL or a live buffer.
+ */
+size_t dvh_near_pairs_len(const struct DvhNearPairs *pairs);
+
+/**
+ * The stencils of the last successful query into `pairs`: `dvh_near_pairs_len(pairs)`
+ * entries, sorted by `(kind, a0, a1, b0, b1)`. NULL when there are none. Owned by the buffer;
+ * valid until the next query into it or `dvh_near_pairs_free`.
+ *
+ * Thread safety: as `dvh_near_pairs_len`.
+ *
+ * # Safety
+ * `pairs` is NULL or a live buffer.
+ */
+const struct DvhNearPair *dvh_near_pairs_data(const struct DvhNearPairs *pairs);
+
+/**
+ * Releases a stencil buffer. NULL is a no-op.
+ *
+ * Thread safety: needs exclusive access; the buffer must not be used afterwards. A buffer in
+ * use by another call is not released (the last error message says so).
+ *
+ * # Safety
+ * `pairs` is NULL or a live buffer from `dvh_near_pairs_new`, not freed before.
+ */
+void dvh_near_pairs_free(struct DvhNearPairs *pairs);
 
 /**
  * The default query options: every intersecting triangle pair, no pair limit, every core (all

@@ -2,7 +2,7 @@
  * dvh.hpp: the C++17 layer over dvh.h, header-only.
  *
  * Owners that release their handle (dvh::Mesh, dvh::Pairs, dvh::Scene, dvh::Contacts,
- * dvh::Impacts), one exception, dvh::Error, for every failed call, results viewed in place
+ * dvh::Impacts, dvh::NearPairs), one exception, dvh::Error, for every failed call, results viewed in place
  * (dvh::Span), and options with named setters that chain. Each wrapper calls the dvh.h function
  * it names, whose documentation (arguments, errors, thread safety) holds for it too.
  *
@@ -12,8 +12,8 @@
  *   changes nothing (a failed refit leaves the mesh, a failed query its result buffer, a failed
  *   scene call the scene as they were).
  * - Out of memory is a dvh::Error with DVH_STATUS_OUT_OF_MEMORY, whichever call ran out, the
- *   creation of a result buffer (dvh_pairs_new, dvh_contacts_new, dvh_impacts_new returning NULL)
- *   included.
+ *   creation of a result buffer (dvh_pairs_new, dvh_contacts_new, dvh_impacts_new,
+ *   dvh_near_pairs_new returning NULL) included.
  * - The owners are move-only. A moved-from or released owner holds no handle: get() is null, its
  *   counts are 0, and a call that needs the handle throws dvh::Error (DVH_STATUS_NULL_ARGUMENT).
  *   get() lends the handle to the C API; release() gives it up.
@@ -350,6 +350,7 @@ inline void free_handle(DvhPairs* handle) noexcept { dvh_pairs_free(handle); }
 inline void free_handle(DvhScene* handle) noexcept { dvh_scene_free(handle); }
 inline void free_handle(DvhContacts* handle) noexcept { dvh_contacts_free(handle); }
 inline void free_handle(DvhImpacts* handle) noexcept { dvh_impacts_free(handle); }
+inline void free_handle(DvhNearPairs* handle) noexcept { dvh_near_pairs_free(handle); }
 
 // A handle from a C function that writes it to its last argument.
 template <typename Handle, typename Create>
@@ -643,6 +644,35 @@ public:
     [[nodiscard]] const DvhImpact* end() const noexcept { return view().end(); }
 };
 
+/// A reusable result buffer of the closest-point queries (DvhNearPairs), released by
+/// dvh_near_pairs_free. Use one per thread.
+class NearPairs : public detail::Owner<DvhNearPairs> {
+public:
+    /// A new, empty buffer (dvh_near_pairs_new).
+    NearPairs() : Owner(detail::allocated(dvh_near_pairs_new())) {}
+    /// Takes ownership of `pairs`, a buffer from dvh_near_pairs_new (or null: an owner of none).
+    explicit NearPairs(DvhNearPairs* pairs) noexcept : Owner(pairs) {}
+    /// Takes `other`'s buffer; `other` holds none afterwards.
+    NearPairs(NearPairs&& other) noexcept = default;
+    /// Releases the buffer held here, then takes `other`'s.
+    NearPairs& operator=(NearPairs&& other) noexcept = default;
+
+    /// The stencils of the last successful query into the buffer, sorted by
+    /// `(kind, a0, a1, b0, b1)`; valid until the next query into it (dvh_near_pairs_data,
+    /// dvh_near_pairs_len).
+    [[nodiscard]] Span<DvhNearPair> view() const noexcept {
+        return Span<DvhNearPair>(dvh_near_pairs_data(get()), dvh_near_pairs_len(get()));
+    }
+    /// The number of stencils (dvh_near_pairs_len).
+    [[nodiscard]] std::size_t size() const noexcept { return dvh_near_pairs_len(get()); }
+    /// Are there no stencils?
+    [[nodiscard]] bool empty() const noexcept { return size() == 0; }
+    /// The first stencil's position, as view().begin().
+    [[nodiscard]] const DvhNearPair* begin() const noexcept { return view().begin(); }
+    /// The position past the last stencil, as view().end().
+    [[nodiscard]] const DvhNearPair* end() const noexcept { return view().end(); }
+};
+
 /// Objects queried together (DvhScene), released by dvh_scene_free: rigid ones placed by poses,
 /// deformable ones with positions of their own. Each object copies what it needs of its mesh,
 /// which may then be refit or destroyed. Every call needs the scene to itself.
@@ -789,6 +819,42 @@ inline DvhQueryStats self_proximity(const Mesh& mesh, double distance, const Que
 [[nodiscard]] inline Pairs self_proximity(const Mesh& mesh, double distance, const QueryOptions& options = {}) {
     Pairs pairs;
     self_proximity(mesh, distance, options, pairs);
+    return pairs;
+}
+
+/// Every vertex-face and edge-edge pair of `a` and `b`, placed by their poses, at distance
+/// `<= distance`, decided exactly, with the distance, closest points, weights and features, into
+/// `pairs`, replacing what it held; returns the counters (dvh_nearest_features). On failure
+/// `pairs` is unchanged.
+inline DvhQueryStats nearest_features(const Mesh& a, const DvhPose* pose_a, const Mesh& b, const DvhPose* pose_b,
+                                      double distance, const QueryOptions& options, NearPairs& pairs) {
+    DvhQueryStats stats{};
+    check(dvh_nearest_features(a.get(), pose_a, b.get(), pose_b, distance, &options.c(), pairs.get(), &stats));
+    return stats;
+}
+
+/// The stencils of `a` and `b` within `distance`, in a new buffer.
+[[nodiscard]] inline NearPairs nearest_features(const Mesh& a, const DvhPose* pose_a, const Mesh& b, const DvhPose* pose_b,
+                                                double distance, const QueryOptions& options = {}) {
+    NearPairs pairs;
+    nearest_features(a, pose_a, b, pose_b, distance, options, pairs);
+    return pairs;
+}
+
+/// One mesh's stencils with itself (a vertex and a triangle without it, two edges sharing no
+/// vertex) within `distance`, into `pairs`; returns the counters (dvh_self_nearest_features).
+/// On failure `pairs` is unchanged.
+inline DvhQueryStats self_nearest_features(const Mesh& mesh, double distance, const QueryOptions& options,
+                                           NearPairs& pairs) {
+    DvhQueryStats stats{};
+    check(dvh_self_nearest_features(mesh.get(), distance, &options.c(), pairs.get(), &stats));
+    return stats;
+}
+
+/// One mesh's stencils with itself within `distance`, in a new buffer.
+[[nodiscard]] inline NearPairs self_nearest_features(const Mesh& mesh, double distance, const QueryOptions& options = {}) {
+    NearPairs pairs;
+    self_nearest_features(mesh, distance, options, pairs);
     return pairs;
 }
 

@@ -2,8 +2,9 @@
 # The Python package's tests, as a new user meets it: a fresh virtual environment, then
 # `pip install ./python` (which builds the library with cargo and bundles it in the wheel; the
 # package's Python dependencies, and maturin and cffi for the build, come from PyPI), then
-# `import dvh`, the pytest suite (every query against brute force, the errors, the arrays, the
-# GIL, `python -m dvh check`) and the README's Python example, run on the installed package.
+# `import dvh`, the pytest suite (every query against brute force, the closest-point stencils
+# also against IPC Toolkit's distance functions, `pip install ipctk`; the errors, the arrays,
+# the GIL, `python -m dvh check`) and the README's Python example, run on the installed package.
 #
 #   scripts/python.sh          about 3 minutes from a clean build on 2 cores, 40 seconds once built
 #   scripts/python.sh --full   and the peer benchmark's quick run, without the peers (they are
@@ -27,6 +28,9 @@ rm -rf "$venv"
 "$python" -m venv "$venv"
 pip=("$venv/bin/python" -m pip --disable-pip-version-check --quiet)
 "${pip[@]}" install "./python[test]"
+# IPC Toolkit's distance functions: the closest-point tests' second, floating-point reference.
+"${pip[@]}" install ipctk
+export DVH_REQUIRE_IPCTK=1
 # From outside the repository, so that only the installed package can be imported.
 cd "$work"
 "$venv/bin/python" -c "import dvh, sys; print('dvh', dvh.__version__, 'for Python', sys.version.split()[0])"

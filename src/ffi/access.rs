@@ -16,7 +16,7 @@
 use super::boundary::{Failure, set_last_error};
 use super::types::{
     DVH_STATUS_BUSY, DVH_STATUS_INTERNAL_PANIC, DVH_STATUS_INVALID_ARGUMENT, DvhContacts,
-    DvhImpacts, DvhMesh, DvhPairs, DvhScene,
+    DvhImpacts, DvhMesh, DvhNearPairs, DvhPairs, DvhScene,
 };
 use std::cell::UnsafeCell;
 use std::ops::{Deref, DerefMut};
@@ -118,6 +118,7 @@ pub(crate) const SCENE_TAG: u64 = u64::from_le_bytes(*b"dvh:scen");
 pub(crate) const PAIRS_TAG: u64 = u64::from_le_bytes(*b"dvh:pair");
 pub(crate) const CONTACTS_TAG: u64 = u64::from_le_bytes(*b"dvh:cont");
 pub(crate) const IMPACTS_TAG: u64 = u64::from_le_bytes(*b"dvh:impa");
+pub(crate) const NEAR_PAIRS_TAG: u64 = u64::from_le_bytes(*b"dvh:near");
 const FREED_TAG: u64 = u64::from_le_bytes(*b"dvh:free");
 
 impl Tag {
@@ -285,6 +286,7 @@ fn kind(tag: u64) -> &'static str {
         SCENE_TAG => "DvhScene",
         PAIRS_TAG => "DvhPairs",
         IMPACTS_TAG => "DvhImpacts",
+        NEAR_PAIRS_TAG => "DvhNearPairs",
         _ => "DvhContacts",
     }
 }
@@ -306,6 +308,7 @@ handle!(DvhPairs, crate::Pairs, PAIRS_TAG, pairs);
 handle!(DvhScene, crate::Scene, SCENE_TAG, scene);
 handle!(DvhContacts, crate::Contacts, CONTACTS_TAG, contacts);
 handle!(DvhImpacts, crate::Impacts, IMPACTS_TAG, impacts);
+handle!(DvhNearPairs, crate::NearPairs, NEAR_PAIRS_TAG, near_pairs);
 
 #[cfg(test)]
 mod tests {

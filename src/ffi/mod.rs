@@ -12,6 +12,7 @@ mod access;
 mod boundary;
 mod ccd;
 mod mesh;
+mod nearest;
 mod query;
 mod results;
 mod scene;
@@ -19,6 +20,7 @@ mod types;
 
 pub use ccd::*;
 pub use mesh::*;
+pub use nearest::*;
 pub use query::*;
 pub use scene::*;
 pub use types::*;

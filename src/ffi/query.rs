@@ -1,13 +1,13 @@
 //! Queries through the C ABI: result buffers, collide, self-collision, proximity, the exact
 //! triangle test.
 
-use super::access::{read, write};
+use super::access::{Handle, read, write};
 use super::boundary::{Failure, choice, guard, guard_value, slice_from, write_unless_null};
 use super::results;
 use super::types::*;
 use crate::exact::triangles_intersect;
 use crate::{
-    Mesh, Pairs, Pose, QueryMode, QueryOptions, QueryStats, collide, proximity, self_collide,
+    Mesh, Pose, QueryMode, QueryOptions, QueryStats, collide, proximity, self_collide,
     self_proximity,
 };
 
@@ -165,6 +165,7 @@ pub unsafe extern "C" fn dvh_collide(
             (b, pose_b),
             options,
             pairs_out,
+            "pairs_out",
             stats_out,
             "dvh_collide",
             collide,
@@ -185,18 +186,21 @@ pub(super) unsafe fn options_or_default(
 }
 
 /// A mesh and its pose, as the C arguments give them.
-type Placed = (*const DvhMesh, *const DvhPose);
+pub(super) type Placed = (*const DvhMesh, *const DvhPose);
 
 /// A query between two meshes from C (entry point `call`): the meshes, poses and options read
-/// and checked, `query` run into `pairs_out`, its counters written to `stats_out` unless NULL.
+/// and checked, `query` run into `out` (argument `out_name`), its counters written to
+/// `stats_out` unless NULL.
 ///
 /// # Safety
 /// As `dvh_collide`'s.
-unsafe fn two_meshes(
+#[allow(clippy::too_many_arguments)]
+pub(super) unsafe fn two_meshes<H: Handle>(
     (a, pose_a): Placed,
     (b, pose_b): Placed,
     options: *const DvhQueryOptions,
-    pairs_out: *mut DvhPairs,
+    out: *mut H,
+    out_name: &str,
     stats_out: *mut DvhQueryStats,
     call: &str,
     query: impl FnOnce(
@@ -205,14 +209,14 @@ unsafe fn two_meshes(
         &Mesh,
         Option<&Pose>,
         &QueryOptions,
-        &mut Pairs,
+        &mut H::Inner,
     ) -> crate::Result<QueryStats>,
 ) -> DvhStatus {
     guard(|| {
         // SAFETY: NULL or live, read-only during the call (contract).
         let (ma, mb) = unsafe { (read(a, "a", call)?, read(b, "b", call)?) };
         // SAFETY: NULL or a live buffer used by this thread only (contract).
-        let mut out = unsafe { write(pairs_out, "pairs_out", call)? };
+        let mut out = unsafe { write(out, out_name, call)? };
         // SAFETY: NULL or readable (contract).
         let (pa, pb) = unsafe { (pose_a.as_ref(), pose_b.as_ref()) };
         let pa = pa.map(|p| pose(p, "pose_a")).transpose()?;
@@ -230,19 +234,20 @@ unsafe fn two_meshes(
 ///
 /// # Safety
 /// As `dvh_self_collide`'s.
-unsafe fn one_mesh(
+pub(super) unsafe fn one_mesh<H: Handle>(
     mesh: *const DvhMesh,
     options: *const DvhQueryOptions,
-    pairs_out: *mut DvhPairs,
+    out: *mut H,
+    out_name: &str,
     stats_out: *mut DvhQueryStats,
     call: &str,
-    query: impl FnOnce(&Mesh, &QueryOptions, &mut Pairs) -> crate::Result<QueryStats>,
+    query: impl FnOnce(&Mesh, &QueryOptions, &mut H::Inner) -> crate::Result<QueryStats>,
 ) -> DvhStatus {
     guard(|| {
         // SAFETY: NULL or live, read-only during the call (contract).
         let m = unsafe { read(mesh, "mesh", call) }?;
         // SAFETY: NULL or a live buffer used by this thread only (contract).
-        let mut out = unsafe { write(pairs_out, "pairs_out", call)? };
+        let mut out = unsafe { write(out, out_name, call)? };
         // SAFETY: NULL or readable (contract).
         let o = unsafe { options_or_default(options) }?;
         let s = query(&m, &o, &mut out)?;
@@ -285,6 +290,7 @@ pub unsafe extern "C" fn dvh_self_collide(
             mesh,
             options,
             pairs_out,
+            "pairs_out",
             stats_out,
             "dvh_self_collide",
             self_collide,
@@ -330,6 +336,7 @@ pub unsafe extern "C" fn dvh_proximity(
             (b, pose_b),
             options,
             pairs_out,
+            "pairs_out",
             stats_out,
             "dvh_proximity",
             |ma, pa, mb, pb, o, out| proximity(ma, pa, mb, pb, distance, o, out),
@@ -365,6 +372,7 @@ pub unsafe extern "C" fn dvh_self_proximity(
             mesh,
             options,
             pairs_out,
+            "pairs_out",
             stats_out,
             "dvh_self_proximity",
             |m, o, out| self_proximity(m, distance, o, out),

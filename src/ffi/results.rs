@@ -8,9 +8,9 @@ use super::access::{Access, Handle, Read, Tag, read, release};
 use super::boundary::{guard_value, set_last_error, try_box};
 use super::types::{
     DVH_PAIR_KIND_NODES, DVH_PAIR_KIND_TRIANGLES, DvhContact, DvhContacts, DvhImpact, DvhImpacts,
-    DvhPair, DvhPairKind, DvhPairs,
+    DvhNearPair, DvhNearPairs, DvhPair, DvhPairKind, DvhPairs,
 };
-use crate::{Contacts, Impacts, PairKind, Pairs};
+use crate::{Contacts, Impacts, NearPairs, PairKind, Pairs};
 use std::cell::UnsafeCell;
 
 /// A result buffer of the C ABI.
@@ -104,6 +104,33 @@ impl Results for DvhImpacts {
 
     fn kind(_: &Impacts) -> PairKind {
         // Impacts say their kind one by one; no accessor asks.
+        PairKind::Triangles
+    }
+}
+
+impl Results for DvhNearPairs {
+    type Item = DvhNearPair;
+    const ARGUMENT: &'static str = "pairs";
+
+    fn empty() -> DvhNearPairs {
+        DvhNearPairs {
+            tag: Tag::new(Self::TAG),
+            access: Access::default(),
+            near_pairs: UnsafeCell::new(NearPairs::new()),
+        }
+    }
+
+    fn len(inner: &NearPairs) -> usize {
+        inner.len()
+    }
+
+    fn data(inner: &NearPairs) -> *const DvhNearPair {
+        // `DvhNearPair` has `NearPair`'s layout (checked in `types`).
+        inner.as_slice().as_ptr().cast()
+    }
+
+    fn kind(_: &NearPairs) -> PairKind {
+        // Stencils say their kind one by one; no accessor asks.
         PairKind::Triangles
     }
 }

@@ -389,6 +389,100 @@ const _: () = {
     assert!(crate::ImpactKind::EdgeEdge as u32 == DVH_IMPACT_KIND_EDGE_EDGE);
 };
 
+/// Where a closest point of a `DvhNearPair` lies, numbered on its primitive's own corners.
+pub type DvhFeature = u32;
+/// Corner 0 (a vertex primitive is always here).
+pub const DVH_FEATURE_VERTEX_0: DvhFeature = 0;
+/// Corner 1.
+pub const DVH_FEATURE_VERTEX_1: DvhFeature = 1;
+/// Corner 2 (of a triangle).
+pub const DVH_FEATURE_VERTEX_2: DvhFeature = 2;
+/// The open edge from corner 0 to corner 1 (an edge primitive's interior).
+pub const DVH_FEATURE_EDGE_01: DvhFeature = 3;
+/// The open edge from corner 1 to corner 2.
+pub const DVH_FEATURE_EDGE_12: DvhFeature = 4;
+/// The open edge from corner 2 to corner 0.
+pub const DVH_FEATURE_EDGE_20: DvhFeature = 5;
+/// The interior of a triangle.
+pub const DVH_FEATURE_INTERIOR: DvhFeature = 6;
+
+/// A vertex-face or edge-edge pair within the query's distance, with its closest points: a
+/// contact stencil. Kinds and indices as in `DvhImpact`; fields ending in `_a` describe the
+/// primitive named by `a0, a1`. Features and weights are numbered on each primitive's own
+/// corners: a vertex is corner 0, an edge `(a0, a1)` has corners `a0`, `a1`, a triangle its
+/// corners in the mesh's order. Results are sorted by `(kind, a0, a1, b0, b1)`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DvhNearPair {
+    /// A `DVH_IMPACT_KIND_*` value.
+    pub kind: DvhImpactKind,
+    /// VERTEX_FACE: a vertex of the first mesh; FACE_VERTEX: a triangle of the first mesh;
+    /// EDGE_EDGE: the edge's lower vertex.
+    pub a0: u32,
+    /// EDGE_EDGE: the first edge's higher vertex; 0 otherwise.
+    pub a1: u32,
+    /// VERTEX_FACE: a triangle of the second mesh; FACE_VERTEX: a vertex of the second mesh;
+    /// EDGE_EDGE: the second edge's lower vertex.
+    pub b0: u32,
+    /// EDGE_EDGE: the second edge's higher vertex; 0 otherwise.
+    pub b1: u32,
+    /// A `DVH_FEATURE_*` value: where the first primitive's closest point lies.
+    pub feature_a: u32,
+    /// A `DVH_FEATURE_*` value: where the second primitive's closest point lies.
+    pub feature_b: u32,
+    /// The distance, within one unit in the last place of the exact one correctly rounded.
+    pub distance: f64,
+    /// The first primitive's closest point, in world coordinates (each within two units in the
+    /// last place of the exact one).
+    pub closest_a: [f64; 3],
+    /// The second primitive's closest point, in world coordinates.
+    pub closest_b: [f64; 3],
+    /// The first closest point's barycentric weights: a vertex (1, 0, 0), an edge
+    /// (1 - s, s, 0), a triangle three weights summing to one.
+    pub weights_a: [f64; 3],
+    /// The second closest point's barycentric weights.
+    pub weights_b: [f64; 3],
+}
+
+// `dvh_near_pairs_data` hands out the library's own `NearPair` array as `DvhNearPair`: same
+// fields, same order, both `repr(C)` (the kind and features `u32` enums).
+const _: () = {
+    use crate::NearPair;
+    use crate::exact::Feature;
+    use std::mem::{align_of, offset_of, size_of};
+    assert!(size_of::<DvhNearPair>() == size_of::<NearPair>());
+    assert!(align_of::<DvhNearPair>() == align_of::<NearPair>());
+    assert!(offset_of!(DvhNearPair, kind) == offset_of!(NearPair, kind));
+    assert!(offset_of!(DvhNearPair, a0) == offset_of!(NearPair, a0));
+    assert!(offset_of!(DvhNearPair, a1) == offset_of!(NearPair, a1));
+    assert!(offset_of!(DvhNearPair, b0) == offset_of!(NearPair, b0));
+    assert!(offset_of!(DvhNearPair, b1) == offset_of!(NearPair, b1));
+    assert!(offset_of!(DvhNearPair, feature_a) == offset_of!(NearPair, feature_a));
+    assert!(offset_of!(DvhNearPair, feature_b) == offset_of!(NearPair, feature_b));
+    assert!(offset_of!(DvhNearPair, distance) == offset_of!(NearPair, distance));
+    assert!(offset_of!(DvhNearPair, closest_a) == offset_of!(NearPair, closest_a));
+    assert!(offset_of!(DvhNearPair, closest_b) == offset_of!(NearPair, closest_b));
+    assert!(offset_of!(DvhNearPair, weights_a) == offset_of!(NearPair, weights_a));
+    assert!(offset_of!(DvhNearPair, weights_b) == offset_of!(NearPair, weights_b));
+    assert!(size_of::<Feature>() == size_of::<u32>());
+    assert!(Feature::Vertex0 as u32 == DVH_FEATURE_VERTEX_0);
+    assert!(Feature::Vertex1 as u32 == DVH_FEATURE_VERTEX_1);
+    assert!(Feature::Vertex2 as u32 == DVH_FEATURE_VERTEX_2);
+    assert!(Feature::Edge01 as u32 == DVH_FEATURE_EDGE_01);
+    assert!(Feature::Edge12 as u32 == DVH_FEATURE_EDGE_12);
+    assert!(Feature::Edge20 as u32 == DVH_FEATURE_EDGE_20);
+    assert!(Feature::Interior as u32 == DVH_FEATURE_INTERIOR);
+};
+
+/// A reusable result buffer for the closest-point queries. Opaque; created by
+/// `dvh_near_pairs_new`, released by `dvh_near_pairs_free`. Use one per thread.
+pub struct DvhNearPairs {
+    pub(crate) tag: Tag,
+    /// The queries write it, the accessors read it.
+    pub(crate) access: Access,
+    pub(crate) near_pairs: UnsafeCell<crate::NearPairs>,
+}
+
 /// Counters of one continuous query.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -544,5 +638,8 @@ mod tests {
         assert_layout!(DvhImpact, size 32, align 8, kind 0, a0 4, a1 8, b0 12, b1 16, toi 24);
         assert_layout!(DvhCcdStats, size 40, align 8,
             bv_tests 0, primitive_tests 8, impacts 16, earliest_toi 24, truncated 32);
+        assert_layout!(DvhNearPair, size 136, align 8,
+            kind 0, a0 4, a1 8, b0 12, b1 16, feature_a 20, feature_b 24, distance 32,
+            closest_a 40, closest_b 64, weights_a 88, weights_b 112);
     }
 }

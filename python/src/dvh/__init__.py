@@ -12,14 +12,26 @@ Continuous collision: give meshes a motion over one step with :meth:`Mesh.refit_
 edge-edge pair that meets during the step, with its earliest time of impact, as a structured
 array of :data:`IMPACT_DTYPE`; :func:`ccd_vertex_face` and :func:`ccd_edge_edge` test one pair
 of primitives.
+
+Closest-point stencils: :func:`nearest_features` and :func:`self_nearest_features` return every
+vertex-face and edge-edge pair within a distance, with the distance, closest points, barycentric
+weights and features, as a structured array of :data:`NEAR_PAIR_DTYPE`.
 """
 
 from ._api import (
     CONTACT_DTYPE,
+    FEATURE_EDGE_01,
+    FEATURE_EDGE_12,
+    FEATURE_EDGE_20,
+    FEATURE_INTERIOR,
+    FEATURE_VERTEX_0,
+    FEATURE_VERTEX_1,
+    FEATURE_VERTEX_2,
     IMPACT_DTYPE,
     IMPACT_EDGE_EDGE,
     IMPACT_FACE_VERTEX,
     IMPACT_VERTEX_FACE,
+    NEAR_PAIR_DTYPE,
     CcdStats,
     DvhError,
     Mesh,
@@ -32,9 +44,11 @@ from ._api import (
     ccd_vertex_face,
     collide,
     continuous_collide,
+    nearest_features,
     proximity,
     self_collide,
     self_continuous_collide,
+    self_nearest_features,
     self_proximity,
     triangles_intersect,
     version,
@@ -42,10 +56,18 @@ from ._api import (
 
 __all__ = [
     "CONTACT_DTYPE",
+    "FEATURE_EDGE_01",
+    "FEATURE_EDGE_12",
+    "FEATURE_EDGE_20",
+    "FEATURE_INTERIOR",
+    "FEATURE_VERTEX_0",
+    "FEATURE_VERTEX_1",
+    "FEATURE_VERTEX_2",
     "IMPACT_DTYPE",
     "IMPACT_EDGE_EDGE",
     "IMPACT_FACE_VERTEX",
     "IMPACT_VERTEX_FACE",
+    "NEAR_PAIR_DTYPE",
     "CcdStats",
     "DvhError",
     "Mesh",
@@ -58,9 +80,11 @@ __all__ = [
     "ccd_vertex_face",
     "collide",
     "continuous_collide",
+    "nearest_features",
     "proximity",
     "self_collide",
     "self_continuous_collide",
+    "self_nearest_features",
     "self_proximity",
     "triangles_intersect",
     "version",

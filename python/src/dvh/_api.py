@@ -40,6 +40,16 @@ __all__ = [
     "self_continuous_collide",
     "ccd_vertex_face",
     "ccd_edge_edge",
+    "NEAR_PAIR_DTYPE",
+    "FEATURE_VERTEX_0",
+    "FEATURE_VERTEX_1",
+    "FEATURE_VERTEX_2",
+    "FEATURE_EDGE_01",
+    "FEATURE_EDGE_12",
+    "FEATURE_EDGE_20",
+    "FEATURE_INTERIOR",
+    "nearest_features",
+    "self_nearest_features",
     "version",
 ]
 
@@ -499,6 +509,17 @@ class _Buffers(threading.local):
             raise MemoryError("dvh_pairs_new: out of memory")
         self.pairs = ffi.gc(pairs, lib.dvh_pairs_free)
         self._impacts = None
+        self._near_pairs = None
+
+    @property
+    def near_pairs(self):
+        """The thread's stencil buffer, created by the first closest-point query on the thread."""
+        if self._near_pairs is None:
+            near = lib.dvh_near_pairs_new()
+            if near == ffi.NULL:
+                raise MemoryError("dvh_near_pairs_new: out of memory")
+            self._near_pairs = ffi.gc(near, lib.dvh_near_pairs_free)
+        return self._near_pairs
 
     @property
     def impacts(self):
@@ -1010,3 +1031,131 @@ class Scene:
             s.triangle_tests, s.nodes_refit, s.contacts, bool(s.truncated),
         )
         return contacts, st
+
+
+# ---------------------------------------------------------------------------------------------
+# Closest-point stencils
+
+#: :data:`NEAR_PAIR_DTYPE`'s ``feature_a``/``feature_b``: corner 0 of the primitive (a vertex
+#: primitive is always here).
+FEATURE_VERTEX_0: int = int(lib.DVH_FEATURE_VERTEX_0)
+#: Corner 1.
+FEATURE_VERTEX_1: int = int(lib.DVH_FEATURE_VERTEX_1)
+#: Corner 2 (of a triangle).
+FEATURE_VERTEX_2: int = int(lib.DVH_FEATURE_VERTEX_2)
+#: The open edge from corner 0 to corner 1 (an edge primitive's interior).
+FEATURE_EDGE_01: int = int(lib.DVH_FEATURE_EDGE_01)
+#: The open edge from corner 1 to corner 2.
+FEATURE_EDGE_12: int = int(lib.DVH_FEATURE_EDGE_12)
+#: The open edge from corner 2 to corner 0.
+FEATURE_EDGE_20: int = int(lib.DVH_FEATURE_EDGE_20)
+#: The interior of a triangle.
+FEATURE_INTERIOR: int = int(lib.DVH_FEATURE_INTERIOR)
+
+_NEAR_FIELDS = (
+    ("kind", "=u4", ()),
+    ("a0", "=u4", ()),
+    ("a1", "=u4", ()),
+    ("b0", "=u4", ()),
+    ("b1", "=u4", ()),
+    ("feature_a", "=u4", ()),
+    ("feature_b", "=u4", ()),
+    ("distance", "=f8", ()),
+    ("closest_a", "=f8", (3,)),
+    ("closest_b", "=f8", (3,)),
+    ("weights_a", "=f8", (3,)),
+    ("weights_b", "=f8", (3,)),
+)
+
+#: The dtype of :func:`nearest_features`' stencils, the layout of the C ``DvhNearPair``: ``kind``
+#: and ``a0, a1, b0, b1`` as in :data:`IMPACT_DTYPE`; ``feature_a``, ``feature_b`` (``FEATURE_*``
+#: constants: where each closest point lies, numbered on its primitive's own corners);
+#: ``distance``; ``closest_a``, ``closest_b`` (world coordinates, shape 3); ``weights_a``,
+#: ``weights_b`` (barycentric on the primitive's corners, shape 3: a vertex ``(1, 0, 0)``, an edge
+#: ``(1 - s, s, 0)``, a triangle three weights summing to one). Fields ending in ``_a`` describe
+#: the primitive named by ``a0, a1``. Its offsets and size (136 bytes) are the C struct's.
+NEAR_PAIR_DTYPE = np.dtype(
+    {
+        "names": [f[0] for f in _NEAR_FIELDS],
+        "formats": [(f[1], f[2]) if f[2] else f[1] for f in _NEAR_FIELDS],
+        "offsets": [ffi.offsetof("DvhNearPair", f[0]) for f in _NEAR_FIELDS],
+        "itemsize": ffi.sizeof("DvhNearPair"),
+    }
+)
+
+
+def _near_finish(status, buf, stats):
+    if status:
+        _raise_for(status)
+    n = lib.dvh_near_pairs_len(buf)
+    if n == 0:
+        near = np.empty(0, dtype=NEAR_PAIR_DTYPE)
+    else:
+        data = lib.dvh_near_pairs_data(buf)
+        near = np.frombuffer(ffi.buffer(data, NEAR_PAIR_DTYPE.itemsize * n), dtype=NEAR_PAIR_DTYPE).copy()
+    return near if stats == ffi.NULL else (near, QueryStats._of(stats))
+
+
+_NearResult = Union[np.ndarray, Tuple[np.ndarray, QueryStats]]
+
+
+def nearest_features(
+    a: Mesh,
+    b: Mesh,
+    distance: float,
+    pose_a=None,
+    pose_b=None,
+    mode: str = "triangles",
+    max_pairs: int = 0,
+    threads: int = 0,
+    max_depth: int = 0,
+    budget: int = 0,
+    stats: bool = False,
+) -> _NearResult:
+    """Every vertex-face and edge-edge pair of ``a`` and ``b`` (each placed by its pose) whose
+    distance is at most ``distance``, with the distance, the closest point on each primitive,
+    its barycentric weights and the feature it lies on: the stencils a simulator builds
+    repulsion, barrier or constraint forces from.
+
+    Returns a structured array of :data:`NEAR_PAIR_DTYPE`, sorted by ``(kind, a0, a1, b0, b1)``:
+    each vertex of ``a`` against each triangle of ``b`` (:data:`IMPACT_VERTEX_FACE`), each
+    triangle of ``a`` against each vertex of ``b`` (:data:`IMPACT_FACE_VERTEX`), each edge of
+    ``a`` against each edge of ``b`` (:data:`IMPACT_EDGE_EDGE`, lower vertex first; an edge is
+    reported once). The decision "distance <= d" is exact (0 gives the touching pairs); the
+    distance is within one unit in the last place of the correctly rounded one, points and
+    weights within two of the exact ones. Where closest points are not unique (parallel edges)
+    the pair is taken at an end, tried in the order a0, a1, b0, b1, the first of the closest kept.
+
+    ``mode``: ``"triangles"`` (every stencil), ``"first_hit"`` (at most one, the same for any
+    thread count); ``"leaves"``, ``"depth"``, ``"budget"`` change only where the traversal stops
+    (the stencils are the same). ``max_pairs``, ``threads`` and ``stats`` as :func:`collide`
+    (in the statistics, ``triangle_tests`` counts the primitive pairs tested exactly)."""
+    pa, pb = _mesh("a", a), _mesh("b", b)
+    d = _distance(distance)
+    ka, kb = _pose("pose_a", pose_a), _pose("pose_b", pose_b)
+    o = _options(mode, max_pairs, threads, max_depth, budget)
+    s = _stats_out(stats)
+    buf = _buffers.near_pairs
+    return _near_finish(lib.dvh_nearest_features(pa, ka, pb, kb, d, o, buf, s), buf, s)
+
+
+def self_nearest_features(
+    mesh: Mesh,
+    distance: float,
+    mode: str = "triangles",
+    max_pairs: int = 0,
+    threads: int = 0,
+    max_depth: int = 0,
+    budget: int = 0,
+    stats: bool = False,
+) -> _NearResult:
+    """One mesh's stencils with itself: each vertex against each triangle that does not contain
+    it (:data:`IMPACT_VERTEX_FACE`, the vertex in ``a0``), each pair of edges sharing no vertex
+    (:data:`IMPACT_EDGE_EDGE`, ``(a0, a1) < (b0, b1)``), within ``distance``. Options and result
+    as :func:`nearest_features`."""
+    p = _mesh("mesh", mesh)
+    d = _distance(distance)
+    o = _options(mode, max_pairs, threads, max_depth, budget)
+    s = _stats_out(stats)
+    buf = _buffers.near_pairs
+    return _near_finish(lib.dvh_self_nearest_features(p, d, o, buf, s), buf, s)

@@ -134,6 +134,7 @@ impl PrimitiveTest for Stencils<'_> {
             b1,
             feature_a: n.features[ia],
             feature_b: n.features[ib],
+            padding: 0,
             distance: n.distance,
             closest_a: n.points[ia],
             closest_b: n.points[ib],

@@ -33,6 +33,9 @@ pub struct NearPair {
     pub feature_a: Feature,
     /// Where the closest point of the second primitive lies.
     pub feature_b: Feature,
+    /// Always zero: the C layout's padding, written so that results compare and hash byte for
+    /// byte.
+    pub(crate) padding: u32,
     /// The distance, within one unit in the last place of the exact one correctly rounded.
     pub distance: f64,
     /// The closest point of the first primitive, in world coordinates (each within two units in
