@@ -236,7 +236,7 @@ fn decide<T: Num>(pair: Primitive, v: &[T; 13], one: &T) -> Option<(Choice, bool
 /// `d`, else `None`. `d` must be finite and not negative, the coordinates finite.
 pub(crate) fn nearest(pair: Primitive, p: &[Point; 4], d: f64) -> Option<Nearest> {
     debug_assert!(d >= 0.0 && d.is_finite());
-    if boxes_apart(pair, p, d) {
+    if boxes_apart(pair, p, d) || filter::certainly_apart(pair, p, d) {
         return None;
     }
     let mut values = [0.0; 13];
@@ -618,5 +618,6 @@ fn round_intervals(v: &Values<Interval>) -> Option<Rounded> {
     Some((distance, points, weights))
 }
 
+mod filter;
 #[cfg(test)]
 mod tests;

@@ -341,3 +341,35 @@ fn bad_inputs_are_named_and_refused() {
     let n = edge_edge_nearest(&[[0.0; 3]; 4], 0.0).unwrap().unwrap();
     assert_eq!((n.features, n.distance), ([Feature::Vertex0; 2], 0.0));
 }
+
+#[test]
+fn the_filter_never_rejects_at_the_exact_distance() {
+    // d the least double at or beyond the exact distance, and the double below: the first is
+    // within, the second not, and the floating-point filter must leave both to the exact test.
+    let mut rng = Rng::new(0xf11_7e5);
+    for case in 0..2000 {
+        let (scale, offset) = [(1.0, 0.0), (1e-200, 0.0), (1e200, 1e201), (1.0, 1e12)][case % 4];
+        let mut c = || (rng.range(-0.5, 0.5)) * scale + offset;
+        let p = [
+            [c(), c(), c()],
+            [c(), c(), c()],
+            [c(), c(), c()],
+            [c(), c(), c()],
+        ];
+        for pair in [Primitive::VertexFace, Primitive::EdgeEdge] {
+            let min = oracle(pair, &p).iter().map(Cand::squared).min().unwrap();
+            // Within a unit of the root, then stepped to the boundary.
+            let mut d = sqrt_rational(&min);
+            while q(d) * q(d) < min {
+                d = d.next_up();
+            }
+            while d > 0.0 && q(d.next_down()) * q(d.next_down()) >= min {
+                d = d.next_down();
+            }
+            assert!(check(pair, &p, d), "{pair:?} {p:?} at {d}");
+            if d > 0.0 {
+                assert!(!check(pair, &p, d.next_down()), "{pair:?} {p:?}");
+            }
+        }
+    }
+}
