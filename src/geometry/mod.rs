@@ -3,8 +3,10 @@
 
 pub mod aabb;
 pub mod adjacent;
+pub(crate) mod ball;
 pub(crate) mod ccd;
 pub mod distance;
+pub(crate) mod double_double;
 pub(crate) mod interval;
 pub mod nearest;
 pub mod polygon;

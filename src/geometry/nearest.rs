@@ -3,10 +3,12 @@
 //! the distance, closest points and barycentric weights rounded from their exact values.
 //!
 //! Every decision is the sign of a polynomial in the coordinates (and `d`), made as the
-//! proximity test makes it ([`super::distance`]): interval arithmetic first, big integers where
-//! an interval cannot tell. The values are rational functions of the coordinates: computed in
-//! intervals, and where an interval is wider than the rounding allows, again in exact rationals
-//! and rounded.
+//! proximity test makes it ([`super::distance`]): interval arithmetic first (midpoint-radius
+//! [`Ball`]s, the cheapest certain signs), big integers where an interval cannot tell. The
+//! values are rational functions of the coordinates: computed in intervals about double-double
+//! centres ([`DdInterval`]), which are narrow enough to round from in all but nearly singular
+//! cases, and where one is wider than the rounding allows, again in exact rationals and
+//! rounded.
 //!
 //! The closest point of a point and a triangle (a convex set) is unique; the feature reported
 //! is the lowest-dimensional one holding it (a corner before an edge before the interior). Two
@@ -17,7 +19,9 @@
 //! flat onto a segment), the first in the order 01, 12, 20 is kept.
 
 pub(crate) use super::Primitive;
+use super::ball::Ball;
 use super::distance::{Big, Num, Ring, V, at_most, cross, dot, sub};
+use super::double_double::DdInterval;
 use super::interval::Interval;
 use super::predicates::{Point, to_integers, to_integers_scaled};
 use num_bigint::BigInt;
@@ -244,7 +248,7 @@ pub(crate) fn nearest(pair: Primitive, p: &[Point; 4], d: f64) -> Option<Nearest
         values[k] = *x;
     }
     values[12] = d;
-    let decided = decide(pair, &values.map(Interval::point), &Interval::point(1.0)).or_else(|| {
+    let decided = decide(pair, &values.map(Ball::point), &Ball::point(1.0)).or_else(|| {
         // The same signs in integers: every double is an integer times a power of two, and
         // scaling all inputs by one power changes no sign (each test compares terms of one
         // degree). The constant one is not scaled, so the comparisons that use it (a vertex
@@ -280,38 +284,12 @@ trait Field: Ring {
     fn over(&self, d: &Self) -> Option<Self>;
 }
 
-impl Field for Interval {
-    fn of(x: f64) -> Interval {
-        Interval::point(x)
+impl Field for DdInterval {
+    fn of(x: f64) -> DdInterval {
+        DdInterval::point(x)
     }
-    fn over(&self, d: &Interval) -> Option<Interval> {
-        let finite = d.hi.is_finite() && self.lo.is_finite() && self.hi.is_finite();
-        if d.lo.is_nan() || d.lo <= 0.0 || !finite {
-            return None;
-        }
-        // d > 0: the extremes are at these corners, each quotient rounded outwards by one unit.
-        let lo = if self.lo >= 0.0 {
-            self.lo / d.hi
-        } else {
-            self.lo / d.lo
-        };
-        let hi = if self.hi >= 0.0 {
-            self.hi / d.lo
-        } else {
-            self.hi / d.hi
-        };
-        Some(Interval {
-            lo: if lo == 0.0 && self.lo == 0.0 {
-                0.0
-            } else {
-                lo.next_down()
-            },
-            hi: if hi == 0.0 && self.hi == 0.0 {
-                0.0
-            } else {
-                hi.next_up()
-            },
-        })
+    fn over(&self, d: &DdInterval) -> Option<DdInterval> {
+        self.divide(d)
     }
 }
 
@@ -526,25 +504,6 @@ fn features(choice: Choice) -> [Feature; 2] {
     }
 }
 
-/// A double within two units in the last place of every value in `x`, if there is one.
-fn tight(x: Interval) -> Option<f64> {
-    if x.lo == x.hi {
-        return Some(x.lo);
-    }
-    let mid = x.lo + 0.5 * (x.hi - x.lo);
-    (mid.is_finite() && mid.next_up().next_up() >= x.hi && mid.next_down().next_down() <= x.lo)
-        .then_some(mid)
-}
-
-/// The square root of a value in `x`, within one unit in the last place of the correctly
-/// rounded root of every value in `x`, if there is one. Rounded roots are monotone, so every
-/// value's rounded root lies between those of the ends: equal ends give it exactly, adjacent
-/// ones within one unit.
-fn tight_sqrt(x: Interval) -> Option<f64> {
-    let (lo, hi) = (x.lo.max(0.0).sqrt(), x.hi.sqrt());
-    (hi.is_finite() && hi <= lo.next_up()).then_some(lo)
-}
-
 /// The square root of `x >= 0`, within one unit in the last place of the correctly rounded one:
 /// the integer square root of `x` scaled by an even power of two to at least 110 bits, rounded.
 fn sqrt_rational(x: &BigRational) -> f64 {
@@ -573,15 +532,16 @@ fn sqrt_rational(x: &BigRational) -> f64 {
 /// The rounded values of `choice` for the points `p`.
 fn values_of(pair: Primitive, p: &[Point; 4], choice: Choice) -> Nearest {
     let features = features(choice);
-    if let Some(v) = values_in(pair, p.map(|x| x.map(Interval::point)), choice)
-        && let Some(rounded) = round_intervals(&v)
+    let done = |rounded: Rounded| Nearest {
+        features,
+        distance: rounded.0,
+        points: rounded.1,
+        weights: rounded.2,
+    };
+    if let Some(v) = values_in(pair, p.map(|x| x.map(DdInterval::point)), choice)
+        && let Some(rounded) = round(&v)
     {
-        return Nearest {
-            features,
-            distance: rounded.0,
-            points: rounded.1,
-            weights: rounded.2,
-        };
+        return done(rounded);
     }
     // In integers: every coordinate an integer times one power of two, 2^e. Weights are ratios
     // of terms of one degree, free of the scale; points are of degree one (times 2^e), squared
@@ -605,14 +565,14 @@ fn values_of(pair: Primitive, p: &[Point; 4], choice: Choice) -> Nearest {
 
 type Rounded = (f64, [Point; 2], [[f64; 3]; 2]);
 
-fn round_intervals(v: &Values<Interval>) -> Option<Rounded> {
-    let distance = tight_sqrt(v.squared)?;
+fn round(v: &Values<DdInterval>) -> Option<Rounded> {
+    let distance = v.squared.tight_sqrt()?;
     let mut points = [[0.0; 3]; 2];
     let mut weights = [[0.0; 3]; 2];
     for s in 0..2 {
         for k in 0..3 {
-            points[s][k] = tight(v.points[s][k])?;
-            weights[s][k] = tight(v.weights[s][k])?;
+            points[s][k] = v.points[s][k].tight()?;
+            weights[s][k] = v.weights[s][k].tight()?;
         }
     }
     Some((distance, points, weights))

@@ -1,0 +1,369 @@
+//! Intervals about a double-double centre: a value is `hi + lo` (an unevaluated sum, `lo` at
+//! most half a unit in the last place of `hi`) give or take `rad`. Each operation computes the
+//! centre with error-free transformations and adds a proven bound on what it rounded off to
+//! the radius, so the enclosure is certain. About 106 bits in the centre let values that are
+//! rational functions of doubles round correctly from it in all but nearly singular cases,
+//! where plain intervals are often a few units too wide.
+//!
+//! Underflow loses at most 2^-1075 per rounding: every radius that is not exactly zero
+//! includes [`TINY`], far more than the few roundings of one operation lose. Overflow makes a
+//! part infinite or NaN, which then spreads to the results; [`DdInterval::is_finite`] tells.
+
+use std::ops::{Add, Mul, Neg, Sub};
+
+const fn pow2(e: i64) -> f64 {
+    f64::from_bits(((1023 + e) as u64) << 52)
+}
+
+/// Bounds the error of two or three roundings relative to the magnitudes rounded (each at most
+/// 2^-53 of its result): 2^-51.
+const REL: f64 = pow2(-51);
+/// A radius computed in round-to-nearest from non-negative terms, times this, bounds the exact
+/// radius: it covers far more roundings (each 2^-53 relative) than any formula here makes.
+const SLACK: f64 = 1.0 + pow2(-45);
+/// 2^-1050: more than underflow can lose in one operation (its roundings, each 2^-1075).
+const TINY: f64 = f64::from_bits(1 << 24);
+/// Magnitudes between `SAFE` and `BIG` leave products of two error-free (no underflow in the
+/// error term, no overflow in Dekker's split), and neighbours two units away finite.
+const SAFE: f64 = pow2(-900);
+const BIG: f64 = pow2(900);
+
+/// A closed interval `[hi + lo - rad, hi + lo + rad]` certainly holding the exact value.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct DdInterval {
+    pub hi: f64,
+    pub lo: f64,
+    pub rad: f64,
+}
+
+/// `a + b` as `s + e` exactly (Knuth), `s` the rounded sum.
+#[inline(always)]
+fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
+
+/// `a b` as `p + e` exactly when neither underflows nor overflows, `p` the rounded product;
+/// otherwise `e` is off by underflow's few 2^-1075, or NaN.
+#[inline(always)]
+fn two_prod(a: f64, b: f64) -> (f64, f64) {
+    let p = a * b;
+    if cfg!(any(target_feature = "fma", target_arch = "aarch64")) {
+        return (p, a.mul_add(b, -p));
+    }
+    // Dekker: each factor split into halves of at most 26 bits, whose products are exact.
+    let split = |x: f64| {
+        let c = 134_217_729.0 * x;
+        let h = c - (c - x);
+        (h, x - h)
+    };
+    let ((ah, al), (bh, bl)) = (split(a), split(b));
+    (p, ((ah * bh - p) + ah * bl + al * bh) + al * bl)
+}
+
+/// A radius computed in round-to-nearest from non-negative terms, made an upper bound on the
+/// exact one (relative roundings and underflow both covered).
+#[inline(always)]
+fn up(x: f64) -> f64 {
+    x * SLACK + TINY
+}
+
+impl DdInterval {
+    pub(crate) fn point(x: f64) -> DdInterval {
+        DdInterval {
+            hi: x,
+            lo: 0.0,
+            rad: 0.0,
+        }
+    }
+
+    /// Exactly zero.
+    fn is_zero(&self) -> bool {
+        self.hi == 0.0 && self.lo == 0.0 && self.rad == 0.0
+    }
+
+    /// Exactly the double `hi`.
+    fn is_double(&self) -> bool {
+        self.lo == 0.0 && self.rad == 0.0
+    }
+
+    pub(crate) fn is_finite(&self) -> bool {
+        self.hi.is_finite() && self.lo.is_finite() && self.rad.is_finite()
+    }
+
+    /// Is every value certainly at least zero?
+    fn nonnegative(&self) -> bool {
+        // `hi` at least a bound on |lo| + rad, rounded up.
+        self.is_finite() && self.hi >= 0.0 && self.hi >= (self.lo.abs() + self.rad) * SLACK
+    }
+
+    /// `self / d` for `d` certainly positive; `None` when `d` may hold zero or a magnitude is
+    /// out of the safe range. The centre is the double-double quotient; the radius bounds
+    /// `|x - c y| / |y|` for `x` in `self`, `y` in `d`, with `x - c y` enclosed by `self - c d`.
+    pub(crate) fn divide(&self, d: &DdInterval) -> Option<DdInterval> {
+        if !(self.is_finite() && d.is_finite() && d.hi >= SAFE && d.hi <= BIG) {
+            return None;
+        }
+        // A lower bound on every value of `d`: `hi` less (a bound on |lo| + rad), rounded down.
+        let below = (d.hi - (d.lo.abs() + d.rad) * SLACK) * (1.0 - pow2(-50));
+        if below.is_nan() || below <= 0.0 {
+            return None;
+        }
+        if self.is_zero() {
+            return Some(*self);
+        }
+        let q0 = self.hi / d.hi;
+        let r = *self - DdInterval::point(q0) * *d;
+        let (hi, lo) = two_sum(q0, (r.hi + r.lo) / d.hi);
+        let c = DdInterval { hi, lo, rad: 0.0 };
+        let residual = *self - c * *d;
+        let rad = up((residual.hi.abs() + residual.lo.abs() + residual.rad) / below);
+        let q = DdInterval { hi, lo, rad };
+        q.is_finite().then_some(q)
+    }
+
+    /// A double within two units in the last place of every value, if there is one: `hi`, when
+    /// every value lies within two of its neighbours (then so does every value rounded).
+    pub(crate) fn tight(&self) -> Option<f64> {
+        let m = self.hi;
+        if self.is_double() {
+            return m.is_finite().then_some(m);
+        }
+        if !(self.is_finite() && m.abs() >= SAFE && m.abs() <= BIG) {
+            return None;
+        }
+        let off = (self.lo.abs() + self.rad) * SLACK;
+        // Both differences exact (Sterbenz): the neighbours are within a factor two of `m`.
+        let (down, up) = (m - m.next_down().next_down(), m.next_up().next_up() - m);
+        (off <= down && off <= up).then_some(m)
+    }
+
+    /// The square root of a value (not negative), within one unit in the last place of the
+    /// correctly rounded root of every value, if there is one: `s`, the rounded root of `hi`,
+    /// when every value lies between the squares of `s`'s neighbours (then its root does, and
+    /// rounds to one of them or to `s`).
+    pub(crate) fn tight_sqrt(&self) -> Option<f64> {
+        if self.is_zero() {
+            return Some(0.0);
+        }
+        if !(self.is_finite() && self.hi >= SAFE && self.hi <= BIG) {
+            return None;
+        }
+        let s = self.hi.sqrt();
+        // The squares are exact: s is within 2^±450.
+        let square = |x: f64| {
+            let (hi, lo) = two_prod(x, x);
+            DdInterval { hi, lo, rad: 0.0 }
+        };
+        let ok = (*self - square(s.next_down())).nonnegative()
+            && (square(s.next_up()) - *self).nonnegative();
+        ok.then_some(s)
+    }
+}
+
+impl Neg for DdInterval {
+    type Output = DdInterval;
+    #[inline(always)]
+    fn neg(self) -> DdInterval {
+        DdInterval {
+            hi: -self.hi,
+            lo: -self.lo,
+            rad: self.rad,
+        }
+    }
+}
+
+impl Add for DdInterval {
+    type Output = DdInterval;
+    #[inline(always)]
+    fn add(self, o: DdInterval) -> DdInterval {
+        let (s, e) = two_sum(self.hi, o.hi);
+        let rad = self.rad + o.rad;
+        if self.lo == 0.0 && o.lo == 0.0 {
+            // s + e is the centres' sum exactly; exact sums stay exact.
+            let rad = if rad == 0.0 { 0.0 } else { up(rad) };
+            return DdInterval { hi: s, lo: e, rad };
+        }
+        // Rounded twice: (lo + lo') within 2^-53 of it, then plus e.
+        let t = (self.lo + o.lo) + e;
+        let (hi, lo) = two_sum(s, t);
+        let err = REL * ((self.lo.abs() + o.lo.abs()) + e.abs());
+        DdInterval {
+            hi,
+            lo,
+            rad: up(rad + err),
+        }
+    }
+}
+
+impl Sub for DdInterval {
+    type Output = DdInterval;
+    #[inline(always)]
+    fn sub(self, o: DdInterval) -> DdInterval {
+        self + -o
+    }
+}
+
+impl Mul for DdInterval {
+    type Output = DdInterval;
+    #[inline(always)]
+    fn mul(self, o: DdInterval) -> DdInterval {
+        // Products with an exact zero stay exact zeros (coordinates shared by both primitives),
+        // whatever the other factor, even one that overflowed.
+        if self.is_zero() || o.is_zero() {
+            return DdInterval::point(0.0);
+        }
+        let (p, e) = two_prod(self.hi, o.hi);
+        if self.is_double() && o.is_double() && (SAFE..=BIG).contains(&p.abs()) {
+            return DdInterval {
+                hi: p,
+                lo: e,
+                rad: 0.0,
+            };
+        }
+        // (a + a')(b + b') = p + e + a b' + a' b + a' b': the last term is dropped, the middle
+        // two are rounded three times (two products, one sum) and once more added to e.
+        let (a, a2, b, b2) = (self.hi, self.lo, o.hi, o.lo);
+        let (ab2, a2b) = (a * b2, a2 * b);
+        let t = (ab2 + a2b) + e;
+        let (hi, lo) = two_sum(p, t);
+        let err = (a2 * b2).abs() + REL * (ab2.abs() + a2b.abs() + e.abs());
+        // The radii spread through the centres' magnitudes.
+        let spread =
+            (a.abs() + a2.abs()) * o.rad + (b.abs() + b2.abs()) * self.rad + self.rad * o.rad;
+        DdInterval {
+            hi,
+            lo,
+            rad: up(spread + err),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixtures::Rng;
+    use num_rational::BigRational;
+    use num_traits::{Signed, ToPrimitive};
+
+    type Q = BigRational;
+
+    fn q(x: f64) -> Q {
+        Q::from_float(x).unwrap()
+    }
+
+    /// Does `x` hold `v`?
+    fn holds(x: &DdInterval, v: &Q) -> bool {
+        let c = q(x.hi) + q(x.lo);
+        (v - c).abs() <= q(x.rad)
+    }
+
+    /// Is `s` within one unit of the correctly rounded root of `v`? One of `s` and its
+    /// neighbours rounds the root: its rounding interval's ends, squared, bracket `v`.
+    fn root_near(s: f64, v: &Q) -> bool {
+        let two = q(2.0);
+        let rounds = |c: f64| {
+            let lo = (q(c.next_down().max(0.0)) + q(c)) / &two;
+            let hi = (q(c) + q(c.next_up())) / &two;
+            &lo * &lo <= *v && *v <= &hi * &hi
+        };
+        [s.next_down(), s, s.next_up()].into_iter().any(rounds)
+    }
+
+    /// A double of random sign, mantissa and exponent within `2^±span`, sometimes zero or a
+    /// small integer (so that exact results and cancellations happen).
+    fn random_double(rng: &mut Rng, span: i64) -> f64 {
+        let x = match rng.below(8) {
+            0 => 0.0,
+            1 => rng.below(8) as f64,
+            _ => {
+                // Exponents down into the subnormals, up to 2^1000 (finite inputs).
+                let e = rng.below((span + span.min(1000)) as u64 + 1) as i64 - span;
+                rng.range(1.0, 2.0) * pow2(e / 2) * pow2(e - e / 2)
+            }
+        };
+        if rng.below(2) == 0 { x } else { -x }
+    }
+
+    #[test]
+    fn enclosures_hold_the_exact_results_of_random_operations() {
+        let mut rng = Rng::new(0xdd_1e7e);
+        let mut tight = 0;
+        for case in 0..4000 {
+            // Normal magnitudes, then extreme ones where underflow and overflow happen.
+            let span = [4, 40, 600, 1100][case % 4];
+            let mut xs: Vec<(DdInterval, Q)> = (0..6)
+                .map(|_| {
+                    let x = random_double(&mut rng, span);
+                    (DdInterval::point(x), q(x))
+                })
+                .collect();
+            for _ in 0..24 {
+                let (i, j) = (
+                    rng.below(xs.len() as u64) as usize,
+                    rng.below(xs.len() as u64) as usize,
+                );
+                let ((a, qa), (b, qb)) = (xs[i].clone(), xs[j].clone());
+                let got = match rng.below(5) {
+                    0 => Some((a + b, &qa + &qb)),
+                    1 => Some((a - b, &qa - &qb)),
+                    2 | 3 => Some((a * b, &qa * &qb)),
+                    _ => a.divide(&b).map(|x| {
+                        // Only a divisor certainly positive is accepted.
+                        assert!(qb.is_positive(), "{b:?}");
+                        (x, &qa / &qb)
+                    }),
+                };
+                let Some((x, v)) = got else { continue };
+                if !x.is_finite() {
+                    continue;
+                }
+                assert!(
+                    holds(&x, &v),
+                    "{a:?} {b:?} -> {x:?}, exact {}",
+                    v.to_f64().unwrap()
+                );
+                if let Some(m) = x.tight() {
+                    // Within two units of the exact value rounded.
+                    let w = v.to_f64().unwrap();
+                    let near = [m, m.next_up(), m.next_up().next_up(), m.next_down()]
+                        .into_iter()
+                        .chain([m.next_down().next_down()]);
+                    assert!(near.into_iter().any(|n| n == w), "{x:?}: {m} against {w}");
+                    if x.rad > 0.0 {
+                        tight += 1;
+                    }
+                }
+                if v.is_positive()
+                    && let Some(s) = x.tight_sqrt()
+                {
+                    assert!(root_near(s, &v), "{x:?}: root {s}");
+                }
+                let k = rng.below(xs.len() as u64) as usize;
+                xs[k] = (x, v);
+            }
+        }
+        // The rounding is not vacuous: inexact results were rounded.
+        assert!(tight > 10_000, "{tight}");
+    }
+
+    #[test]
+    fn roots_of_squares_and_products() {
+        let mut rng = Rng::new(0x05ee_d0f5);
+        for _ in 0..2000 {
+            // An exact square of a double: its root is the double.
+            let x = rng.range(1.0, 2.0) * pow2(rng.below(800) as i64 - 400);
+            let sq = DdInterval::point(x) * DdInterval::point(x);
+            assert_eq!(sq.tight_sqrt(), Some(x), "{x}");
+            // A product of three: within one unit of the correctly rounded root.
+            let y = rng.range(0.5, 2.0);
+            let z = rng.range(0.5, 2.0);
+            let p = DdInterval::point(x) * DdInterval::point(y) * DdInterval::point(z);
+            let exact = q(x) * q(y) * q(z);
+            assert!(holds(&p, &exact));
+            let s = p.tight_sqrt().expect("a tight root");
+            assert!(root_near(s, &exact), "{p:?}: root {s}");
+        }
+    }
+}
