@@ -20,7 +20,7 @@
 #                                              fuzz/coverage/<target>/lines.txt for comparing
 #                                              two runs with `comm`
 #
-# Targets: triangle_oracle, c_abi, scene, self_collision, ccd_primitive, ccd_mesh. FUZZ_JOBS sets the processes of `run`
+# Targets: triangle_oracle, c_abi, scene, self_collision, ccd_primitive, ccd_mesh, nearest_mesh. FUZZ_JOBS sets the processes of `run`
 # (default: one per core). `run` and `coverage` need the nightly toolchain; they install
 # cargo-fuzz and nightly's llvm-tools when they are missing. Work files go to fuzz/work/<target>.
 # A corpus is replayed under `cargo test` by `DVH_FUZZ_CORPUS=fuzz/corpus cargo test --test

@@ -138,3 +138,15 @@ fn ccd_mesh_inputs() {
         "no kept inputs for ccd_mesh"
     );
 }
+
+#[test]
+fn nearest_mesh_inputs() {
+    // A sheet folded over itself, queried at 1/4; a torus with a vertex pushed in, placed by a
+    // quarter turn.
+    drivers::nearest_mesh(&[2, 3, 2, 0, 2, 4, 0]);
+    drivers::nearest_mesh(&[1, 0, 1, 3, 8, 8, 8, 1, 32, 1, 64, 0, 0, 0, 0]);
+    assert!(
+        replay("nearest_mesh", drivers::nearest_mesh) > 0,
+        "no kept inputs for nearest_mesh"
+    );
+}

@@ -18,6 +18,9 @@
 //!   end, the reversed motion) and the conservative mode's promises.
 //! - [`ccd_mesh`]: moving sheets and tori, the continuous queries of one mesh and of two against
 //!   brute force over every primitive pair, with every option.
+//! - [`nearest_mesh`]: sheets and tori bent and placed by the bytes, the closest-point queries
+//!   of one mesh and of two against brute force by the exact primitive functions, in every mode,
+//!   and every stencil's own promises.
 
 #![allow(dead_code, unused_imports)] // each fuzz target uses one driver
 
@@ -25,12 +28,14 @@ mod c_abi;
 mod ccd;
 mod input;
 mod judge;
+mod nearest;
 mod scene;
 mod self_collision;
 mod triangle;
 
 pub use c_abi::c_abi;
 pub use ccd::{ccd_mesh, ccd_primitive};
+pub use nearest::nearest_mesh;
 pub use scene::scene;
 pub use self_collision::self_collision;
 pub use triangle::{oracle, triangle_oracle};

@@ -12,14 +12,17 @@
 //! the mesh with itself and the pairs of triangles sharing a vertex (and the mirrored pairs)
 //! dropped afterwards; and, with the octree, on a few frames spread over the run (unless
 //! `--no-proximity`), `self_proximity` at 0.1%, 1% and 5% of the mesh's size (its box's
-//! diagonal). The table gives medians per frame. Every frame checks that `self_collide`'s pairs
+//! diagonal), and `self_nearest_features` (the vertex-face and edge-edge stencils with their
+//! closest points) at the same distances on the same frames, its time also given as a ratio to
+//! `self_proximity`'s. The table gives medians per frame. Every frame checks that `self_collide`'s pairs
 //! of triangles sharing no vertex are exactly the naive route's.
 
 use crate::report::median;
 use crate::scene::{Size, mesh};
 use dvh::fixtures::{MeshData, grid};
 use dvh::{
-    BuildOptions, Mesh, Pair, Pairs, QueryOptions, TreeKind, collide, self_collide, self_proximity,
+    BuildOptions, Mesh, NearPairs, Pair, Pairs, QueryOptions, TreeKind, collide, self_collide,
+    self_nearest_features, self_proximity,
 };
 use std::f64::consts::PI;
 use std::fmt::Write;
@@ -164,7 +167,7 @@ pub fn run(
     );
     let _ = writeln!(
         out,
-        "| mesh | triangles | tree | query | ms per frame | ratio to self_collide | pairs per frame | triangle tests per frame |"
+        "| mesh | triangles | tree | query | ms per frame | ratio to self_collide | pairs (stencils) per frame | triangle (primitive) tests per frame |"
     );
     let _ = writeln!(out, "|---|---|---|---|---|---|---|---|");
     for (m, tree) in meshes
@@ -193,6 +196,18 @@ pub fn run(
                         0,
                     )
                 }))
+                .chain(fractions.iter().map(|f| {
+                    (
+                        format!(
+                            "self_nearest_features at {:.1}% ({:.2e})",
+                            f * 100.0,
+                            f * diagonal
+                        ),
+                        Vec::new(),
+                        0,
+                        0,
+                    )
+                }))
                 .collect();
         let (mut own, mut all, mut filtered) = (Pairs::new(), Pairs::new(), Vec::new());
         // The first query also finds what depends on the shape alone (the patches' loops).
@@ -205,6 +220,7 @@ pub fn run(
             0,
         ));
         let mut near = Pairs::new();
+        let mut stencils = NearPairs::new();
         let sampled = frames.min(10);
         let mut self_on_sampled = Vec::new();
         for f in 0..frames {
@@ -245,6 +261,13 @@ pub fn run(
                     rows[2 + k].1.push(ms);
                     rows[2 + k].2 += near.len() as u64;
                     rows[2 + k].3 += stats.triangle_tests;
+                    let ms = fastest(repeat, &mut mesh, &positions, |mesh| {
+                        stats = self_nearest_features(mesh, d, &options, &mut stencils)
+                            .expect("nearest features");
+                    })?;
+                    rows[5 + k].1.push(ms);
+                    rows[5 + k].2 += stencils.len() as u64;
+                    rows[5 + k].3 += stats.triangle_tests;
                 }
             }
         }
@@ -255,7 +278,16 @@ pub fn run(
                 continue;
             }
             let n = ms.len() as f64;
-            let reference = if (2..5).contains(&k) {
+            let what = if (5..8).contains(&k) {
+                format!(
+                    "{what}; {:.2}x self_proximity, {} bytes per stencil",
+                    median(ms) / median(&rows[k - 3].1),
+                    std::mem::size_of::<dvh::NearPair>()
+                )
+            } else {
+                what.clone()
+            };
+            let reference = if (2..8).contains(&k) {
                 base_sampled
             } else {
                 base
