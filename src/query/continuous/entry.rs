@@ -25,7 +25,7 @@ use std::sync::atomic::AtomicU64;
 /// primitive pair. The result replaces the contents of `out`, sorted by
 /// `(kind, a0, a1, b0, b1)`; the counters are returned.
 ///
-/// Errors: [`Error::OutOfMemory`] when the result cannot grow (set
+/// Errors: [`crate::Error::OutOfMemory`] when the result cannot grow (set
 /// [`CcdOptions::max_impacts`] to bound it). On error `out` still holds the previous result.
 pub fn continuous_collide(
     a: &Mesh,
@@ -126,7 +126,15 @@ fn run(a: &Mesh, b: Option<&Mesh>, options: &CcdOptions, out: &mut Impacts) -> R
             best: &best,
         },
     };
-    let joined = primitives::run(&narrow, leaves, options.threads, limit, workers, spare)?;
+    let joined = primitives::run(
+        &narrow,
+        leaves,
+        options.threads,
+        limit,
+        workers,
+        spare,
+        Impact::key,
+    )?;
     stats.primitive_tests = joined.primitive_tests;
     if options.earliest_only {
         let first = workers
@@ -136,7 +144,6 @@ fn run(a: &Mesh, b: Option<&Mesh>, options: &CcdOptions, out: &mut Impacts) -> R
         spare.extend(first);
     } else {
         stats.truncated = joined.truncated;
-        spare.sort_unstable_by_key(Impact::key);
     }
     stats.impacts = spare.len() as u64;
     stats.earliest_toi = spare.iter().map(|i| i.toi).fold(f64::INFINITY, f64::min);

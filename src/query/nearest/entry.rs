@@ -70,9 +70,6 @@ pub fn self_nearest_features(
     run(mesh, None, None, distance, options, out)
 }
 
-/// Below this many stencils, the result is sorted on the calling thread.
-const PARALLEL_SORT_MIN: usize = 1 << 14;
-
 /// The closest-point test: primitive pairs whose boxes come within `d`, then the exact one.
 struct Stencils<'p> {
     a: &'p [Point],
@@ -238,19 +235,8 @@ fn run(
         limit,
         workers,
         spare,
+        NearPair::key,
     )?;
-    // Stencils are large (136 bytes) and many: the sort is the one step of the query that is not
-    // shared out, so it is, when every thread of the pool may be used.
-    let pool = rayon::current_num_threads();
-    if spare.len() >= PARALLEL_SORT_MIN
-        && pool > 1
-        && crate::threads::resolve(options.threads) == pool
-    {
-        use rayon::slice::ParallelSliceMut;
-        spare.par_sort_unstable_by_key(NearPair::key);
-    } else {
-        spare.sort_unstable_by_key(NearPair::key);
-    }
     stats.triangle_tests = joined.primitive_tests;
     // As the discrete queries: FirstHit stopping at its one stencil is not a cut.
     stats.truncated = joined.truncated && options.mode != QueryMode::FirstHit;

@@ -1,7 +1,7 @@
 //! The narrow phase over a traversal's node pairs: on the calling thread, or cut into chunks
 //! taken in order by several, the results joined in the order of the chunks.
 
-use super::narrow::{Narrow, PrimitiveTest, Worker};
+use super::narrow::{Key, Narrow, PrimitiveTest, Worker};
 use crate::error::{Error, Result};
 use crate::query::pairs::Pair;
 use crate::threads;
@@ -11,6 +11,8 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 const PARALLEL_MIN_PAIRS: usize = 256;
 /// Chunks of node pairs per thread: enough to balance uneven contact.
 const CHUNKS_PER_THREAD: usize = 64;
+/// Below this many results, they are sorted on the calling thread.
+const PARALLEL_SORT_MIN: usize = 1 << 14;
 
 /// What the workers found, joined.
 pub(crate) struct Joined {
@@ -22,9 +24,9 @@ pub(crate) struct Joined {
 
 /// Runs the narrow phase of `narrow` over the node pairs `pairs` on up to `threads` threads
 /// ([`crate::QueryOptions::threads`]), with `workers` grown to the threads used. Unless the
-/// test keeps only a best result ([`Worker::best`]), the results, up to `limit` of them in the
-/// order of `pairs` (so the same whatever the thread count), are appended to `out`, which must
-/// be empty.
+/// test keeps only a best result ([`Worker::best`]), the first `limit` results in the order of
+/// `pairs` (so the same whatever the thread count) are appended to `out`, which must be empty,
+/// sorted by `key` (unique per result).
 ///
 /// Errors: [`Error::OutOfMemory`] when a result cannot grow.
 pub(crate) fn run<T: PrimitiveTest>(
@@ -34,7 +36,11 @@ pub(crate) fn run<T: PrimitiveTest>(
     limit: usize,
     workers: &mut Vec<Worker<T::Found>>,
     out: &mut Vec<T::Found>,
+    key: impl Fn(&T::Found) -> Key,
 ) -> Result<Joined> {
+    // The sort of a large result is shared out when the query may use every thread of the pool.
+    let pool = rayon::current_num_threads();
+    let parallel_sort = pool > 1 && threads::resolve(threads) == pool;
     let threads = if pairs.len() < PARALLEL_MIN_PAIRS {
         1
     } else {
@@ -60,34 +66,51 @@ pub(crate) fn run<T: PrimitiveTest>(
         }
         joined.primitive_tests += w.primitive_tests;
     }
-    // Join the chunks in order, up to the limit.
-    let mut order: Vec<(usize, usize, usize, usize)> = Vec::new();
+    // The first `limit` results in the chunks' order (so the same whatever the thread count),
+    // then sorted by `key`: the order is sorted as small (key, worker, index) entries and the
+    // results gathered once into `out`, rather than the (large) results themselves moved about.
+    let mut order: Vec<(Key, u32, usize)> = Vec::new();
     let total: usize = workers
         .iter()
         .map(|w| w.done.iter().map(|d| d.2 - d.1).sum::<usize>())
         .sum();
     let wanted = total.min(limit);
+    let mut chunks: Vec<(usize, usize, usize, usize)> = Vec::new();
     if out.try_reserve(wanted).is_err()
-        || order
+        || order.try_reserve(wanted).is_err()
+        || chunks
             .try_reserve(workers.iter().map(|w| w.done.len()).sum())
             .is_err()
     {
         return Err(Error::OutOfMemory {
-            bytes: wanted * std::mem::size_of::<T::Found>(),
+            bytes: wanted
+                * (std::mem::size_of::<T::Found>() + std::mem::size_of::<(Key, u32, u32)>()),
         });
     }
     for (wi, w) in workers.iter().enumerate() {
-        order.extend(w.done.iter().map(|&(c, s, e)| (c, wi, s, e)));
+        chunks.extend(w.done.iter().map(|&(c, s, e)| (c, wi, s, e)));
     }
-    order.sort_unstable();
-    for &(_, wi, s, e) in &order {
-        if out.len() >= limit {
+    chunks.sort_unstable();
+    for &(_, wi, s, e) in &chunks {
+        if order.len() >= limit {
             break;
         }
-        let found = &workers[wi].out[s..e];
-        let take = found.len().min(limit - out.len());
-        out.extend_from_slice(&found[..take]);
+        let take = (e - s).min(limit - order.len());
+        let found = &workers[wi].out[s..s + take];
+        order.extend(
+            found
+                .iter()
+                .enumerate()
+                .map(|(i, f)| (key(f), wi as u32, s + i)),
+        );
     }
+    if parallel_sort && order.len() >= PARALLEL_SORT_MIN {
+        use rayon::slice::ParallelSliceMut;
+        order.par_sort_unstable();
+    } else {
+        order.sort_unstable();
+    }
+    out.extend(order.iter().map(|&(_, wi, i)| workers[wi as usize].out[i]));
     // As the discrete queries: the limit reached stops the query.
     joined.truncated = limit != usize::MAX && out.len() >= limit;
     Ok(joined)
