@@ -1,7 +1,9 @@
 //! What the query tests share.
 
 use super::pairs::Pair;
+use crate::fixtures::{MeshData, Rng};
 use crate::mesh::Mesh;
+use crate::{BuildOptions, VolumeKind};
 use std::collections::HashSet;
 
 /// Does every triangle pair of `expected` lie in some node pair of `nodes` (of `a` and `b`; of
@@ -26,4 +28,22 @@ pub(crate) fn nodes_cover(a: &Mesh, b: &Mesh, one_mesh: bool, nodes: &[Pair], ex
 /// `positions` (three coordinates a vertex) with every vertex moved by `f`.
 pub(crate) fn map_vertices(positions: &[f64], f: impl Fn(&[f64]) -> [f64; 3]) -> Vec<f64> {
     positions.chunks_exact(3).flat_map(f).collect()
+}
+
+/// Mesh `m` built with volume kind `volume`.
+pub(crate) fn build(m: &MeshData, volume: VolumeKind) -> Mesh {
+    Mesh::new(
+        &m.positions,
+        &m.triangles,
+        &BuildOptions::default().with_volume(volume),
+    )
+    .unwrap()
+}
+
+/// `rest` moved by `shift` and jittered by up to `jitter` per coordinate.
+pub(crate) fn moved(rest: &[f64], shift: [f64; 3], jitter: f64, rng: &mut Rng) -> Vec<f64> {
+    rest.iter()
+        .enumerate()
+        .map(|(i, x)| x + shift[i % 3] + rng.range(-jitter, jitter))
+        .collect()
 }

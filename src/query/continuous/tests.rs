@@ -1,24 +1,8 @@
 use super::*;
 use crate::fixtures::oracle::continuous_brute_force;
-use crate::fixtures::{MeshData, Rng, grid, icosphere, torus};
-use crate::{BuildOptions, CcdMode, Error, Instant, Mesh, VolumeKind};
-
-fn build(m: &MeshData, volume: VolumeKind) -> Mesh {
-    Mesh::new(
-        &m.positions,
-        &m.triangles,
-        &BuildOptions::default().with_volume(volume),
-    )
-    .unwrap()
-}
-
-/// `rest` moved by `shift` and jittered by up to `jitter` per coordinate.
-fn moved(rest: &[f64], shift: [f64; 3], jitter: f64, rng: &mut Rng) -> Vec<f64> {
-    rest.iter()
-        .enumerate()
-        .map(|(i, x)| x + shift[i % 3] + rng.range(-jitter, jitter))
-        .collect()
-}
+use crate::fixtures::{Rng, grid, icosphere, torus};
+use crate::query::testing::{build, moved};
+use crate::{CcdMode, Error, Instant, Mesh, VolumeKind};
 
 fn run(a: &Mesh, b: Option<&Mesh>, options: &CcdOptions, out: &mut Impacts) -> CcdStats {
     match b {

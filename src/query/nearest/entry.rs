@@ -12,7 +12,7 @@ use crate::mesh::Mesh;
 use crate::query::engine::{query, query_one};
 use crate::query::options::{QueryMode, QueryOptions};
 use crate::query::pairs::QueryStats;
-use crate::query::primitives::{self, ImpactKind, Key, Narrow, Owners, PrimitiveTest, Side};
+use crate::query::primitives::{self, Key, Narrow, Owners, PrimitiveTest, Side};
 use crate::query::proximity::{Near, check_distance};
 
 /// Every vertex-face and edge-edge pair of mesh `a` placed by `pose_a` and mesh `b` placed by
@@ -108,7 +108,7 @@ impl PrimitiveTest for Stencils<'_> {
         pa: [u32; N],
         second: Side,
         pb: [u32; M],
-        (kind_out, a0, a1, b0, b1): Key,
+        key: Key,
     ) -> Option<NearPair> {
         let (pos_a, pos_b) = (self.side(first), self.side(second));
         let mut p = [[0.0; 3]; 4];
@@ -118,29 +118,7 @@ impl PrimitiveTest for Stencils<'_> {
         for (i, &v) in pb.iter().enumerate() {
             p[N + i] = pos_b[v as usize];
         }
-        let n = nearest(kind, &p, self.d)?;
-        // The test's first primitive is the reported second one when a triangle of `a` meets a
-        // vertex of `b`.
-        let (ia, ib) = if kind_out == ImpactKind::FaceVertex {
-            (1, 0)
-        } else {
-            (0, 1)
-        };
-        Some(NearPair {
-            kind: kind_out,
-            a0,
-            a1,
-            b0,
-            b1,
-            feature_a: n.features[ia],
-            feature_b: n.features[ib],
-            padding: 0,
-            distance: n.distance,
-            closest_a: n.points[ia],
-            closest_b: n.points[ib],
-            weights_a: n.weights[ia],
-            weights_b: n.weights[ib],
-        })
+        Some(NearPair::new(key, &nearest(kind, &p, self.d)?))
     }
 }
 

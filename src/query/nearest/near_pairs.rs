@@ -1,7 +1,7 @@
 //! What the closest-point query reports, and the reusable buffer it goes to.
 
 use crate::csr::heap_bytes;
-use crate::geometry::nearest::Feature;
+use crate::geometry::nearest::{Feature, Nearest};
 use crate::geometry::predicates::Point;
 use crate::query::pairs::Pairs;
 use crate::query::primitives::{ImpactKind, Key, Worker};
@@ -51,6 +51,32 @@ pub struct NearPair {
 }
 
 impl NearPair {
+    /// The stencil `key` from the closest points `n` of its primitives as the primitive test
+    /// took them: the vertex first for a vertex-face pair, so a triangle of `a` against a vertex
+    /// of `b` ([`ImpactKind::FaceVertex`]) has its sides swapped.
+    pub(crate) fn new((kind, a0, a1, b0, b1): Key, n: &Nearest) -> NearPair {
+        let (ia, ib) = if kind == ImpactKind::FaceVertex {
+            (1, 0)
+        } else {
+            (0, 1)
+        };
+        NearPair {
+            kind,
+            a0,
+            a1,
+            b0,
+            b1,
+            feature_a: n.features[ia],
+            feature_b: n.features[ib],
+            padding: 0,
+            distance: n.distance,
+            closest_a: n.points[ia],
+            closest_b: n.points[ib],
+            weights_a: n.weights[ia],
+            weights_b: n.weights[ib],
+        }
+    }
+
     /// The order of a result: `(kind, a0, a1, b0, b1)`.
     pub(crate) fn key(&self) -> Key {
         (self.kind, self.a0, self.a1, self.b0, self.b1)

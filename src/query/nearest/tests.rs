@@ -1,26 +1,11 @@
 use super::*;
 use crate::exact::Feature;
 use crate::fixtures::oracle::nearest_brute_force;
-use crate::fixtures::{MeshData, Rng, grid, icosphere, torus};
+use crate::fixtures::{Rng, grid, icosphere, torus};
+use crate::query::testing::{build, moved};
 use crate::{
     BuildOptions, Error, ImpactKind, Mesh, Pose, QueryMode, QueryOptions, QueryStats, VolumeKind,
 };
-
-fn build(m: &MeshData, volume: VolumeKind) -> Mesh {
-    Mesh::new(
-        &m.positions,
-        &m.triangles,
-        &BuildOptions::default().with_volume(volume),
-    )
-    .unwrap()
-}
-
-fn jittered(rest: &[f64], shift: [f64; 3], jitter: f64, rng: &mut Rng) -> Vec<f64> {
-    rest.iter()
-        .enumerate()
-        .map(|(i, x)| x + shift[i % 3] + rng.range(-jitter, jitter))
-        .collect()
-}
 
 type Side<'m> = Option<(&'m Mesh, Option<&'m Pose>)>;
 
@@ -170,14 +155,14 @@ fn two_meshes_equal_brute_force() {
         let mut a = build(&s, volume);
         let mut b = build(&t, volume);
         for trial in 0..2 {
-            a.refit(&jittered(
+            a.refit(&moved(
                 &s.positions,
                 [0.6 + 0.1 * trial as f64, 0.0, 0.0],
                 0.02,
                 &mut rng,
             ))
             .unwrap();
-            b.refit(&jittered(&t.positions, [0.0; 3], 0.02, &mut rng))
+            b.refit(&moved(&t.positions, [0.0; 3], 0.02, &mut rng))
                 .unwrap();
             for d in [0.0, 0.02, 0.1] {
                 let what = format!("{volume:?} {trial}");
@@ -204,7 +189,7 @@ fn one_mesh_equals_brute_force() {
     let mut found = 0;
     for volume in [VolumeKind::Aabb, VolumeKind::Dvh, VolumeKind::Sbv] {
         let mut m = build(&t, volume);
-        m.refit(&jittered(&t.positions, [0.0; 3], 0.05, &mut rng))
+        m.refit(&moved(&t.positions, [0.0; 3], 0.05, &mut rng))
             .unwrap();
         for d in [0.0, 0.05, 0.15] {
             found += check(&m, None, None, d, &format!("torus {volume:?}"));
@@ -242,7 +227,7 @@ fn threads_and_limits_give_one_answer_on_larger_meshes() {
     let g = grid(40, 2.0);
     let mut a = build(&s, VolumeKind::Aabb);
     let b = build(&g, VolumeKind::Dvh);
-    a.refit(&jittered(&s.positions, [1.0, 1.0, 1.02], 0.005, &mut rng))
+    a.refit(&moved(&s.positions, [1.0, 1.0, 1.02], 0.005, &mut rng))
         .unwrap();
     let (mut one, mut two) = (NearPairs::new(), NearPairs::new());
     let base = QueryOptions::default();
