@@ -18,8 +18,8 @@ use crate::query::proximity::{Near, check_distance};
 /// Every vertex-face and edge-edge pair of mesh `a` placed by `pose_a` and mesh `b` placed by
 /// `pose_b` (`None`: the mesh's coordinates are world coordinates) whose distance is at most
 /// `distance`, with the distance, the closest point on each primitive and where it lies: every
-/// vertex of `a` against every triangle of `b` ([`ImpactKind::VertexFace`]), every triangle of
-/// `a` against every vertex of `b` ([`ImpactKind::FaceVertex`]), every edge of `a` against every
+/// vertex of `a` against every triangle of `b` ([`crate::ImpactKind::VertexFace`]), every triangle of
+/// `a` against every vertex of `b` ([`crate::ImpactKind::FaceVertex`]), every edge of `a` against every
 /// edge of `b` (an edge is a pair of distinct vertices joined by a triangle side, counted once).
 /// Vertices that belong to no triangle are not tested. These are the stencils from which
 /// repulsion, barrier and constraint forces are built.
@@ -58,7 +58,7 @@ pub fn nearest_features(
 }
 
 /// The stencils of one mesh with itself: every vertex against every triangle that does not
-/// contain it (reported as [`ImpactKind::VertexFace`], the vertex in `a0`), every pair of edges
+/// contain it (reported as [`crate::ImpactKind::VertexFace`], the vertex in `a0`), every pair of edges
 /// that share no vertex (`(a0, a1) < (b0, b1)`), at distance at most `distance`. Otherwise as
 /// [`nearest_features`].
 pub fn self_nearest_features(
