@@ -441,6 +441,42 @@ def main():
           and lib.dvh_impacts_len(impacts) == len(keys), "bad mode refused, impacts kept")
     lib.dvh_impacts_free(impacts)
 
+    # Closest-point stencils: the sheet against its copy lifted by exactly 1.
+    class DvhNearPair(ctypes.Structure):
+        _fields_ = [(n, ctypes.c_uint32) for n in ("kind", "a0", "a1", "b0", "b1", "feature_a", "feature_b")] + [
+            ("distance", ctypes.c_double)] + [(n, ctypes.c_double * 3) for n in
+                                              ("closest_a", "closest_b", "weights_a", "weights_b")]
+
+    check(ctypes.sizeof(DvhNearPair) == 136 and DvhNearPair.distance.offset == 32, "DvhNearPair's layout")
+    lib.dvh_near_pairs_new.restype = ctypes.c_void_p
+    lib.dvh_near_pairs_len.restype = ctypes.c_size_t
+    lib.dvh_near_pairs_len.argtypes = [ctypes.c_void_p]
+    lib.dvh_near_pairs_data.restype = ctypes.POINTER(DvhNearPair)
+    lib.dvh_near_pairs_data.argtypes = [ctypes.c_void_p]
+    lib.dvh_near_pairs_free.argtypes = [ctypes.c_void_p]
+    lib.dvh_nearest_features.restype = DvhStatus
+    lib.dvh_nearest_features.argtypes = [MeshPtr, ctypes.POINTER(DvhPose), MeshPtr, ctypes.POINTER(DvhPose), ctypes.c_double,
+                                         ctypes.POINTER(DvhQueryOptions), ctypes.c_void_p, ctypes.POINTER(DvhQueryStats)]
+    lib.dvh_self_nearest_features.restype = DvhStatus
+    lib.dvh_self_nearest_features.argtypes = [MeshPtr, ctypes.c_double, ctypes.POINTER(DvhQueryOptions), ctypes.c_void_p,
+                                              ctypes.POINTER(DvhQueryStats)]
+    near = lib.dvh_near_pairs_new()
+    check(lib.dvh_nearest_features(sheet, None, sheet, ctypes.byref(lift), 1.0, None, near, None) == DVH_STATUS_OK
+          and lib.dvh_near_pairs_len(near) > 0, "stencils of the sheet and its lifted copy")
+    data = lib.dvh_near_pairs_data(near)
+    n = lib.dvh_near_pairs_len(near)
+    keys = [(data[i].kind, data[i].a0, data[i].a1, data[i].b0, data[i].b1) for i in range(n)]
+    check(keys == sorted(keys) and all(data[i].distance == 1.0 for i in range(n))
+          and all(abs(sum(data[i].weights_a) - 1.0) < 1e-12 for i in range(n)), "stencils sorted, all exactly 1 apart")
+    check(lib.dvh_nearest_features(sheet, None, sheet, ctypes.byref(lift), -1.0, None, near, None) == DVH_STATUS_INVALID_ARGUMENT
+          and "distance" in last_error() and lib.dvh_near_pairs_len(near) == n, "negative distance refused, stencils kept")
+    check(lib.dvh_nearest_features(sheet, None, sheet, ctypes.byref(lift), math.nextafter(1.0, 0.0), None, near, None)
+          == DVH_STATUS_OK and lib.dvh_near_pairs_len(near) == 0, "stencils: nothing closer than 1")
+    check(lib.dvh_self_nearest_features(sheet, 0.0, None, near, None) == DVH_STATUS_OK and lib.dvh_near_pairs_len(near) == 0,
+          "self stencils at 0 on an intact sheet")
+    check(lib.dvh_self_nearest_features(None, 1.0, None, near, None) == DVH_STATUS_NULL_ARGUMENT, "NULL mesh refused")
+    lib.dvh_near_pairs_free(near)
+
     lib.dvh_pairs_free(pairs)
     lib.dvh_mesh_free(sheet)
     lib.dvh_mesh_free(tent)
