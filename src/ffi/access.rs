@@ -292,23 +292,23 @@ fn kind(tag: u64) -> &'static str {
 }
 
 macro_rules! handle {
-    ($handle:ty, $inner:ty, $tag:expr, $field:ident) => {
+    ($handle:ty, $inner:ty, $tag:expr) => {
         impl Handle for $handle {
             type Inner = $inner;
             const TAG: u64 = $tag;
             fn parts(&self) -> (&Tag, &Access, &UnsafeCell<$inner>) {
-                (&self.tag, &self.access, &self.$field)
+                (&self.0.tag, &self.0.access, &self.0.inner)
             }
         }
     };
 }
 
-handle!(DvhMesh, crate::Mesh, MESH_TAG, mesh);
-handle!(DvhPairs, crate::Pairs, PAIRS_TAG, pairs);
-handle!(DvhScene, crate::Scene, SCENE_TAG, scene);
-handle!(DvhContacts, crate::Contacts, CONTACTS_TAG, contacts);
-handle!(DvhImpacts, crate::Impacts, IMPACTS_TAG, impacts);
-handle!(DvhNearPairs, crate::NearPairs, NEAR_PAIRS_TAG, near_pairs);
+handle!(DvhMesh, crate::Mesh, MESH_TAG);
+handle!(DvhPairs, crate::Pairs, PAIRS_TAG);
+handle!(DvhScene, crate::Scene, SCENE_TAG);
+handle!(DvhContacts, crate::Contacts, CONTACTS_TAG);
+handle!(DvhImpacts, crate::Impacts, IMPACTS_TAG);
+handle!(DvhNearPairs, crate::NearPairs, NEAR_PAIRS_TAG);
 
 #[cfg(test)]
 mod tests {

@@ -1,12 +1,11 @@
 //! Meshes through the C ABI: create, refit, free, inspect.
 
-use super::access::{Access, MESH_TAG, Read, Tag, read, release, write};
+use super::access::{MESH_TAG, Read, read, release, write};
 use super::boundary::{Failure, choice, guard, guard_value, slice_from, times_three, try_box};
 use super::types::*;
 use crate::geometry::predicates::Point;
 use crate::{BuildOptions, LeftoverPolicy, Mesh, RadiusKind, TreeKind, VolumeKind};
 use std::borrow::Cow;
-use std::cell::UnsafeCell;
 
 /// The default build options, the fastest measured for meshes that deform: octree, box volumes
 /// (`DVH_VOLUME_KIND_AABB`), layered radii (for sphere volumes), leftover triangles joined to
@@ -170,11 +169,7 @@ fn check_counts(vertex_count: usize, triangle_count: usize) -> Result<(), Failur
 /// # Safety
 /// `mesh_out` is NULL or writable.
 unsafe fn publish(mesh: Mesh, mesh_out: *mut *mut DvhMesh) -> Result<(), Failure> {
-    let ptr = try_box(DvhMesh {
-        tag: Tag::new(MESH_TAG),
-        access: Access::default(),
-        mesh: UnsafeCell::new(mesh),
-    })?;
+    let ptr = try_box(DvhMesh(Body::new(MESH_TAG, mesh)))?;
     // SAFETY: checked non-NULL by the callers before any work; writable per the contract.
     unsafe { mesh_out.write(ptr) };
     Ok(())

@@ -4,14 +4,13 @@
 //! reads the sources without expanding macros, and each carries its own documentation into the
 //! header.
 
-use super::access::{Access, Handle, Read, Tag, read, release};
+use super::access::{Handle, Read, read, release};
 use super::boundary::{guard_value, set_last_error, try_box};
 use super::types::{
-    DVH_PAIR_KIND_NODES, DVH_PAIR_KIND_TRIANGLES, DvhContact, DvhContacts, DvhImpact, DvhImpacts,
-    DvhNearPair, DvhNearPairs, DvhPair, DvhPairKind, DvhPairs,
+    Body, DVH_PAIR_KIND_NODES, DVH_PAIR_KIND_TRIANGLES, DvhContact, DvhContacts, DvhImpact,
+    DvhImpacts, DvhNearPair, DvhNearPairs, DvhPair, DvhPairKind, DvhPairs,
 };
 use crate::{Contacts, Impacts, NearPairs, PairKind, Pairs};
-use std::cell::UnsafeCell;
 
 /// A result buffer of the C ABI.
 pub(crate) trait Results: Handle + Sized {
@@ -34,11 +33,7 @@ impl Results for DvhPairs {
     const ARGUMENT: &'static str = "pairs";
 
     fn empty() -> DvhPairs {
-        DvhPairs {
-            tag: Tag::new(Self::TAG),
-            access: Access::default(),
-            pairs: UnsafeCell::new(Pairs::new()),
-        }
+        DvhPairs(Body::new(Self::TAG, Pairs::new()))
     }
 
     fn len(inner: &Pairs) -> usize {
@@ -60,11 +55,7 @@ impl Results for DvhContacts {
     const ARGUMENT: &'static str = "contacts";
 
     fn empty() -> DvhContacts {
-        DvhContacts {
-            tag: Tag::new(Self::TAG),
-            access: Access::default(),
-            contacts: UnsafeCell::new(Contacts::new()),
-        }
+        DvhContacts(Body::new(Self::TAG, Contacts::new()))
     }
 
     fn len(inner: &Contacts) -> usize {
@@ -86,11 +77,7 @@ impl Results for DvhImpacts {
     const ARGUMENT: &'static str = "impacts";
 
     fn empty() -> DvhImpacts {
-        DvhImpacts {
-            tag: Tag::new(Self::TAG),
-            access: Access::default(),
-            impacts: UnsafeCell::new(Impacts::new()),
-        }
+        DvhImpacts(Body::new(Self::TAG, Impacts::new()))
     }
 
     fn len(inner: &Impacts) -> usize {
@@ -113,11 +100,7 @@ impl Results for DvhNearPairs {
     const ARGUMENT: &'static str = "pairs";
 
     fn empty() -> DvhNearPairs {
-        DvhNearPairs {
-            tag: Tag::new(Self::TAG),
-            access: Access::default(),
-            near_pairs: UnsafeCell::new(NearPairs::new()),
-        }
+        DvhNearPairs(Body::new(Self::TAG, NearPairs::new()))
     }
 
     fn len(inner: &NearPairs) -> usize {

@@ -1,6 +1,6 @@
 //! Scenes through the C ABI: objects, filters, the frame's query and its contact buffer.
 
-use super::access::{Access, SCENE_TAG, Tag, Write, read, release, write};
+use super::access::{SCENE_TAG, Write, read, release, write};
 use super::boundary::{
     Failure, guard, guard_value, slice_from, times_three, try_box, write_unless_null,
 };
@@ -9,7 +9,6 @@ use super::query::{options_or_default, pose};
 use super::results;
 use super::types::*;
 use crate::{Mesh, Pose, Scene};
-use std::cell::UnsafeCell;
 
 /// Creates an empty scene and writes it to `*scene_out`. Release it with `dvh_scene_free`.
 ///
@@ -25,11 +24,7 @@ pub unsafe extern "C" fn dvh_scene_create(scene_out: *mut *mut DvhScene) -> DvhS
         if scene_out.is_null() {
             return Err(Failure::null("scene_out"));
         }
-        let ptr = try_box(DvhScene {
-            tag: Tag::new(SCENE_TAG),
-            access: Access::default(),
-            scene: UnsafeCell::new(Scene::new()),
-        })?;
+        let ptr = try_box(DvhScene(Body::new(SCENE_TAG, Scene::new())))?;
         // SAFETY: non-NULL (checked) and writable per the contract.
         unsafe { scene_out.write(ptr) };
         Ok(())
