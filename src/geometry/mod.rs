@@ -9,6 +9,7 @@ pub mod distance;
 pub(crate) mod double_double;
 pub(crate) mod interval;
 pub mod nearest;
+pub(crate) mod permanent;
 pub mod polygon;
 pub mod pose;
 pub mod predicates;

@@ -2,13 +2,13 @@
 //! feature of each primitive holds the closest point, whether the distance is at most `d`, and
 //! the distance, closest points and barycentric weights rounded from their exact values.
 //!
-//! Every decision is the sign of a polynomial in the coordinates (and `d`), made as the
-//! proximity test makes it ([`super::distance`]): interval arithmetic first (midpoint-radius
-//! [`Ball`]s, the cheapest certain signs), big integers where an interval cannot tell. The
-//! values are rational functions of the coordinates: computed in intervals about double-double
-//! centres ([`DdInterval`]), which are narrow enough to round from in all but nearly singular
-//! cases, and where one is wider than the rounding allows, again in exact rationals and
-//! rounded.
+//! Every decision is the sign of a polynomial in the coordinates (and `d`): in doubles with a
+//! forward error bound first ([`Permanent`], two operations per operation), then in
+//! midpoint-radius intervals ([`Ball`], tighter where terms cancel), then in big integers where
+//! neither can tell. The values are rational functions of the coordinates: computed in
+//! intervals about double-double centres ([`DdInterval`]), which are narrow enough to round
+//! from in all but nearly singular cases, and where one is wider than the rounding allows, again
+//! in exact rationals and rounded.
 //!
 //! The closest point of a point and a triangle (a convex set) is unique; the feature reported
 //! is the lowest-dimensional one holding it (a corner before an edge before the interior). Two
@@ -23,6 +23,7 @@ use super::ball::Ball;
 use super::distance::{Big, Num, Ring, V, at_most, cross, dot, sub};
 use super::double_double::DdInterval;
 use super::interval::Interval;
+use super::permanent::Permanent;
 use super::predicates::{Point, to_integers, to_integers_scaled};
 use num_bigint::BigInt;
 use num_rational::BigRational;
@@ -248,14 +249,16 @@ pub(crate) fn nearest(pair: Primitive, p: &[Point; 4], d: f64) -> Option<Nearest
         values[k] = *x;
     }
     values[12] = d;
-    let decided = decide(pair, &values.map(Ball::point), &Ball::point(1.0)).or_else(|| {
-        // The same signs in integers: every double is an integer times a power of two, and
-        // scaling all inputs by one power changes no sign (each test compares terms of one
-        // degree). The constant one is not scaled, so the comparisons that use it (a vertex
-        // candidate's denominator) must be of one degree on both sides: they are (num is a
-        // squared length, the others' num / den too).
-        decide(pair, &to_integers(values).map(Big), &Big(BigInt::one()))
-    });
+    let decided = decide(pair, &values.map(Permanent::point), &Permanent::point(1.0))
+        .or_else(|| decide(pair, &values.map(Ball::point), &Ball::point(1.0)))
+        .or_else(|| {
+            // The same signs in integers: every double is an integer times a power of two, and
+            // scaling all inputs by one power changes no sign (each test compares terms of one
+            // degree). The constant one is not scaled, so the comparisons that use it (a vertex
+            // candidate's denominator) must be of one degree on both sides: they are (num is a
+            // squared length, the others' num / den too).
+            decide(pair, &to_integers(values).map(Big), &Big(BigInt::one()))
+        });
     let (choice, within) = decided.expect("exact arithmetic decides every sign");
     within.then(|| values_of(pair, p, choice))
 }
