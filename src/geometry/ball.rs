@@ -99,63 +99,10 @@ impl Num for Ball {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fixtures::Rng;
-    use num_rational::BigRational;
-    use num_traits::{Signed, Zero};
-
-    type Q = BigRational;
-
-    fn q(x: f64) -> Q {
-        Q::from_float(x).unwrap()
-    }
 
     #[test]
     fn balls_hold_exact_results_and_their_signs_are_exact() {
-        let mut rng = Rng::new(0xba11);
-        let mut known = 0;
-        for case in 0..4000 {
-            let span = [4, 40, 600, 1100][case % 4];
-            let mut xs: Vec<(Ball, Q)> = (0..6)
-                .map(|_| {
-                    let x = match rng.below(8) {
-                        0 => 0.0,
-                        1 => rng.below(8) as f64,
-                        _ => {
-                            let e = rng.below((span + span.min(1000)) as u64 + 1) as i64 - span;
-                            rng.range(1.0, 2.0) * pow2(e / 2) * pow2(e - e / 2)
-                        }
-                    };
-                    let x = if rng.below(2) == 0 { x } else { -x };
-                    (Ball::point(x), q(x))
-                })
-                .collect();
-            for _ in 0..24 {
-                let i = rng.below(6) as usize;
-                let j = rng.below(6) as usize;
-                let ((a, qa), (b, qb)) = (xs[i].clone(), xs[j].clone());
-                let (x, v) = match rng.below(3) {
-                    0 => (a + b, &qa + &qb),
-                    1 => (a - b, &qa - &qb),
-                    _ => (a * b, &qa * &qb),
-                };
-                if let Some(s) = x.sign() {
-                    let want = if v.is_zero() {
-                        0
-                    } else if v.is_positive() {
-                        1
-                    } else {
-                        -1
-                    };
-                    assert_eq!(s, want, "{a:?} {b:?} -> {x:?}");
-                    known += 1;
-                }
-                if x.mid.is_finite() && x.rad.is_finite() {
-                    assert!((&v - q(x.mid)).abs() <= q(x.rad), "{a:?} {b:?} -> {x:?}");
-                }
-                let k = rng.below(6) as usize;
-                xs[k] = (x, v);
-            }
-        }
+        let (known, _) = super::super::chains::check(0xba11, Ball::point, |x| (x.mid, x.rad));
         assert!(known > 40_000, "{known}");
     }
 }

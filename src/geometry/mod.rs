@@ -5,6 +5,8 @@ pub mod aabb;
 pub mod adjacent;
 pub(crate) mod ball;
 pub(crate) mod ccd;
+#[cfg(test)]
+mod chains;
 pub mod distance;
 pub(crate) mod double_double;
 pub(crate) mod interval;

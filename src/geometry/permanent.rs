@@ -129,67 +129,13 @@ impl Num for Permanent {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fixtures::Rng;
-    use num_rational::BigRational;
-    use num_traits::{Signed, Zero};
 
-    type Q = BigRational;
-
-    fn q(x: f64) -> Q {
-        Q::from_float(x).unwrap()
-    }
-
-    /// Random expressions over doubles of every magnitude, near-cancellations included: every
-    /// sign the bound claims is the exact one, and the error bound holds wherever it is finite.
+    /// Random chains over doubles of every magnitude, near-cancellations included: every sign
+    /// the bound claims is the exact one, and the error bound holds wherever it is finite.
     #[test]
     fn claimed_signs_are_exact_and_errors_within_the_bound() {
-        let mut rng = Rng::new(0x9e44);
-        let (mut known, mut zeros) = (0, 0);
-        for case in 0..4000 {
-            let span = [4, 40, 600, 1100][case % 4];
-            let mut xs: Vec<(Permanent, Q)> = (0..6)
-                .map(|_| {
-                    let x = match rng.below(8) {
-                        0 => 0.0,
-                        1 => rng.below(8) as f64,
-                        _ => {
-                            let e = rng.below((span + span.min(1000)) as u64 + 1) as i64 - span;
-                            rng.range(1.0, 2.0) * pow2(e / 2) * pow2(e - e / 2)
-                        }
-                    };
-                    let x = if rng.below(2) == 0 { x } else { -x };
-                    (Permanent::point(x), q(x))
-                })
-                .collect();
-            for _ in 0..24 {
-                let i = rng.below(6) as usize;
-                let j = rng.below(6) as usize;
-                let ((a, qa), (b, qb)) = (xs[i].clone(), xs[j].clone());
-                let (x, v) = match rng.below(3) {
-                    0 => (a + b, &qa + &qb),
-                    1 => (a - b, &qa - &qb),
-                    _ => (a * b, &qa * &qb),
-                };
-                if let Some(s) = x.sign() {
-                    let want = if v.is_zero() {
-                        0
-                    } else if v.is_positive() {
-                        1
-                    } else {
-                        -1
-                    };
-                    assert_eq!(s, want, "{a:?} {b:?} -> {x:?}");
-                    known += 1;
-                    zeros += usize::from(s == 0);
-                }
-                let error = x.error();
-                if x.value.is_finite() && error.is_finite() {
-                    assert!((&v - q(x.value)).abs() <= q(error), "{a:?} {b:?} -> {x:?}");
-                }
-                let k = rng.below(6) as usize;
-                xs[k] = (x, v);
-            }
-        }
+        let (known, zeros) =
+            super::super::chains::check(0x9e44, Permanent::point, |x| (x.value, x.error()));
         assert!(known > 40_000 && zeros > 1000, "{known} {zeros}");
     }
 
