@@ -7,8 +7,9 @@
  * - Every fallible call returns a DvhStatus: DVH_STATUS_OK (0) or a DVH_STATUS_* code, and
  *   dvh_last_error_message() then says exactly what was wrong (which argument, index, value).
  * - Out-parameters come last and are written only on success; a failed call changes nothing.
- * - Handles (DvhMesh, DvhPairs, DvhScene, DvhContacts) are opaque, created by dvh_*_create /
- *   dvh_*_new, released by dvh_*_free, which accept NULL. Input arrays are copied; nothing is
+ * - Handles (DvhMesh, DvhPairs, DvhScene, DvhContacts, DvhImpacts, DvhNearPairs) are opaque,
+ *   created by dvh_*_create / dvh_*_new, released by dvh_*_free, which accept NULL; each keeps
+ *   a tag saying its kind in its first 8 bytes. Input arrays are copied; nothing is
  *   kept after a call returns. A scene object copies what it needs of its mesh: the mesh may be
  *   refit or freed afterwards.
  * - No input makes the library crash: pointers are checked for NULL and alignment, sizes for
