@@ -1,6 +1,6 @@
 //! Continuous collision: primitives and moving meshes through the C ABI.
 
-use super::input::Bytes;
+use super::input::{Bytes, c_mesh, nudge, primitives, small_shape};
 use super::triangle::oracle;
 use dvh::ffi::*;
 
@@ -108,20 +108,9 @@ pub fn ccd_primitive(data: &[u8]) {
 /// `dvh_continuous_collide` (against a moved copy) in both modes and with every option,
 /// against brute force over every primitive pair through the C primitive tests.
 pub fn ccd_mesh(data: &[u8]) {
-    use dvh::fixtures::{grid, torus};
     let mut bytes = Bytes::new(data);
     let kind = bytes.u8();
-    let shape = if kind.is_multiple_of(2) {
-        grid(1 + usize::from(kind / 2 % 4), 1.0)
-    } else {
-        torus(0.5, 0.25, 3 + usize::from(kind / 2 % 3), 3)
-    };
-    let rest: Vec<f64> = shape
-        .positions
-        .iter()
-        .map(|&x| (x * 16.0).round() / 16.0)
-        .collect();
-    let triangles = shape.triangles.clone();
+    let (rest, triangles) = small_shape(kind);
     let n = rest.len() / 3;
     let frame = |bytes: &mut Bytes| -> Vec<f64> {
         let mut p = rest.clone();
@@ -135,33 +124,13 @@ pub fn ccd_mesh(data: &[u8]) {
                 }
             }
         }
-        for _ in 0..bytes.u8() % 8 {
-            let v = usize::from(bytes.u8()) % n;
-            for k in 0..3 {
-                p[3 * v + k] += f64::from(bytes.u8() as i8 % 16) / 16.0;
-            }
-        }
+        nudge(bytes, &mut p);
         p
     };
     let (start, end) = (frame(&mut bytes), frame(&mut bytes));
     let mut options = dvh_build_options_default();
     options.volume = u32::from(kind / 8 % 3);
-    let make = || {
-        let mut mesh = std::ptr::null_mut();
-        // SAFETY: the arrays hold the counts given.
-        let status = unsafe {
-            dvh_mesh_create(
-                rest.as_ptr(),
-                n,
-                triangles.as_ptr(),
-                triangles.len() / 3,
-                &options,
-                &mut mesh,
-            )
-        };
-        assert_eq!(status, DVH_STATUS_OK);
-        mesh
-    };
+    let make = || c_mesh(&rest, &triangles, &options);
     let (mesh, other) = (make(), make());
     // The other mesh moves the opposite way, shifted by the bytes.
     let shift = [0, 1, 2].map(|_| f64::from(bytes.u8() as i8 % 8) / 16.0);
@@ -187,17 +156,7 @@ pub fn ccd_mesh(data: &[u8]) {
         );
     }
     let impacts = dvh_impacts_new();
-    let tris: Vec<[u32; 3]> = triangles.chunks(3).map(|t| [t[0], t[1], t[2]]).collect();
-    let mut edges: Vec<[u32; 2]> = tris
-        .iter()
-        .flat_map(|t| (0..3).map(move |k| [t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3])]))
-        .filter(|e| e[0] != e[1])
-        .collect();
-    edges.sort_unstable();
-    edges.dedup();
-    let mut used: Vec<u32> = triangles.clone();
-    used.sort_unstable();
-    used.dedup();
+    let (tris, edges, used) = primitives(&triangles);
     let at = |p: &[f64], v: u32| {
         [
             p[3 * v as usize],

@@ -199,3 +199,67 @@ pub fn filter(bytes: &mut Bytes) -> u32 {
         _ => bytes.u32(),
     }
 }
+
+/// A small sheet (`kind` even) or torus, chosen by `kind`: its coordinates rounded to
+/// sixteenths, so that coplanar, collinear, parallel and touching primitives are common, and
+/// its triangles.
+pub fn small_shape(kind: u8) -> (Vec<f64>, Vec<u32>) {
+    use dvh::fixtures::{grid, torus};
+    let shape = if kind.is_multiple_of(2) {
+        grid(1 + usize::from(kind / 2 % 4), 1.0)
+    } else {
+        torus(0.5, 0.25, 3 + usize::from(kind / 2 % 3), 3)
+    };
+    let p = shape
+        .positions
+        .iter()
+        .map(|&x| (x * 16.0).round() / 16.0)
+        .collect();
+    (p, shape.triangles)
+}
+
+/// Moves up to seven vertices of `p` (x, y, z each) by sixteenths, as the bytes say.
+pub fn nudge(bytes: &mut Bytes, p: &mut [f64]) {
+    let n = p.len() / 3;
+    for _ in 0..bytes.u8() % 8 {
+        let v = usize::from(bytes.u8()) % n;
+        for k in 0..3 {
+            p[3 * v + k] += f64::from(bytes.u8() as i8 % 16) / 16.0;
+        }
+    }
+}
+
+/// A mesh of `p` and `triangles` through `dvh_mesh_create`, which must accept it.
+pub fn c_mesh(p: &[f64], triangles: &[u32], options: &DvhBuildOptions) -> *mut DvhMesh {
+    let mut mesh = std::ptr::null_mut();
+    // SAFETY: the arrays hold the counts given.
+    let status = unsafe {
+        dvh_mesh_create(
+            p.as_ptr(),
+            p.len() / 3,
+            triangles.as_ptr(),
+            triangles.len() / 3,
+            options,
+            &mut mesh,
+        )
+    };
+    assert_eq!(status, DVH_STATUS_OK);
+    mesh
+}
+
+/// The primitives of `triangles`: the triangles, their edges (each once, lower vertex first,
+/// sorted) and the vertices they use (sorted).
+pub fn primitives(triangles: &[u32]) -> (Vec<[u32; 3]>, Vec<[u32; 2]>, Vec<u32>) {
+    let tris: Vec<[u32; 3]> = triangles.chunks(3).map(|t| [t[0], t[1], t[2]]).collect();
+    let mut edges: Vec<[u32; 2]> = tris
+        .iter()
+        .flat_map(|t| (0..3).map(move |k| [t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3])]))
+        .filter(|e| e[0] != e[1])
+        .collect();
+    edges.sort_unstable();
+    edges.dedup();
+    let mut used = triangles.to_vec();
+    used.sort_unstable();
+    used.dedup();
+    (tris, edges, used)
+}

@@ -3,7 +3,7 @@
 //! force over every primitive pair by the exact primitive functions of the Rust API, in every
 //! mode and thread count, and every stencil checked against what its fields promise.
 
-use super::input::{Bytes, pose, rust_pose};
+use super::input::{Bytes, c_mesh, nudge, pose, primitives, rust_pose, small_shape};
 use dvh::exact::{Feature, edge_edge_nearest, vertex_face_nearest};
 use dvh::ffi::*;
 
@@ -19,23 +19,9 @@ struct Expected {
 }
 
 pub fn nearest_mesh(data: &[u8]) {
-    use dvh::fixtures::{grid, torus};
     let mut bytes = Bytes::new(data);
     let kind = bytes.u8();
-    let shape = if kind.is_multiple_of(2) {
-        grid(1 + usize::from(kind / 2 % 4), 1.0)
-    } else {
-        torus(0.5, 0.25, 3 + usize::from(kind / 2 % 3), 3)
-    };
-    // Coordinates on a sixteenth grid: coplanar, collinear, parallel and touching primitives
-    // are common.
-    let mut p: Vec<f64> = shape
-        .positions
-        .iter()
-        .map(|&x| (x * 16.0).round() / 16.0)
-        .collect();
-    let triangles = shape.triangles.clone();
-    let n = p.len() / 3;
+    let (mut p, triangles) = small_shape(kind);
     let fold = bytes.u8();
     if fold % 2 == 1 {
         let c = f64::from(fold as i8 / 2) / 32.0;
@@ -47,12 +33,7 @@ pub fn nearest_mesh(data: &[u8]) {
             }
         }
     }
-    for _ in 0..bytes.u8() % 8 {
-        let v = usize::from(bytes.u8()) % n;
-        for k in 0..3 {
-            p[3 * v + k] += f64::from(bytes.u8() as i8 % 16) / 16.0;
-        }
-    }
+    nudge(&mut bytes, &mut p);
     let d = match bytes.u8() % 4 {
         0 => 0.0,
         1 => f64::from(bytes.u8()) / 64.0,
@@ -63,31 +44,9 @@ pub fn nearest_mesh(data: &[u8]) {
     let posed = rust_pose(&c_pose);
     let mut options = dvh_build_options_default();
     options.volume = u32::from(kind / 8 % 3);
-    let mut mesh = std::ptr::null_mut();
-    // SAFETY: the arrays hold the counts given.
-    let status = unsafe {
-        dvh_mesh_create(
-            p.as_ptr(),
-            n,
-            triangles.as_ptr(),
-            triangles.len() / 3,
-            &options,
-            &mut mesh,
-        )
-    };
-    assert_eq!(status, DVH_STATUS_OK);
+    let mesh = c_mesh(&p, &triangles, &options);
     let out = dvh_near_pairs_new();
-    let tris: Vec<[u32; 3]> = triangles.chunks(3).map(|t| [t[0], t[1], t[2]]).collect();
-    let mut edges: Vec<[u32; 2]> = tris
-        .iter()
-        .flat_map(|t| (0..3).map(move |k| [t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3])]))
-        .filter(|e| e[0] != e[1])
-        .collect();
-    edges.sort_unstable();
-    edges.dedup();
-    let mut used: Vec<u32> = triangles.clone();
-    used.sort_unstable();
-    used.dedup();
+    let (tris, edges, used) = primitives(&triangles);
     let at = |q: &[[f64; 3]], v: u32| q[v as usize];
     let own: Vec<[f64; 3]> = p.chunks(3).map(|q| [q[0], q[1], q[2]]).collect();
     for one in [true, false] {

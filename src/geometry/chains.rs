@@ -18,6 +18,21 @@ const fn pow2(e: i64) -> f64 {
     f64::from_bits(((1023 + e) as u64) << 52)
 }
 
+/// A double of random sign, mantissa and exponent within `2^±span`, sometimes zero or a small
+/// integer (so that exact results and cancellations happen).
+pub(crate) fn random_double(rng: &mut Rng, span: i64) -> f64 {
+    let x = match rng.below(8) {
+        0 => 0.0,
+        1 => rng.below(8) as f64,
+        _ => {
+            // Exponents down into the subnormals, up to 2^1000 (finite inputs).
+            let e = rng.below((span + span.min(1000)) as u64 + 1) as i64 - span;
+            rng.range(1.0, 2.0) * pow2(e / 2) * pow2(e - e / 2)
+        }
+    };
+    if rng.below(2) == 0 { x } else { -x }
+}
+
 /// Runs 4,000 chains of 24 steps from `seed`, values made by `point`. Every sign a value claims
 /// must be the exact one, and wherever `enclosure` gives a finite centre and radius, the exact
 /// value must lie within it. Returns how many signs were claimed, and how many of them zero.
@@ -32,15 +47,7 @@ pub(crate) fn check<T: Num + Debug>(
         let span = [4, 40, 600, 1100][case % 4];
         let mut xs: Vec<(T, Q)> = (0..6)
             .map(|_| {
-                let x = match rng.below(8) {
-                    0 => 0.0,
-                    1 => rng.below(8) as f64,
-                    _ => {
-                        let e = rng.below((span + span.min(1000)) as u64 + 1) as i64 - span;
-                        rng.range(1.0, 2.0) * pow2(e / 2) * pow2(e - e / 2)
-                    }
-                };
-                let x = if rng.below(2) == 0 { x } else { -x };
+                let x = random_double(&mut rng, span);
                 (point(x), q(x))
             })
             .collect();

@@ -244,6 +244,7 @@ impl Mul for DdInterval {
 mod tests {
     use super::*;
     use crate::fixtures::Rng;
+    use crate::geometry::chains::random_double;
     use num_rational::BigRational;
     use num_traits::{Signed, ToPrimitive};
 
@@ -269,21 +270,6 @@ mod tests {
             &lo * &lo <= *v && *v <= &hi * &hi
         };
         [s.next_down(), s, s.next_up()].into_iter().any(rounds)
-    }
-
-    /// A double of random sign, mantissa and exponent within `2^±span`, sometimes zero or a
-    /// small integer (so that exact results and cancellations happen).
-    fn random_double(rng: &mut Rng, span: i64) -> f64 {
-        let x = match rng.below(8) {
-            0 => 0.0,
-            1 => rng.below(8) as f64,
-            _ => {
-                // Exponents down into the subnormals, up to 2^1000 (finite inputs).
-                let e = rng.below((span + span.min(1000)) as u64 + 1) as i64 - span;
-                rng.range(1.0, 2.0) * pow2(e / 2) * pow2(e - e / 2)
-            }
-        };
-        if rng.below(2) == 0 { x } else { -x }
     }
 
     #[test]
