@@ -22,7 +22,6 @@ pub(crate) use super::Primitive;
 use super::ball::Ball;
 use super::distance::{Big, Num, Ring, V, at_most, cross, dot, sub};
 use super::double_double::DdInterval;
-use super::interval::Interval;
 use super::permanent::Permanent;
 use super::predicates::{Point, to_integers, to_integers_scaled};
 use num_bigint::BigInt;
@@ -151,23 +150,26 @@ fn vertex_face<T: Num>(p: &V<T>, t: &[V<T>; 3], one: &T) -> Option<Candidate<T>>
     let n = cross(&sub(&t[1], &t[0]), &sub(&t[2], &t[0]));
     let nn = dot(&n, &n);
     if nn.sign()? > 0 {
-        let mut inside = true;
+        // Edge `k` runs from corner `k` to corner `k + 1`; `w[k]` is `p` from corner `k`.
+        let e = [sub(&t[1], &t[0]), sub(&t[2], &t[1]), sub(&t[0], &t[2])];
+        let w = [sub(p, &t[0]), sub(p, &t[1]), sub(p, &t[2])];
+        let mut outside = [false; 3];
         for k in 0..3 {
-            let (a, b) = (&t[k], &t[(k + 1) % 3]);
-            if dot(&n, &cross(&sub(b, a), &sub(p, a))).sign()? <= 0 {
-                inside = false;
-            }
+            outside[k] = dot(&n, &cross(&e[k], &w[k])).sign()? <= 0;
         }
-        if inside {
-            let h = dot(&n, &sub(p, &t[0]));
+        if outside == [false; 3] {
+            let h = dot(&n, &w[0]);
             return Some(Candidate {
                 num: h.clone() * h,
                 den: nn,
                 choice: Choice::FaceInterior,
             });
         }
+        if let Some(c) = by_regions(&e, &w, outside, one)? {
+            return Some(c);
+        }
     }
-    // On the boundary: the closest of the edges' closest points.
+    // A flat triangle: the closest of the edges' closest points.
     let mut best: Option<Candidate<T>> = None;
     for k in 0..3 {
         let (on, num, den) = point_segment(p, &t[k], &t[(k + 1) % 3], one)?;
@@ -178,6 +180,48 @@ fn vertex_face<T: Num>(p: &V<T>, t: &[V<T>; 3], one: &T) -> Option<Candidate<T>>
         keep_closer(&mut best, Candidate { num, den, choice })?;
     }
     best
+}
+
+/// The closest feature of a triangle that is not flat, for a point whose projection is not
+/// strictly inside it, by signs alone (no distances compared): the closest point is corner `k`
+/// exactly when the point lies at 90 degrees or more from both edges at `k`, and inside edge `k`
+/// exactly when it projects strictly inside the edge and lies on or outside its line (the
+/// conditions for a closest point of a convex set). `e`, `w` and `outside` as in
+/// [`vertex_face`]. `Some(None)` if no region claims the point (exactly, one always does).
+fn by_regions<T: Num>(
+    e: &[V<T>; 3],
+    w: &[V<T>; 3],
+    outside: [bool; 3],
+    one: &T,
+) -> Option<Option<Candidate<T>>> {
+    let uu = [dot(&e[0], &e[0]), dot(&e[1], &e[1]), dot(&e[2], &e[2])];
+    let mut after_start = [false; 3];
+    let mut past_end = [false; 3];
+    for k in 0..3 {
+        let along = dot(&w[k], &e[k]);
+        after_start[k] = along.sign()? > 0;
+        past_end[k] = (along - uu[k].clone()).sign()? >= 0;
+    }
+    for k in 0..3 {
+        if !after_start[k] && past_end[(k + 2) % 3] {
+            return Some(Some(Candidate {
+                num: dot(&w[k], &w[k]),
+                den: one.clone(),
+                choice: Choice::FaceCorner(k),
+            }));
+        }
+    }
+    for k in 0..3 {
+        if outside[k] && after_start[k] && !past_end[k] {
+            let c = cross(&w[k], &e[k]);
+            return Some(Some(Candidate {
+                num: dot(&c, &c),
+                den: uu[k].clone(),
+                choice: Choice::FaceEdge(k),
+            }));
+        }
+    }
+    Some(None)
 }
 
 /// The edge-edge choice for segments `[q[0], q[1]]` and `[q[2], q[3]]`, if the arithmetic can
@@ -205,7 +249,11 @@ fn edge_edge<T: Num>(q: &[V<T>; 4], one: &T) -> Option<Candidate<T>> {
                 choice: Choice::BothInside,
             });
         }
+        if let Some(c) = by_slopes(q, [&u, &v], one)? {
+            return Some(c);
+        }
     }
+    // Parallel segments: the closest of the ends' candidates, the first of equals.
     let mut best: Option<Candidate<T>> = None;
     for p in 0..4 {
         let (a, b) = if p < 2 {
@@ -218,6 +266,57 @@ fn edge_edge<T: Num>(q: &[V<T>; 4], one: &T) -> Option<Candidate<T>> {
         keep_closer(&mut best, Candidate { num, den, choice })?;
     }
     best
+}
+
+/// The end pair of two segments that are not parallel, found by signs alone (no distances
+/// compared), for segments whose lines' closest points are not both inside them. The squared
+/// distance is strictly convex in the two parameters, so its minimum over the segments is at one
+/// pair of points, on the side of the parameter square of the first end `p` (in the order of
+/// [`Choice::End`]) from which moving into its own segment brings it no closer to its closest
+/// point on the other: the same choice as comparing the four ends' candidates. `dir` holds the
+/// segments' directions, `q[1] - q[0]` and `q[3] - q[2]`. `Some(None)` if no end qualifies
+/// (exactly, one always does).
+fn by_slopes<T: Num>(q: &[V<T>; 4], dir: [&V<T>; 2], one: &T) -> Option<Option<Candidate<T>>> {
+    for p in 0..4 {
+        let (own, other) = (p / 2, 1 - p / 2);
+        let (g, start, end) = (dir[other], &q[2 * other], &q[2 * other + 1]);
+        let x = sub(&q[p], start);
+        let (gg, along) = (dot(g, g), dot(g, &x));
+        // The slope of the squared distance as end `p` moves into its segment, up to a positive
+        // factor, against its closest point on the other segment.
+        let (on, slope) = if along.sign()? <= 0 {
+            (Some(0), dot(dir[own], &x))
+        } else if (along.clone() - gg.clone()).sign()? >= 0 {
+            (Some(1), dot(dir[own], &sub(&q[p], end)))
+        } else {
+            (
+                None,
+                dot(dir[own], &x) * gg.clone() - along * dot(dir[own], g),
+            )
+        };
+        // Moving in from end 0 is along the direction, from end 1 against it.
+        let sign = slope.sign()?;
+        if (p % 2 == 0 && sign < 0) || (p % 2 == 1 && sign > 0) {
+            continue;
+        }
+        let (num, den) = match on {
+            Some(0) => (dot(&x, &x), one.clone()),
+            Some(_) => {
+                let y = sub(&q[p], end);
+                (dot(&y, &y), one.clone())
+            }
+            None => {
+                let c = cross(&x, g);
+                (dot(&c, &c), gg)
+            }
+        };
+        return Some(Some(Candidate {
+            num,
+            den,
+            choice: Choice::End { p, on },
+        }));
+    }
+    Some(None)
 }
 
 /// The choice and the decision "distance at most `d`" for the points `v` (12 coordinates) and
@@ -239,9 +338,20 @@ fn decide<T: Num>(pair: Primitive, v: &[T; 13], one: &T) -> Option<(Choice, bool
 
 /// The closest points of the primitives `p` (as [`Primitive`] says) when their distance is at most
 /// `d`, else `None`. `d` must be finite and not negative, the coordinates finite.
+#[inline]
 pub(crate) fn nearest(pair: Primitive, p: &[Point; 4], d: f64) -> Option<Nearest> {
     debug_assert!(d >= 0.0 && d.is_finite());
-    if boxes_apart(pair, p, d) || filter::certainly_apart(pair, p, d) {
+    // Most pairs a query tests have boxes apart: told without a call.
+    if boxes_apart(pair, p, d) {
+        return None;
+    }
+    not_boxed_apart(pair, p, d)
+}
+
+/// [`nearest`] for primitives whose boxes are not apart.
+#[inline(never)]
+fn not_boxed_apart(pair: Primitive, p: &[Point; 4], d: f64) -> Option<Nearest> {
+    if filter::certainly_apart(pair, p, d) {
         return None;
     }
     let mut values = [0.0; 13];
@@ -263,19 +373,27 @@ pub(crate) fn nearest(pair: Primitive, p: &[Point; 4], d: f64) -> Option<Nearest
     within.then(|| values_of(pair, p, choice))
 }
 
-/// Are the boxes of the two primitives certainly more than `d` apart along some axis? (Then
-/// so are the primitives.) The gap is rounded down, so the answer is exact when it says yes.
+/// Are the boxes of the two primitives more than `d` apart along some axis? (Then so are the
+/// primitives.) Exact: rounding is monotone and `d` is a double, so a gap rounded to nearest
+/// exceeds `d` only if the exact gap does.
+#[inline]
 fn boxes_apart(pair: Primitive, p: &[Point; 4], d: f64) -> bool {
     let split = match pair {
         Primitive::VertexFace => 1,
         Primitive::EdgeEdge => 2,
     };
     (0..3).any(|k| {
-        let (a, b) = (&p[..split], &p[split..]);
-        let lo = |s: &[Point]| s.iter().map(|x| x[k]).fold(f64::INFINITY, f64::min);
-        let hi = |s: &[Point]| s.iter().map(|x| x[k]).fold(f64::NEG_INFINITY, f64::max);
-        let gap = |lo: f64, hi: f64| (Interval::point(lo) - Interval::point(hi)).lo;
-        gap(lo(b), hi(a)) > d || gap(lo(a), hi(b)) > d
+        let (mut lo_a, mut hi_a) = (p[0][k], p[0][k]);
+        for x in &p[1..split] {
+            lo_a = if x[k] < lo_a { x[k] } else { lo_a };
+            hi_a = if x[k] > hi_a { x[k] } else { hi_a };
+        }
+        let (mut lo_b, mut hi_b) = (p[split][k], p[split][k]);
+        for x in &p[split + 1..] {
+            lo_b = if x[k] < lo_b { x[k] } else { lo_b };
+            hi_b = if x[k] > hi_b { x[k] } else { hi_b };
+        }
+        lo_b - hi_a > d || lo_a - hi_b > d
     })
 }
 

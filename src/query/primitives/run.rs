@@ -1,6 +1,7 @@
 //! The narrow phase over a traversal's node pairs: on the calling thread, or cut into chunks
 //! taken in order by several, the results joined in the order of the chunks.
 
+use super::ImpactKind;
 use super::narrow::{Key, Narrow, PrimitiveTest, Worker};
 use crate::error::{Error, Result};
 use crate::query::pairs::Pair;
@@ -13,6 +14,30 @@ const PARALLEL_MIN_PAIRS: usize = 256;
 const CHUNKS_PER_THREAD: usize = 64;
 /// Below this many results, they are sorted on the calling thread.
 const PARALLEL_SORT_MIN: usize = 1 << 14;
+
+/// A result's place in the order: its packed key ([`packed`]), its worker (the top bit set for
+/// the edge-edge run) and its index there.
+type Entry = (u128, u32, usize);
+
+/// The bit of [`Entry`]'s worker that marks the edge-edge run.
+const EDGE_RUN: u32 = 1 << 31;
+
+/// `key` as an integer that orders keys of its run as `key` does, and whether it is of the
+/// edge-edge run (which follows the other). Vertex-face and face-vertex keys have `a1 = b1 = 0`.
+#[inline]
+fn packed(key: Key) -> (u128, bool) {
+    let (kind, a0, a1, b0, b1) = key;
+    if kind == ImpactKind::EdgeEdge {
+        let k = (a0 as u128) << 96 | (a1 as u128) << 64 | (b0 as u128) << 32 | b1 as u128;
+        (k, true)
+    } else {
+        debug_assert!(a1 == 0 && b1 == 0, "a vertex-face key has two indices");
+        (
+            (kind as u128) << 64 | (a0 as u128) << 32 | b0 as u128,
+            false,
+        )
+    }
+}
 
 /// What the workers found, joined.
 pub(crate) struct Joined {
@@ -69,12 +94,14 @@ pub(crate) fn run<T: PrimitiveTest>(
     // The first `limit` results in the chunks' order (so the same whatever the thread count),
     // then sorted by `key`: the order is sorted as small (key, worker, index) entries and the
     // results gathered once into `out`, rather than the (large) results themselves moved about.
-    let mut order: Vec<(Key, u32, usize)> = Vec::new();
+    // The keys are packed into integers, in two runs that follow each other in key order:
+    // vertex-face and face-vertex keys (kind, a0, b0), then edge-edge keys (a0, a1, b0, b1).
     let total: usize = workers
         .iter()
         .map(|w| w.done.iter().map(|d| d.2 - d.1).sum::<usize>())
         .sum();
     let wanted = total.min(limit);
+    let mut order: Vec<Entry> = Vec::new();
     let mut chunks: Vec<(usize, usize, usize, usize)> = Vec::new();
     if out.try_reserve(wanted).is_err()
         || order.try_reserve(wanted).is_err()
@@ -83,34 +110,50 @@ pub(crate) fn run<T: PrimitiveTest>(
             .is_err()
     {
         return Err(Error::OutOfMemory {
-            bytes: wanted
-                * (std::mem::size_of::<T::Found>() + std::mem::size_of::<(Key, u32, u32)>()),
+            bytes: wanted * (std::mem::size_of::<T::Found>() + std::mem::size_of::<Entry>()),
         });
     }
     for (wi, w) in workers.iter().enumerate() {
         chunks.extend(w.done.iter().map(|&(c, s, e)| (c, wi, s, e)));
     }
     chunks.sort_unstable();
+    debug_assert!(workers.len() < EDGE_RUN as usize);
     for &(_, wi, s, e) in &chunks {
         if order.len() >= limit {
             break;
         }
         let take = (e - s).min(limit - order.len());
         let found = &workers[wi].out[s..s + take];
-        order.extend(
-            found
-                .iter()
-                .enumerate()
-                .map(|(i, f)| (key(f), wi as u32, s + i)),
-        );
+        order.extend(found.iter().enumerate().map(|(i, f)| {
+            let (k, edge) = packed(key(f));
+            (k, wi as u32 | if edge { EDGE_RUN } else { 0 }, s + i)
+        }));
     }
-    if parallel_sort && order.len() >= PARALLEL_SORT_MIN {
-        use rayon::slice::ParallelSliceMut;
-        order.par_sort_unstable();
-    } else {
-        order.sort_unstable();
+    // The edge-edge entries moved to the end, in place: they sort after every other kind.
+    let mut split = order.len();
+    let mut i = 0;
+    while i < split {
+        if order[i].1 & EDGE_RUN != 0 {
+            split -= 1;
+            order.swap(i, split);
+        } else {
+            i += 1;
+        }
     }
-    out.extend(order.iter().map(|&(_, wi, i)| workers[wi as usize].out[i]));
+    let (vertex_face, edge_edge) = order.split_at_mut(split);
+    for part in [vertex_face, edge_edge] {
+        if parallel_sort && part.len() >= PARALLEL_SORT_MIN {
+            use rayon::slice::ParallelSliceMut;
+            part.par_sort_unstable_by_key(|e| e.0);
+        } else {
+            part.sort_unstable_by_key(|e| e.0);
+        }
+    }
+    out.extend(
+        order
+            .iter()
+            .map(|&(_, wi, i)| workers[(wi & !EDGE_RUN) as usize].out[i]),
+    );
     // As the discrete queries: the limit reached stops the query.
     joined.truncated = limit != usize::MAX && out.len() >= limit;
     Ok(joined)
