@@ -102,7 +102,13 @@ mod tests {
 
     #[test]
     fn balls_hold_exact_results_and_their_signs_are_exact() {
-        let (known, _) = super::super::chains::check(0xba11, Ball::point, |x| (x.mid, x.rad));
+        let (known, _) = super::super::chains::check(
+            0xba11,
+            [4, 40, 600, 1100],
+            Ball::point,
+            |x| (x.mid, x.rad),
+            Ball::sign,
+        );
         assert!(known > 40_000, "{known}");
     }
 }

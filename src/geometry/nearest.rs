@@ -359,7 +359,8 @@ fn not_boxed_apart(pair: Primitive, p: &[Point; 4], d: f64) -> Option<Nearest> {
         values[k] = *x;
     }
     values[12] = d;
-    let decided = decide(pair, &values.map(Permanent::point), &Permanent::point(1.0))
+    let decided = Permanent::inputs(&values)
+        .and_then(|inputs| decide(pair, &inputs, &Permanent::point(1.0)))
         .or_else(|| decide(pair, &values.map(Ball::point), &Ball::point(1.0)))
         .or_else(|| {
             // The same signs in integers: every double is an integer times a power of two, and

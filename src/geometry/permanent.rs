@@ -1,21 +1,26 @@
-//! Doubles with a forward error bound: the rounded value of a polynomial, with its permanent
-//! (the same polynomial evaluated on the inputs' magnitudes, every subtraction an addition)
-//! and the number of roundings on its longest path. The closest-point decisions try their signs
-//! with these before [`super::ball::Ball`]: an operation costs two rounded results and a count,
-//! against a radius's half-dozen operations and a zero test, and most signs are far from their
-//! bound.
+//! Doubles with a forward error bound: the rounded value of a polynomial with its permanent (the
+//! same polynomial evaluated on the inputs' magnitudes, every subtraction an addition). The
+//! closest-point decisions try their signs with these before [`super::ball::Ball`]: an
+//! operation costs two rounded results, against a radius's half-dozen operations and a zero
+//! test, and most signs are far from their bound.
 //!
 //! The bound is the classical one for straight-line programs (Higham, *Accuracy and Stability of
 //! Numerical Algorithms*, 3.1): a value with `k` roundings on its longest path, where a product
 //! counts both factors' roundings and its own, differs from the exact one by at most
-//! `gamma_k = k u / (1 - k u)` times the exact permanent, `u = 2^-53`, for `k u < 1`. The
-//! permanent is itself computed in round-to-nearest from non-negative terms, so it is low by at
-//! most the same relative amount, covered by [`SLACK`].
+//! `gamma_k = k u / (1 - k u)` times the exact permanent, `u = 2^-53`. The permanent is itself
+//! computed in round-to-nearest from non-negative terms, so it is low by at most the same
+//! relative amount, covered by [`SLACK`].
 //!
-//! The bound assumes no underflow: a product whose permanent is below [`SMALL`] (and not an
-//! exact zero) poisons the result, whose sign is then unknown. Above it, what underflow can lose
-//! in a rounding (2^-1075) is far below `u` times the permanent. An overflow makes the permanent
-//! infinite or NaN, and the sign unknown too.
+//! Nothing is counted per value (counting roundings and watching for underflow in every
+//! operation cost as much as the arithmetic itself). Instead, what the bound needs is required
+//! of the polynomials and the inputs:
+//! - at most [`MOST_ROUNDINGS`] roundings on a polynomial's longest path and degree at most
+//!   [`MOST_DEGREE`] (the closest-point decisions' test checks both with a tracing arithmetic);
+//! - inputs whose nonzero magnitudes lie within `2^±150` ([`Permanent::inputs`]). Then every
+//!   nonzero permanent lies between `2^-900` and `2^1000`: none underflows or overflows. A value
+//!   may still underflow after cancellation, losing at most `2^-1075` per rounding, carried
+//!   through later products by at most their factors' permanents: below `2^-170` of the final
+//!   permanent, also covered by [`SLACK`].
 
 use super::distance::Num;
 use super::predicates::Sign;
@@ -27,44 +32,51 @@ const fn pow2(e: i64) -> f64 {
 
 /// The unit roundoff of round-to-nearest.
 const U: f64 = pow2(-53);
-/// Covers `gamma_k` against `k u`, the permanent's own roundings and those of the bound's
-/// evaluation, for up to [`MOST_ROUNDINGS`] roundings on a path.
+/// Covers `gamma_k` against `k u`, the permanent's own roundings, those of the bound's
+/// evaluation and what underflow can lose.
 const SLACK: f64 = 1.0 + pow2(-28);
-/// 2^20 roundings (the decisions here make fewer than a hundred): `k u` is at most 2^-33.
-const MOST_ROUNDINGS: f64 = pow2(20);
-/// Permanents of products below this (and above zero) may have lost digits to underflow.
-const SMALL: f64 = pow2(-960);
+/// Roundings on the longest path of any polynomial signed with these.
+pub(crate) const MOST_ROUNDINGS: u32 = 32;
+/// The largest degree of a polynomial signed with these, in the inputs (constants of degree 0).
+pub(crate) const MOST_DEGREE: u32 = 6;
+/// Nonzero inputs are at least this and at most its inverse in magnitude.
+const LEAST: f64 = pow2(-150);
+// A product of `MOST_DEGREE` inputs in the range stays above 2^-900 (and far below overflow).
+const _: () = assert!(150 * MOST_DEGREE <= 900);
 
 /// The rounded value of a polynomial in doubles, with what bounds its error.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Permanent {
     /// The value as computed.
     pub value: f64,
-    /// The permanent as computed; NaN once an operation may have underflowed.
+    /// The permanent as computed.
     pub permanent: f64,
-    /// Roundings on the longest path, products counting both factors'.
-    pub roundings: f64,
 }
 
 impl Permanent {
-    /// An input: exact.
+    /// A constant, or an input within the range [`Permanent::inputs`] checks: exact.
     #[inline(always)]
     pub(crate) fn point(x: f64) -> Permanent {
         Permanent {
             value: x,
             permanent: x.abs(),
-            roundings: 0.0,
         }
     }
 
+    /// The inputs `x` as values, when every nonzero magnitude lies within `2^±150`; `None`
+    /// otherwise (then the bound could be lost to underflow or overflow).
+    #[inline]
+    pub(crate) fn inputs<const N: usize>(x: &[f64; N]) -> Option<[Permanent; N]> {
+        x.iter()
+            .all(|v| *v == 0.0 || (v.abs() >= LEAST && v.abs() <= 1.0 / LEAST))
+            .then(|| x.map(Permanent::point))
+    }
+
     /// The bound on `|value - exact|`: `gamma_k` is at most `k u (1 + 2 k u)`, within
-    /// [`SLACK`] of `k u` while `k` is at most [`MOST_ROUNDINGS`]; beyond, unbounded.
+    /// [`SLACK`] of `k u`.
     #[inline(always)]
-    fn error(&self) -> f64 {
-        if self.roundings > MOST_ROUNDINGS {
-            return f64::INFINITY;
-        }
-        self.roundings * U * self.permanent * SLACK
+    pub(crate) fn error(&self) -> f64 {
+        MOST_ROUNDINGS as f64 * U * self.permanent * SLACK
     }
 }
 
@@ -75,7 +87,6 @@ impl Add for Permanent {
         Permanent {
             value: self.value + o.value,
             permanent: self.permanent + o.permanent,
-            roundings: self.roundings.max(o.roundings) + 1.0,
         }
     }
 }
@@ -87,7 +98,6 @@ impl Sub for Permanent {
         Permanent {
             value: self.value - o.value,
             permanent: self.permanent + o.permanent,
-            roundings: self.roundings.max(o.roundings) + 1.0,
         }
     }
 }
@@ -96,14 +106,9 @@ impl Mul for Permanent {
     type Output = Permanent;
     #[inline(always)]
     fn mul(self, o: Permanent) -> Permanent {
-        let permanent = self.permanent * o.permanent;
-        // A zero factor's permanent is an exact zero, and so is the product; a small product of
-        // nonzero factors may have underflowed.
-        let lost = permanent < SMALL && self.permanent != 0.0 && o.permanent != 0.0;
         Permanent {
             value: self.value * o.value,
-            permanent: if lost { f64::NAN } else { permanent },
-            roundings: self.roundings + o.roundings + 1.0,
+            permanent: self.permanent * o.permanent,
         }
     }
 }
@@ -111,7 +116,6 @@ impl Mul for Permanent {
 impl Num for Permanent {
     #[inline(always)]
     fn sign(&self) -> Option<Sign> {
-        // NaN anywhere fails every comparison: unknown.
         let error = self.error();
         if self.value > error {
             Some(1)
@@ -128,28 +132,44 @@ impl Num for Permanent {
 
 #[cfg(test)]
 mod tests {
+    use super::super::chains::{Traced, check};
     use super::*;
 
-    /// Random chains over doubles of every magnitude, near-cancellations included: every sign
-    /// the bound claims is the exact one, and the error bound holds wherever it is finite.
+    /// Random chains over inputs within the range, near-cancellations included: every sign the
+    /// bound claims for a polynomial within the limits on roundings and degree is the exact
+    /// one, and the error bound holds for each.
     #[test]
     fn claimed_signs_are_exact_and_errors_within_the_bound() {
-        let (known, zeros) =
-            super::super::chains::check(0x9e44, Permanent::point, |x| (x.value, x.error()));
-        assert!(known > 40_000 && zeros > 1000, "{known} {zeros}");
+        let within =
+            |x: &Traced<Permanent>| x.roundings <= MOST_ROUNDINGS && x.degree <= MOST_DEGREE;
+        let (known, zeros) = check(
+            0x9e44,
+            [4, 40, 100, 150],
+            |x| Traced::input(Permanent::point(x)),
+            |x| {
+                if within(x) {
+                    (x.x.value, x.x.error())
+                } else {
+                    (f64::NAN, f64::NAN)
+                }
+            },
+            |x| if within(x) { x.x.sign() } else { None },
+        );
+        assert!(known > 20_000 && zeros > 1000, "{known} {zeros}");
     }
 
-    /// Cancellation the bound cannot see through is left to the next arithmetic; a product that
-    /// underflows is never trusted.
+    /// Cancellation the bound cannot see through is left to the next arithmetic; inputs out of
+    /// the range are refused.
     #[test]
     fn unknown_where_the_bound_cannot_tell() {
         let p = Permanent::point;
         // (1 + 2^-52) - 1 - 2^-52 is exactly zero, but computed with roundings.
         let x = p(1.0 + pow2(-52)) * p(1.0) - p(1.0) - p(pow2(-52));
         assert_eq!(x.sign(), None);
-        let tiny = p(pow2(-600)) * p(pow2(-600));
-        assert_eq!(tiny.sign(), None);
-        assert_eq!((p(0.0) * p(pow2(-600))).sign(), Some(0));
+        assert_eq!((p(0.0) * p(pow2(-100))).sign(), Some(0));
         assert_eq!((p(3.0) * p(-2.0) + p(5.0)).sign(), Some(-1));
+        assert!(Permanent::inputs(&[1.0, 0.0, -pow2(150), pow2(-150)]).is_some());
+        assert!(Permanent::inputs(&[1.0, pow2(-151)]).is_none());
+        assert!(Permanent::inputs(&[pow2(151), 1.0]).is_none());
     }
 }

@@ -373,3 +373,34 @@ fn the_filter_never_rejects_at_the_exact_distance() {
         }
     }
 }
+
+/// Every polynomial the decisions sign stays within what the bound of [`Permanent`] requires:
+/// at most its roundings on the longest path and its degree, on every path (corners, edges,
+/// interiors, flat triangles, parallel and overlapping segments).
+#[test]
+fn decisions_stay_within_the_permanents_limits() {
+    use crate::geometry::chains::Traced;
+    use crate::geometry::permanent::{MOST_DEGREE, MOST_ROUNDINGS};
+    let mut rng = Rng::new(0x7aced);
+    Traced::<Ball>::most_signed();
+    let mut decided = 0;
+    for case in 0..4000 {
+        let grid = [2, 3, 4, 8, 1 << 20][case % 5];
+        let p = grid_points(&mut rng, grid, 1.0, 0.0);
+        let mut v = [0.0; 13];
+        for (k, x) in p.iter().flatten().enumerate() {
+            v[k] = *x;
+        }
+        v[12] = [0.0, 0.1, 0.5, 2.0][rng.below(4) as usize];
+        for pair in [Primitive::VertexFace, Primitive::EdgeEdge] {
+            let inputs = v.map(|x| Traced::input(Ball::point(x)));
+            if decide(pair, &inputs, &Traced::constant(Ball::point(1.0))).is_some() {
+                decided += 1;
+            }
+        }
+    }
+    let (roundings, degree) = Traced::<Ball>::most_signed();
+    assert!(decided > 5000, "{decided}");
+    assert!(roundings <= MOST_ROUNDINGS, "{roundings} roundings");
+    assert_eq!(degree, MOST_DEGREE, "the highest degree signed");
+}
