@@ -2,7 +2,7 @@
 //! differences and products over doubles of every magnitude (zeros, small integers, and
 //! exponents up to the subnormals and to overflow), each step checked against exact rationals.
 
-use super::distance::Num;
+use super::distance::{Num, Ring};
 use super::predicates::Sign;
 use crate::fixtures::Rng;
 use num_rational::BigRational;
@@ -40,7 +40,7 @@ pub(crate) fn random_double(rng: &mut Rng, span: i64) -> f64 {
 /// lie within `2^±span` for the spans `spans` in turn. Every sign `sign` claims must be the
 /// exact one, and wherever `enclosure` gives a finite centre and radius, the exact value must lie
 /// within it. Returns how many signs were claimed, and how many of them zero.
-pub(crate) fn check<T: Clone + Add<Output = T> + Sub<Output = T> + Mul<Output = T> + Debug>(
+pub(crate) fn check<T: Ring + Debug>(
     seed: u64,
     spans: [i64; 4],
     point: impl Fn(f64) -> T,

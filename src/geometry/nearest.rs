@@ -284,27 +284,23 @@ fn by_slopes<T: Num>(q: &[V<T>; 4], dir: [&V<T>; 2], one: &T) -> Option<Option<C
         let (gg, along) = (dot(g, g), dot(g, &x));
         // The slope of the squared distance as end `p` moves into its segment, up to a positive
         // factor, against its closest point on the other segment.
-        let (on, slope) = if along.sign()? <= 0 {
-            (Some(0), dot(dir[own], &x))
+        // `from`: the end from the other segment's end closest to it, if it is one.
+        let (on, slope, from) = if along.sign()? <= 0 {
+            (Some(0), dot(dir[own], &x), Some(x.clone()))
         } else if (along.clone() - gg.clone()).sign()? >= 0 {
-            (Some(1), dot(dir[own], &sub(&q[p], end)))
+            let y = sub(&q[p], end);
+            (Some(1), dot(dir[own], &y), Some(y))
         } else {
-            (
-                None,
-                dot(dir[own], &x) * gg.clone() - along * dot(dir[own], g),
-            )
+            let slope = dot(dir[own], &x) * gg.clone() - along * dot(dir[own], g);
+            (None, slope, None)
         };
         // Moving in from end 0 is along the direction, from end 1 against it.
         let sign = slope.sign()?;
         if (p % 2 == 0 && sign < 0) || (p % 2 == 1 && sign > 0) {
             continue;
         }
-        let (num, den) = match on {
-            Some(0) => (dot(&x, &x), one.clone()),
-            Some(_) => {
-                let y = sub(&q[p], end);
-                (dot(&y, &y), one.clone())
-            }
+        let (num, den) = match from {
+            Some(y) => (dot(&y, &y), one.clone()),
             None => {
                 let c = cross(&x, g);
                 (dot(&c, &c), gg)
