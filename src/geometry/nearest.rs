@@ -347,7 +347,7 @@ pub(crate) fn nearest(pair: Primitive, p: &[Point; 4], d: f64) -> Option<Nearest
 /// [`nearest`] for primitives whose boxes are not apart.
 #[inline(never)]
 fn not_boxed_apart(pair: Primitive, p: &[Point; 4], d: f64) -> Option<Nearest> {
-    if filter::certainly_apart(pair, p, d) {
+    if !filter::certainly_within(pair, p, d) && filter::certainly_apart(pair, p, d) {
         return None;
     }
     let mut values = [0.0; 13];
@@ -520,34 +520,35 @@ fn values_in<F: Field>(pair: Primitive, q: [V<F>; 4], choice: Choice) -> Option<
         w[k] = one.clone();
         w
     };
-    // Point `x` against segment `[a, b]` at parameter `s` = along / uu, inside.
+    // Point `x` against segment `[a, b]` at parameter `s` = along / uu, inside. Each
+    // denominator is inverted once and its quotients multiplied: a division costs two products
+    // and more.
     let segment_param = |x: &V<F>, a: &V<F>, b: &V<F>| -> Option<(F, F)> {
         let (u, w) = (sub(b, a), sub(x, a));
-        let uu = dot(&u, &u);
-        let s = dot(&w, &u).over(&uu)?;
+        let inv = one.over(&dot(&u, &u))?;
+        let s = dot(&w, &u) * inv.clone();
         let c = cross(&w, &u);
-        Some((s, dot(&c, &c).over(&uu)?))
+        Some((s, dot(&c, &c) * inv))
     };
     Some(match (pair, choice) {
         (Primitive::VertexFace, Choice::FaceInterior) => {
             let t = [&q[1], &q[2], &q[3]];
             let n = cross(&sub(t[1], t[0]), &sub(t[2], t[0]));
-            let nn = dot(&n, &n);
-            let w = [0, 1, 2].map(|k| {
+            let inv = one.over(&dot(&n, &n))?;
+            // Two weights from the areas they weigh; the third is what they leave of one.
+            let [w0, w1] = [0, 1].map(|k| {
                 let (b, c) = (t[(k + 1) % 3], t[(k + 2) % 3]);
-                dot(&n, &cross(&sub(b, &q[0]), &sub(c, &q[0]))).over(&nn)
+                dot(&n, &cross(&sub(b, &q[0]), &sub(c, &q[0]))) * inv.clone()
             });
-            let w = [w[0].clone()?, w[1].clone()?, w[2].clone()?];
+            let w2 = one.clone() - w0.clone() - w1.clone();
+            // The point is the vertex less its height along the normal: `h / |n|^2` of `n`.
             let h = dot(&n, &sub(&q[0], t[0]));
-            let point = [0, 1, 2].map(|k| {
-                w[0].clone() * t[0][k].clone()
-                    + w[1].clone() * t[1][k].clone()
-                    + w[2].clone() * t[2][k].clone()
-            });
+            let along_n = h.clone() * inv;
+            let point = [0, 1, 2].map(|k| q[0][k].clone() - along_n.clone() * n[k].clone());
             Values {
-                squared: (h.clone() * h).over(&nn)?,
+                squared: h * along_n,
                 points: [q[0].clone(), point],
-                weights: [unit(0), w],
+                weights: [unit(0), [w0, w1, w2]],
             }
         }
         (Primitive::VertexFace, Choice::FaceEdge(k)) => {
@@ -570,14 +571,14 @@ fn values_in<F: Field>(pair: Primitive, q: [V<F>; 4], choice: Choice) -> Option<
         (Primitive::EdgeEdge, Choice::BothInside) => {
             let (u, v, w) = (sub(&q[1], &q[0]), sub(&q[3], &q[2]), sub(&q[0], &q[2]));
             let n = cross(&u, &v);
-            let nn = dot(&n, &n);
+            let inv = one.over(&dot(&n, &n))?;
             let (uu, uv, vv) = (dot(&u, &u), dot(&u, &v), dot(&v, &v));
             let (uw, vw) = (dot(&u, &w), dot(&v, &w));
-            let s = (uv.clone() * vw.clone() - vv * uw.clone()).over(&nn)?;
-            let t = (uu * vw - uv * uw).over(&nn)?;
+            let s = (uv.clone() * vw.clone() - vv * uw.clone()) * inv.clone();
+            let t = (uu * vw - uv * uw) * inv.clone();
             let h = dot(&w, &n);
             Values {
-                squared: (h.clone() * h).over(&nn)?,
+                squared: h.clone() * (h * inv),
                 points: [along(&q[0], &q[1], &s), along(&q[2], &q[3], &t)],
                 weights: [on_edge(0, &s), on_edge(0, &t)],
             }
@@ -656,6 +657,30 @@ fn values_of(pair: Primitive, p: &[Point; 4], choice: Choice) -> Nearest {
         points: rounded.1,
         weights: rounded.2,
     };
+    // Two corners, the most common choice where many pairs come near: the points are inputs and
+    // the weights units, so only the distance is computed.
+    let unit = |k: usize| {
+        let mut w = [0.0; 3];
+        w[k] = 1.0;
+        w
+    };
+    let corners = match choice {
+        Choice::FaceCorner(k) => Some(([0, 1 + k], [0, k])),
+        Choice::End { p: e, on: Some(j) } if e < 2 => Some(([e, 2 + j], [e, j])),
+        Choice::End { p: e, on: Some(j) } => Some(([j, e], [j, e - 2])),
+        _ => None,
+    };
+    if let Some(([i, j], [wi, wj])) = corners {
+        let x = sub(&p[i].map(DdInterval::point), &p[j].map(DdInterval::point));
+        if let Some(distance) = dot(&x, &x).tight_sqrt() {
+            return Nearest {
+                features,
+                distance,
+                points: [p[i], p[j]],
+                weights: [unit(wi), unit(wj)],
+            };
+        }
+    }
     if let Some(v) = values_in(pair, p.map(|x| x.map(DdInterval::point)), choice)
         && let Some(rounded) = round(&v)
     {

@@ -374,6 +374,60 @@ fn the_filter_never_rejects_at_the_exact_distance() {
     }
 }
 
+#[test]
+fn the_corner_shortcut_claims_only_pairs_within() {
+    // d just below the least distance between corners of the two primitives: the shortcut
+    // must not claim the pair; a little beyond it, it should.
+    let mut rng = Rng::new(0x0510_7c07);
+    let mut told = 0;
+    for case in 0..2000 {
+        let (scale, offset) = [(1.0, 0.0), (1e-130, 0.0), (1e150, 1e151), (1.0, 1e12)][case % 4];
+        let mut c = || (rng.range(-0.5, 0.5)) * scale + offset;
+        let p = [
+            [c(), c(), c()],
+            [c(), c(), c()],
+            [c(), c(), c()],
+            [c(), c(), c()],
+        ];
+        for pair in [Primitive::VertexFace, Primitive::EdgeEdge] {
+            let split = if pair == Primitive::VertexFace { 1 } else { 2 };
+            let min = (0..split)
+                .flat_map(|i| (split..4).map(move |j| (i, j)))
+                .map(|(i, j)| {
+                    let x = qsub(&qv(&p[i]), &qv(&p[j]));
+                    qdot(&x, &x)
+                })
+                .min()
+                .unwrap();
+            let mut d = sqrt_rational(&min);
+            while d > 0.0 && q(d) * q(d) >= min {
+                d = d.next_down();
+            }
+            assert!(
+                !filter::certainly_within(pair, &p, d),
+                "{pair:?} {p:?} at {d}"
+            );
+            if filter::certainly_within(pair, &p, d * (1.0 + 1e-12)) {
+                told += 1;
+            }
+        }
+    }
+    // Not vacuous: where no underflow or overflow intervenes, pairs just beyond are told.
+    assert!(told >= 1500, "{told}");
+    // Corners farther apart than a huge d, whose squares overflow, are not claimed.
+    let far = [
+        [0.0; 3],
+        [1e250, 0.0, 0.0],
+        [1e250, 1.0, 0.0],
+        [1e250, 0.0, 1.0],
+    ];
+    assert!(!filter::certainly_within(
+        Primitive::VertexFace,
+        &far,
+        1e200
+    ));
+}
+
 /// Every polynomial the decisions sign stays within what the bound of [`Permanent`] requires:
 /// at most its roundings on the longest path and its degree, on every path (corners, edges,
 /// interiors, flat triangles, parallel and overlapping segments).
