@@ -342,6 +342,11 @@ fn bad_inputs_are_named_and_refused() {
     assert_eq!((n.features, n.distance), ([Feature::Vertex0; 2], 0.0));
 }
 
+/// Four points, each coordinate uniform in `offset +- scale / 2`.
+fn random_points(rng: &mut Rng, scale: f64, offset: f64) -> [Point; 4] {
+    std::array::from_fn(|_| std::array::from_fn(|_| rng.range(-0.5, 0.5) * scale + offset))
+}
+
 #[test]
 fn the_filter_never_rejects_at_the_exact_distance() {
     // d the least double at or beyond the exact distance, and the double below: the first is
@@ -349,13 +354,7 @@ fn the_filter_never_rejects_at_the_exact_distance() {
     let mut rng = Rng::new(0xf11_7e5);
     for case in 0..2000 {
         let (scale, offset) = [(1.0, 0.0), (1e-200, 0.0), (1e200, 1e201), (1.0, 1e12)][case % 4];
-        let mut c = || (rng.range(-0.5, 0.5)) * scale + offset;
-        let p = [
-            [c(), c(), c()],
-            [c(), c(), c()],
-            [c(), c(), c()],
-            [c(), c(), c()],
-        ];
+        let p = random_points(&mut rng, scale, offset);
         for pair in [Primitive::VertexFace, Primitive::EdgeEdge] {
             let min = oracle(pair, &p).iter().map(Cand::squared).min().unwrap();
             // Within a unit of the root, then stepped to the boundary.
@@ -382,13 +381,7 @@ fn the_corner_shortcut_claims_only_pairs_within() {
     let mut told = 0;
     for case in 0..2000 {
         let (scale, offset) = [(1.0, 0.0), (1e-130, 0.0), (1e150, 1e151), (1.0, 1e12)][case % 4];
-        let mut c = || (rng.range(-0.5, 0.5)) * scale + offset;
-        let p = [
-            [c(), c(), c()],
-            [c(), c(), c()],
-            [c(), c(), c()],
-            [c(), c(), c()],
-        ];
+        let p = random_points(&mut rng, scale, offset);
         for pair in [Primitive::VertexFace, Primitive::EdgeEdge] {
             let split = if pair == Primitive::VertexFace { 1 } else { 2 };
             let min = (0..split)
