@@ -28,6 +28,17 @@ pub(crate) enum Primitive {
     EdgeEdge,
 }
 
+impl Primitive {
+    /// How many of the four points are the first primitive's: the rest are the second's.
+    #[inline(always)]
+    pub(crate) fn split(self) -> usize {
+        match self {
+            Primitive::VertexFace => 1,
+            Primitive::EdgeEdge => 2,
+        }
+    }
+}
+
 /// Largest magnitude a posed mesh's transformed coordinates may reach. Beyond it, differences of
 /// world coordinates could overflow and the sphere tests would no longer be conservative.
 pub const MAX_POSED_MAGNITUDE: f64 = 1e300;

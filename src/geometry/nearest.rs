@@ -117,7 +117,7 @@ fn keep_closer<T: Num>(best: &mut Option<Candidate<T>>, c: Candidate<T>) -> Opti
     Some(())
 }
 
-/// The two input points a corner-to-corner choice joins, lower first.
+/// The two input points a corner-to-corner choice joins, lower (the first primitive's) first.
 fn corners(c: Choice) -> Option<(usize, usize)> {
     match c {
         Choice::FaceCorner(k) => Some((0, 1 + k)),
@@ -375,10 +375,7 @@ fn not_boxed_apart(pair: Primitive, p: &[Point; 4], d: f64) -> Option<Nearest> {
 /// exceeds `d` only if the exact gap does.
 #[inline]
 fn boxes_apart(pair: Primitive, p: &[Point; 4], d: f64) -> bool {
-    let split = match pair {
-        Primitive::VertexFace => 1,
-        Primitive::EdgeEdge => 2,
-    };
+    let split = pair.split();
     (0..3).any(|k| {
         let (mut lo_a, mut hi_a) = (p[0][k], p[0][k]);
         for x in &p[1..split] {
@@ -530,6 +527,15 @@ fn values_in<F: Field>(pair: Primitive, q: [V<F>; 4], choice: Choice) -> Option<
         let c = cross(&w, &u);
         Some((s, dot(&c, &c) * inv))
     };
+    // Two corners: the points are inputs, the weights units.
+    if let Some((i, j)) = corners(choice) {
+        let x = sub(&q[i], &q[j]);
+        return Some(Values {
+            squared: dot(&x, &x),
+            points: [q[i].clone(), q[j].clone()],
+            weights: [unit(i), unit(j - pair.split())],
+        });
+    }
     Some(match (pair, choice) {
         (Primitive::VertexFace, Choice::FaceInterior) => {
             let t = [&q[1], &q[2], &q[3]];
@@ -560,14 +566,6 @@ fn values_in<F: Field>(pair: Primitive, q: [V<F>; 4], choice: Choice) -> Option<
                 weights: [unit(0), on_edge(k, &s)],
             }
         }
-        (Primitive::VertexFace, Choice::FaceCorner(k)) => {
-            let x = sub(&q[0], &q[1 + k]);
-            Values {
-                squared: dot(&x, &x),
-                points: [q[0].clone(), q[1 + k].clone()],
-                weights: [unit(0), unit(k)],
-            }
-        }
         (Primitive::EdgeEdge, Choice::BothInside) => {
             let (u, v, w) = (sub(&q[1], &q[0]), sub(&q[3], &q[2]), sub(&q[0], &q[2]));
             let n = cross(&u, &v);
@@ -583,30 +581,21 @@ fn values_in<F: Field>(pair: Primitive, q: [V<F>; 4], choice: Choice) -> Option<
                 weights: [on_edge(0, &s), on_edge(0, &t)],
             }
         }
-        (Primitive::EdgeEdge, Choice::End { p, on }) => {
+        (Primitive::EdgeEdge, Choice::End { p, on: None }) => {
             let other = if p < 2 { 1 } else { 0 };
             let (a, b) = (&q[2 * other], &q[2 * other + 1]);
-            let (point, weights, squared) = match on {
-                Some(j) => {
-                    let x = sub(&q[p], &q[2 * other + j]);
-                    (q[2 * other + j].clone(), unit(j), dot(&x, &x))
-                }
-                None => {
-                    let (s, squared) = segment_param(&q[p], a, b)?;
-                    (along(a, b, &s), on_edge(0, &s), squared)
-                }
-            };
+            let (s, squared) = segment_param(&q[p], a, b)?;
             let mut points = [q[p].clone(), q[p].clone()];
-            let mut ws = [unit(p % 2), unit(p % 2)];
-            points[other] = point;
-            ws[other] = weights;
+            let mut weights = [unit(p % 2), unit(p % 2)];
+            points[other] = along(a, b, &s);
+            weights[other] = on_edge(0, &s);
             Values {
                 squared,
                 points,
-                weights: ws,
+                weights,
             }
         }
-        _ => unreachable!("a choice of the other kind of pair"),
+        _ => unreachable!("corners are taken above; no choice of the other kind of pair"),
     })
 }
 
@@ -664,20 +653,14 @@ fn values_of(pair: Primitive, p: &[Point; 4], choice: Choice) -> Nearest {
         w[k] = 1.0;
         w
     };
-    let corners = match choice {
-        Choice::FaceCorner(k) => Some(([0, 1 + k], [0, k])),
-        Choice::End { p: e, on: Some(j) } if e < 2 => Some(([e, 2 + j], [e, j])),
-        Choice::End { p: e, on: Some(j) } => Some(([j, e], [j, e - 2])),
-        _ => None,
-    };
-    if let Some(([i, j], [wi, wj])) = corners {
+    if let Some((i, j)) = corners(choice) {
         let x = sub(&p[i].map(DdInterval::point), &p[j].map(DdInterval::point));
         if let Some(distance) = dot(&x, &x).tight_sqrt() {
             return Nearest {
                 features,
                 distance,
                 points: [p[i], p[j]],
-                weights: [unit(wi), unit(wj)],
+                weights: [unit(i), unit(j - pair.split())],
             };
         }
     }

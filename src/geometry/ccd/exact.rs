@@ -108,10 +108,7 @@ pub(crate) fn conservative_time_of_impact(
 /// or coplanar only at one end of the step (then contact only there, decided by the exact
 /// static test). Both modes run them first.
 fn filtered(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> Option<Option<f64>> {
-    let split = match kind {
-        Primitive::VertexFace => 1,
-        Primitive::EdgeEdge => 2,
-    };
+    let split = kind.split();
     if boxes_apart(start, end, split) {
         return Some(None);
     }

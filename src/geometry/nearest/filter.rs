@@ -13,10 +13,7 @@ use crate::geometry::predicates::Point;
 /// |u|`, the corners spanning each convex primitive. The floating-point evaluation is bounded
 /// below with a margin for every rounding, so "more than `d`" holds exactly when said.
 pub(super) fn certainly_apart(pair: Primitive, p: &[Point; 4], d: f64) -> bool {
-    let split = match pair {
-        Primitive::VertexFace => 1,
-        Primitive::EdgeEdge => 2,
-    };
+    let split = pair.split();
     let u = match pair {
         Primitive::VertexFace => sub(&p[0], &point_triangle(&p[0], &p[1], &p[2], &p[3])),
         Primitive::EdgeEdge => {

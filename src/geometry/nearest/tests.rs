@@ -383,7 +383,7 @@ fn the_corner_shortcut_claims_only_pairs_within() {
         let (scale, offset) = [(1.0, 0.0), (1e-130, 0.0), (1e150, 1e151), (1.0, 1e12)][case % 4];
         let p = random_points(&mut rng, scale, offset);
         for pair in [Primitive::VertexFace, Primitive::EdgeEdge] {
-            let split = if pair == Primitive::VertexFace { 1 } else { 2 };
+            let split = pair.split();
             let min = (0..split)
                 .flat_map(|i| (split..4).map(move |j| (i, j)))
                 .map(|(i, j)| {
