@@ -85,6 +85,20 @@ impl Aabb {
             & (other.lo[2] <= self.hi[2])
     }
 
+    /// Do the boxes come within `d >= 0` of each other along every axis (touching counts)?
+    /// Never refuses boxes within `d`: rounding is monotone and `d` is a double, so a gap
+    /// rounded to nearest exceeds `d` only if the exact gap does. Cheaper than [`Aabb::meets`]
+    /// on a box [`Aabb::widened`], whose outward rounding costs more than the test.
+    #[inline(always)]
+    pub fn within(&self, other: &Aabb, d: f64) -> bool {
+        (other.lo[0] - self.hi[0] <= d)
+            & (self.lo[0] - other.hi[0] <= d)
+            & (other.lo[1] - self.hi[1] <= d)
+            & (self.lo[1] - other.hi[1] <= d)
+            & (other.lo[2] - self.hi[2] <= d)
+            & (self.lo[2] - other.hi[2] <= d)
+    }
+
     /// The box grown by `d >= 0` on every side, rounded outwards: it holds every point within
     /// distance `d` of this box.
     #[inline]

@@ -341,12 +341,15 @@ pub(crate) fn nearest(pair: Primitive, p: &[Point; 4], d: f64) -> Option<Nearest
     if boxes_apart(pair, p, d) {
         return None;
     }
-    not_boxed_apart(pair, p, d)
+    nearest_boxed_within(pair, p, d)
 }
 
-/// [`nearest`] for primitives whose boxes are not apart.
+/// [`nearest`] for primitives whose boxes are known to come within `d` of each other (as
+/// [`crate::geometry::aabb::Aabb::within`] tells, the same test as [`nearest`]'s own): the
+/// box test is not repeated.
 #[inline(never)]
-fn not_boxed_apart(pair: Primitive, p: &[Point; 4], d: f64) -> Option<Nearest> {
+pub(crate) fn nearest_boxed_within(pair: Primitive, p: &[Point; 4], d: f64) -> Option<Nearest> {
+    debug_assert!(d >= 0.0 && d.is_finite());
     if !filter::certainly_within(pair, p, d) && filter::certainly_apart(pair, p, d) {
         return None;
     }

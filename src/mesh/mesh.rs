@@ -254,7 +254,7 @@ impl Mesh {
     /// Number of edges: pairs of distinct vertices joined by a side of some triangle, each
     /// counted once (what continuous collision tests edge against edge). Found on first use.
     pub fn edge_count(&self) -> usize {
-        self.features().edge_count
+        self.features().edge_count()
     }
 
     /// Counters of the last refit (or of the build's initial fit).
@@ -334,7 +334,8 @@ impl Mesh {
         self.topology.patches.get_or_init(|| Patches::new(self))
     }
 
-    /// Who owns each vertex, edge and triangle in continuous collision, found on first use.
+    /// Which ring owns each vertex, edge and triangle in the queries on vertex-face and
+    /// edge-edge pairs, found on first use.
     pub(crate) fn features(&self) -> &super::features::Features {
         self.topology.features.get_or_init(|| {
             super::features::Features::new(

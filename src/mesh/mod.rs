@@ -1,6 +1,7 @@
 //! Meshes and their hierarchies: input checks, 1-rings, build, refit, validation.
 
 mod features;
+pub(crate) use features::Features;
 mod input;
 #[allow(clippy::module_inception)]
 mod mesh;

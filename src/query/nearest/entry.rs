@@ -5,7 +5,7 @@ use super::near_pairs::{NearPair, NearPairs};
 use crate::error::Result;
 use crate::geometry::Primitive;
 use crate::geometry::aabb::Aabb;
-use crate::geometry::nearest::nearest;
+use crate::geometry::nearest::nearest_boxed_within;
 use crate::geometry::pose::Pose;
 use crate::geometry::predicates::Point;
 use crate::mesh::Mesh;
@@ -96,8 +96,8 @@ impl PrimitiveTest for Stencils<'_> {
     }
 
     #[inline(always)]
-    fn reach(&self, b: Aabb) -> Aabb {
-        b.widened(self.d)
+    fn reach(&self) -> f64 {
+        self.d
     }
 
     #[inline]
@@ -118,7 +118,8 @@ impl PrimitiveTest for Stencils<'_> {
         for (i, &v) in pb.iter().enumerate() {
             p[N + i] = pos_b[v as usize];
         }
-        Some(NearPair::new(key, &nearest(kind, &p, self.d)?))
+        // The narrow phase gives only primitives whose boxes come within `d`.
+        Some(NearPair::new(key, &nearest_boxed_within(kind, &p, self.d)?))
     }
 }
 

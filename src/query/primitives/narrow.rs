@@ -1,10 +1,11 @@
-//! One node pair's primitive pairs: the triangles its rings own, filtered by box, then every
-//! vertex-face and edge-edge pair those triangles own, each given to the test once.
+//! One node pair's primitive pairs: the vertices, edges and triangles its rings own (the rule of
+//! [`crate::mesh::Features`]), each with its box; every vertex-face and edge-edge pair whose
+//! boxes come within the test's reach is given to the test, once.
 
 use super::ImpactKind;
 use crate::geometry::Primitive;
 use crate::geometry::aabb::Aabb;
-use crate::mesh::Mesh;
+use crate::mesh::{Features, Mesh};
 
 /// Which mesh of a query a primitive belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -16,21 +17,18 @@ pub(crate) enum Side {
 /// The order of a result: `(kind, a0, a1, b0, b1)`, with the indices of [`ImpactKind`].
 pub(crate) type Key = (ImpactKind, u32, u32, u32, u32);
 
-/// One mesh of a query and its ownership tables.
+/// One mesh of a query and what its rings own.
 #[derive(Clone, Copy)]
 pub(crate) struct Owners<'m> {
     pub mesh: &'m Mesh,
-    pub owner_ring: &'m [u32],
-    pub owned: &'m [u8],
+    pub features: &'m Features,
 }
 
 impl<'m> Owners<'m> {
     pub fn new(mesh: &'m Mesh) -> Owners<'m> {
-        let f = mesh.features();
         Owners {
             mesh,
-            owner_ring: &f.owner_ring,
-            owned: &f.owned,
+            features: mesh.features(),
         }
     }
 }
@@ -43,15 +41,17 @@ pub(crate) trait PrimitiveTest: Sync {
     /// Grows `b` by vertex `v` of `side` as the test sees it (its sweep, its placed position).
     fn grow(&self, side: Side, v: u32, b: &mut Aabb);
 
-    /// The box of a triangle of side `a` as it is compared with side `b`'s boxes (widened by a
-    /// distance, say): pairs whose boxes so compared are apart are not tested.
+    /// How near primitives must come to be tested: their boxes are compared within this
+    /// distance ([`Aabb::within`]). Zero by default: boxes that meet.
     #[inline(always)]
-    fn reach(&self, b: Aabb) -> Aabb {
-        b
+    fn reach(&self) -> f64 {
+        0.0
     }
 
     /// The test of the points `pa` of `first` against `pb` of `second` (a vertex and a
-    /// triangle's corners, or two edges' ends), to be reported under `key`.
+    /// triangle's corners, or two edges' ends), to be reported under `key`. Called only for
+    /// primitives whose boxes (as [`PrimitiveTest::grow`] makes them) come within
+    /// [`PrimitiveTest::reach`] of each other.
     fn test<const N: usize, const M: usize>(
         &self,
         kind: Primitive,
@@ -70,11 +70,42 @@ pub(crate) trait PrimitiveTest: Sync {
     }
 }
 
-/// A triangle owned by a ring, with its box.
+/// A primitive of a node's rings (a vertex, a triangle with its corners, or an edge), with
+/// its box.
 #[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct Boxed {
-    pub triangle: u32,
+struct Boxed<I> {
+    pub item: I,
     pub bounds: Aabb,
+}
+
+/// A triangle and its corners.
+#[derive(Clone, Copy, Debug, Default)]
+struct Triangle {
+    pub index: u32,
+    pub corners: [u32; 3],
+}
+
+/// The primitives the rings of one node own, each with its box.
+#[derive(Debug, Default)]
+struct Owned {
+    vertices: Vec<Boxed<u32>>,
+    triangles: Vec<Boxed<Triangle>>,
+    edges: Vec<Boxed<[u32; 2]>>,
+}
+
+impl Owned {
+    fn heap_bytes(&self) -> usize {
+        crate::csr::heap_bytes(&self.vertices)
+            + crate::csr::heap_bytes(&self.triangles)
+            + crate::csr::heap_bytes(&self.edges)
+    }
+
+    /// Keeps the primitives whose boxes come within `d` of `other`.
+    fn retain_near(&mut self, other: &Aabb, d: f64) {
+        self.vertices.retain(|x| x.bounds.within(other, d));
+        self.triangles.retain(|x| x.bounds.within(other, d));
+        self.edges.retain(|x| x.bounds.within(other, d));
+    }
 }
 
 /// One thread's scratch space and findings.
@@ -84,8 +115,8 @@ pub(crate) struct Worker<F> {
     pub out: Vec<F>,
     /// For each chunk of node pairs this worker took: (chunk, start, end) in `out`.
     pub done: Vec<(usize, usize, usize)>,
-    ring_a: Vec<Boxed>,
-    ring_b: Vec<Boxed>,
+    owned_a: Owned,
+    owned_b: Owned,
     /// The one result kept, when a query keeps only the best.
     pub best: Option<F>,
     pub primitive_tests: u64,
@@ -98,8 +129,8 @@ impl<F> Default for Worker<F> {
         Worker {
             out: Vec::new(),
             done: Vec::new(),
-            ring_a: Vec::new(),
-            ring_b: Vec::new(),
+            owned_a: Owned::default(),
+            owned_b: Owned::default(),
             best: None,
             primitive_tests: 0,
             out_of_memory: None,
@@ -112,8 +143,8 @@ impl<F> Worker<F> {
     pub fn heap_bytes(&self) -> usize {
         crate::csr::heap_bytes(&self.out)
             + crate::csr::heap_bytes(&self.done)
-            + crate::csr::heap_bytes(&self.ring_a)
-            + crate::csr::heap_bytes(&self.ring_b)
+            + self.owned_a.heap_bytes()
+            + self.owned_b.heap_bytes()
     }
 
     /// Starts a query.
@@ -154,146 +185,188 @@ impl<T: PrimitiveTest> Narrow<'_, T> {
     /// the two equal or with no ring in common) into `w`, stopping once `w.out` holds `limit`
     /// results. Returns whether it stopped.
     pub fn node_pair(&self, w: &mut Worker<T::Found>, na: u32, nb: u32, limit: usize) -> bool {
-        let mut ring_a = std::mem::take(&mut w.ring_a);
-        let mut ring_b = std::mem::take(&mut w.ring_b);
-        let box_a = self.boxes(Side::A, na, &mut ring_a);
-        let mut stopped = false;
-        if self.one_mesh && na == nb {
-            'pairs: for (i, ta) in ring_a.iter().enumerate() {
-                let reach = self.test.reach(ta.bounds);
-                for tb in &ring_a[i + 1..] {
-                    if reach.meets(&tb.bounds)
-                        && self.triangle_pair(w, ta.triangle, tb.triangle, limit)
-                    {
-                        stopped = true;
-                        break 'pairs;
-                    }
-                }
-            }
+        let mut owned_a = std::mem::take(&mut w.owned_a);
+        let mut owned_b = std::mem::take(&mut w.owned_b);
+        let stopped = if self.one_mesh && na == nb {
+            self.triangles(Side::A, na, &mut owned_a);
+            self.vertices_and_edges(Side::A, na, &mut owned_a);
+            self.own(w, &owned_a, limit)
         } else {
-            let box_b = self.boxes(Side::B, nb, &mut ring_b);
-            let box_a = self.test.reach(box_a);
-            if box_a.meets(&box_b) {
-                'pairs: for ta in &ring_a {
-                    let reach = self.test.reach(ta.bounds);
-                    if !reach.meets(&box_b) {
-                        continue;
-                    }
-                    for tb in &ring_b {
-                        if reach.meets(&tb.bounds)
-                            && self.triangle_pair(w, ta.triangle, tb.triangle, limit)
-                        {
-                            stopped = true;
-                            break 'pairs;
-                        }
-                    }
-                }
-            }
-        }
-        w.ring_a = ring_a;
-        w.ring_b = ring_b;
+            self.apart(w, na, nb, &mut owned_a, &mut owned_b, limit)
+        };
+        w.owned_a = owned_a;
+        w.owned_b = owned_b;
         stopped
     }
 
     /// The triangles the rings of node `n` of `side` own, each with its box, into `out`;
-    /// returns the box of them all.
-    fn boxes(&self, side: Side, n: u32, out: &mut Vec<Boxed>) -> Aabb {
-        let owners = match side {
-            Side::A => &self.a,
-            Side::B => &self.b,
-        };
+    /// returns the box of them all (which holds every primitive the rings own).
+    fn triangles(&self, side: Side, n: u32, out: &mut Owned) -> Aabb {
+        let owners = self.side(side);
         let node = &owners.mesh.tree().nodes[n as usize];
-        let (rings, tris) = (owners.mesh.rings(), owners.mesh.triangles());
-        out.clear();
+        let rings = node.ring_start as usize..node.ring_end as usize;
+        let tris = owners.mesh.triangles();
         let mut all = Aabb::EMPTY;
-        for r in node.ring_start..node.ring_end {
-            for &t in rings.triangles.row(r as usize) {
-                if owners.owner_ring[t as usize] != r {
-                    continue;
-                }
-                let mut b = Aabb::EMPTY;
-                for &v in &tris[t as usize] {
-                    self.test.grow(side, v, &mut b);
-                }
-                all.merge(&b);
-                out.push(Boxed {
-                    triangle: t,
-                    bounds: b,
-                });
-            }
+        out.triangles.clear();
+        for &t in owners.features.triangles.row_range(rings) {
+            let corners = tris[t as usize];
+            let bounds = self.boxed(side, &corners);
+            all.merge(&bounds);
+            out.triangles.push(Boxed {
+                item: Triangle { index: t, corners },
+                bounds,
+            });
         }
         all
     }
 
-    /// The primitive pairs of triangle `ta` of `a` and `tb` of `b` that these triangles own.
-    fn triangle_pair(&self, w: &mut Worker<T::Found>, ta: u32, tb: u32, limit: usize) -> bool {
-        let (a, b, one) = (&self.a, &self.b, self.one_mesh);
-        let (ca, cb) = (
-            a.mesh.triangles()[ta as usize],
-            b.mesh.triangles()[tb as usize],
-        );
-        let (oa, ob) = (a.owned[ta as usize], b.owned[tb as usize]);
-        for (k, &v) in ca.iter().enumerate() {
-            if oa & (1 << k) != 0 && !(one && cb.contains(&v)) {
-                let key = (ImpactKind::VertexFace, v, 0, tb, 0);
-                if self.run(
-                    w,
-                    Primitive::VertexFace,
-                    Side::A,
-                    [v],
-                    Side::B,
-                    cb,
-                    key,
-                    limit,
-                ) {
-                    return true;
-                }
-            }
+    /// The vertices and edges the rings of node `n` of `side` own, each with its box, into
+    /// `out`.
+    fn vertices_and_edges(&self, side: Side, n: u32, out: &mut Owned) {
+        let owners = self.side(side);
+        let node = &owners.mesh.tree().nodes[n as usize];
+        let rings = node.ring_start as usize..node.ring_end as usize;
+        let f = owners.features;
+        let boxed = |vertices: &[u32]| self.boxed(side, vertices);
+        out.vertices.clear();
+        out.vertices
+            .extend(f.vertices.row_range(rings.clone()).iter().map(|&v| Boxed {
+                item: v,
+                bounds: boxed(&[v]),
+            }));
+        out.edges.clear();
+        out.edges
+            .extend(f.edges.row_range(rings).iter().map(|&e| Boxed {
+                item: e,
+                bounds: boxed(&e),
+            }));
+    }
+
+    /// The box of `vertices` of `side` as the test sees them.
+    #[inline(always)]
+    fn boxed(&self, side: Side, vertices: &[u32]) -> Aabb {
+        let mut b = Aabb::EMPTY;
+        for &v in vertices {
+            self.test.grow(side, v, &mut b);
         }
-        for (k, &v) in cb.iter().enumerate() {
-            if ob & (1 << k) != 0 && !(one && ca.contains(&v)) {
-                let key = if one {
-                    (ImpactKind::VertexFace, v, 0, ta, 0)
-                } else {
-                    (ImpactKind::FaceVertex, ta, 0, v, 0)
-                };
-                if self.run(
-                    w,
-                    Primitive::VertexFace,
-                    Side::B,
-                    [v],
-                    Side::A,
-                    ca,
-                    key,
-                    limit,
-                ) {
-                    return true;
-                }
-            }
+        b
+    }
+
+    #[inline(always)]
+    fn side(&self, side: Side) -> &Owners<'_> {
+        match side {
+            Side::A => &self.a,
+            Side::B => &self.b,
         }
-        for i in 0..3 {
-            if oa & (1 << (3 + i)) == 0 {
-                continue;
-            }
-            let ea = ordered(ca[i], ca[(i + 1) % 3]);
-            for j in 0..3 {
-                if ob & (1 << (3 + j)) == 0 {
-                    continue;
-                }
-                let eb = ordered(cb[j], cb[(j + 1) % 3]);
-                if one && (eb.contains(&ea[0]) || eb.contains(&ea[1])) {
-                    continue;
-                }
-                // Tested in the order reported, so that a test's rounding does not depend on
-                // which triangle came first.
-                let (e1, e2) = if one && eb < ea { (eb, ea) } else { (ea, eb) };
-                let key = (ImpactKind::EdgeEdge, e1[0], e1[1], e2[0], e2[1]);
-                if self.run(w, Primitive::EdgeEdge, Side::A, e1, Side::B, e2, key, limit) {
+    }
+
+    /// The primitive pairs of a node of one mesh with itself.
+    fn own(&self, w: &mut Worker<T::Found>, owned: &Owned, limit: usize) -> bool {
+        if self.vertex_faces(w, &owned.vertices, Side::A, &owned.triangles, limit) {
+            return true;
+        }
+        let d = self.test.reach();
+        for (i, ea) in owned.edges.iter().enumerate() {
+            for eb in &owned.edges[i + 1..] {
+                if ea.bounds.within(&eb.bounds, d) && self.edge_pair(w, ea.item, eb.item, limit) {
                     return true;
                 }
             }
         }
         false
+    }
+
+    /// The primitive pairs of node `na` of `a` and `nb` of `b`, two meshes' or one mesh's
+    /// with no ring in common, gathered into `owned_a` and `owned_b`.
+    fn apart(
+        &self,
+        w: &mut Worker<T::Found>,
+        na: u32,
+        nb: u32,
+        owned_a: &mut Owned,
+        owned_b: &mut Owned,
+        limit: usize,
+    ) -> bool {
+        let box_a = self.triangles(Side::A, na, owned_a);
+        let box_b = self.triangles(Side::B, nb, owned_b);
+        let d = self.test.reach();
+        if !box_a.within(&box_b, d) {
+            return false;
+        }
+        self.vertices_and_edges(Side::A, na, owned_a);
+        self.vertices_and_edges(Side::B, nb, owned_b);
+        // A leaf's ring owns about 7 triangles and 10 edges: each side keeps what comes near
+        // the other node before the pairs are formed (most does not).
+        owned_a.retain_near(&box_b, d);
+        owned_b.retain_near(&box_a, d);
+        if self.vertex_faces(w, &owned_a.vertices, Side::A, &owned_b.triangles, limit)
+            || self.vertex_faces(w, &owned_b.vertices, Side::B, &owned_a.triangles, limit)
+        {
+            return true;
+        }
+        for ea in &owned_a.edges {
+            for eb in &owned_b.edges {
+                if ea.bounds.within(&eb.bounds, d) && self.edge_pair(w, ea.item, eb.item, limit) {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+
+    /// The vertices `vertices` of `side` against the triangles `triangles` of the other side
+    /// (of one mesh, those that do not contain the vertex), each pair whose boxes come within
+    /// the reach.
+    fn vertex_faces(
+        &self,
+        w: &mut Worker<T::Found>,
+        vertices: &[Boxed<u32>],
+        side: Side,
+        triangles: &[Boxed<Triangle>],
+        limit: usize,
+    ) -> bool {
+        let (d, one) = (self.test.reach(), self.one_mesh);
+        let other = match side {
+            Side::A => Side::B,
+            Side::B => Side::A,
+        };
+        for v in vertices {
+            for t in triangles {
+                let Triangle { index, corners } = t.item;
+                if v.bounds.within(&t.bounds, d) && !(one && corners.contains(&v.item)) {
+                    let key = if one || side == Side::A {
+                        (ImpactKind::VertexFace, v.item, 0, index, 0)
+                    } else {
+                        (ImpactKind::FaceVertex, index, 0, v.item, 0)
+                    };
+                    let kind = Primitive::VertexFace;
+                    if self.run(w, kind, side, [v.item], other, corners, key, limit) {
+                        return true;
+                    }
+                }
+            }
+        }
+        false
+    }
+
+    /// Edge `ea` of `a` against edge `eb` of `b`; of one mesh, unless they share a vertex.
+    #[inline]
+    fn edge_pair(
+        &self,
+        w: &mut Worker<T::Found>,
+        ea: [u32; 2],
+        eb: [u32; 2],
+        limit: usize,
+    ) -> bool {
+        let one = self.one_mesh;
+        if one && (eb.contains(&ea[0]) || eb.contains(&ea[1])) {
+            return false;
+        }
+        // Tested in the order reported, so that a test's rounding does not depend on which
+        // node came first.
+        let (e1, e2) = if one && eb < ea { (eb, ea) } else { (ea, eb) };
+        let key = (ImpactKind::EdgeEdge, e1[0], e1[1], e2[0], e2[1]);
+        self.run(w, Primitive::EdgeEdge, Side::A, e1, Side::B, e2, key, limit)
     }
 
     /// One test, counted, and its result kept.
@@ -316,10 +389,4 @@ impl<T: PrimitiveTest> Narrow<'_, T> {
             None => false,
         }
     }
-}
-
-/// An edge's ends, lower first.
-#[inline]
-fn ordered(u: u32, v: u32) -> [u32; 2] {
-    [u.min(v), u.max(v)]
 }
