@@ -178,4 +178,62 @@ mod tests {
         let huge = Aabb::of_points(&[[-f64::MAX, 0.0, 0.0], [f64::MAX, 0.0, 0.0]]);
         assert_eq!(huge.centre(), [0.0; 3]);
     }
+
+    /// Is `x - y` exactly more than `d`? (The rounded difference and its exact error.)
+    fn exceeds(x: f64, y: f64, d: f64) -> bool {
+        let s = x - y;
+        if s.is_infinite() {
+            return s > 0.0;
+        }
+        let back = s - x;
+        let err = (x - (s - back)) + (-y - back);
+        s > d || (s == d && err > 0.0)
+    }
+
+    #[test]
+    fn within_takes_every_pair_of_boxes_within_d() {
+        // A gap of exactly `d` counts, the next double beyond it does not.
+        let a = Aabb::of_points(&[[0.0; 3], [1.0; 3]]);
+        let at = Aabb::point(&[1.5, 0.5, 0.5]);
+        let beyond = Aabb::point(&[1.5f64.next_up(), 0.5, 0.5]);
+        assert!(a.within(&at, 0.5) && at.within(&a, 0.5));
+        assert!(!a.within(&beyond, 0.5) && !beyond.within(&a, 0.5));
+        assert!(a.within(&a, 0.0) && !Aabb::EMPTY.within(&a, f64::MAX));
+        // Opposite huge coordinates: the gap overflows, and is more than any `d`.
+        let far = Aabb::point(&[f64::MAX, 0.0, 0.0]);
+        let near_min = Aabb::point(&[-f64::MAX, 0.0, 0.0]);
+        assert!(!far.within(&near_min, f64::MAX));
+        // Random boxes at every scale, `d` at, next to and around one axis's gap: a pair is
+        // refused only if the exact gap along some axis is more than `d`.
+        let mut rng = crate::fixtures::Rng::new(11);
+        let mut refused = 0;
+        for scale in [1e-300, 1e-150, 1.0, 1e150, 1e300] {
+            for offset in [0.0, 1e12] {
+                if scale * offset > 1e290 {
+                    continue;
+                }
+                for _ in 0..500 {
+                    let mut point = || [0; 3].map(|_| (rng.range(-1.0, 1.0) + offset) * scale);
+                    let a = Aabb::of_points(&[point(), point()]);
+                    let b = Aabb::of_points(&[point(), point()]);
+                    let k = rng.below(3) as usize;
+                    let gap = (b.lo[k] - a.hi[k]).abs();
+                    for d in [gap, gap.next_up(), gap.next_down(), rng.unit() * scale] {
+                        let d = d.max(0.0);
+                        let within = a.within(&b, d);
+                        assert_eq!(within, b.within(&a, d));
+                        if !within {
+                            refused += 1;
+                            assert!(
+                                (0..3).any(|k| exceeds(b.lo[k], a.hi[k], d)
+                                    || exceeds(a.lo[k], b.hi[k], d)),
+                                "{a:?} and {b:?} are within {d:e}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        assert!(refused > 1000, "{refused} refused");
+    }
 }
