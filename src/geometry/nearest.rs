@@ -19,6 +19,7 @@
 //! flat onto a segment), the first in the order 01, 12, 20 is kept.
 
 pub(crate) use super::Primitive;
+use super::aabb::Aabb;
 use super::ball::Ball;
 use super::distance::{Big, Num, Ring, V, at_most, cross, dot, sub};
 use super::double_double::DdInterval;
@@ -374,24 +375,11 @@ pub(crate) fn nearest_boxed_within(pair: Primitive, p: &[Point; 4], d: f64) -> O
 }
 
 /// Are the boxes of the two primitives more than `d` apart along some axis? (Then so are the
-/// primitives.) Exact: rounding is monotone and `d` is a double, so a gap rounded to nearest
-/// exceeds `d` only if the exact gap does.
+/// primitives.) Exact, as [`Aabb::within`].
 #[inline]
 fn boxes_apart(pair: Primitive, p: &[Point; 4], d: f64) -> bool {
-    let split = pair.split();
-    (0..3).any(|k| {
-        let (mut lo_a, mut hi_a) = (p[0][k], p[0][k]);
-        for x in &p[1..split] {
-            lo_a = if x[k] < lo_a { x[k] } else { lo_a };
-            hi_a = if x[k] > hi_a { x[k] } else { hi_a };
-        }
-        let (mut lo_b, mut hi_b) = (p[split][k], p[split][k]);
-        for x in &p[split + 1..] {
-            lo_b = if x[k] < lo_b { x[k] } else { lo_b };
-            hi_b = if x[k] > hi_b { x[k] } else { hi_b };
-        }
-        lo_b - hi_a > d || lo_a - hi_b > d
-    })
+    let (first, second) = p.split_at(pair.split());
+    !Aabb::of_points(first).within(&Aabb::of_points(second), d)
 }
 
 /// Arithmetic for the values: intervals, or exact rationals.

@@ -26,6 +26,7 @@ use super::interval::{self, Answer};
 use super::poly::{self, Poly, Root, one};
 use super::scaled;
 pub(crate) use crate::geometry::Primitive;
+use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::{Point, orient3d};
 use crate::geometry::tri_tri::triangles_intersect;
 use num_rational::BigRational;
@@ -131,16 +132,8 @@ fn touching(kind: Primitive, p: &[Point; 4]) -> bool {
 
 /// Are the boxes of points `..split` and `split..`, over both times, disjoint on some axis?
 fn boxes_apart(start: &[Point; 4], end: &[Point; 4], split: usize) -> bool {
-    (0..3).any(|k| {
-        let range = |r: std::ops::Range<usize>| {
-            r.flat_map(|i| [start[i][k], end[i][k]])
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
-                    (lo.min(x), hi.max(x))
-                })
-        };
-        let (a, b) = (range(0..split), range(split..4));
-        a.1 < b.0 || b.1 < a.0
-    })
+    let swept = |r: std::ops::Range<usize>| Aabb::of_points(start[r.clone()].iter().chain(&end[r]));
+    !swept(0..split).meets(&swept(split..4))
 }
 
 /// The vectors whose determinant is the coplanarity polynomial, at one time: for vertex-face

@@ -202,9 +202,7 @@ impl<T: PrimitiveTest> Narrow<'_, T> {
     /// The triangles the rings of node `n` of `side` own, each with its box, into `out`;
     /// returns the box of them all (which holds every primitive the rings own).
     fn triangles(&self, side: Side, n: u32, out: &mut Owned) -> Aabb {
-        let owners = self.side(side);
-        let node = &owners.mesh.tree().nodes[n as usize];
-        let rings = node.ring_start as usize..node.ring_end as usize;
+        let (owners, rings) = self.rings(side, n);
         let tris = owners.mesh.triangles();
         let mut all = Aabb::EMPTY;
         out.triangles.clear();
@@ -223,9 +221,7 @@ impl<T: PrimitiveTest> Narrow<'_, T> {
     /// The vertices and edges the rings of node `n` of `side` own, each with its box, into
     /// `out`.
     fn vertices_and_edges(&self, side: Side, n: u32, out: &mut Owned) {
-        let owners = self.side(side);
-        let node = &owners.mesh.tree().nodes[n as usize];
-        let rings = node.ring_start as usize..node.ring_end as usize;
+        let (owners, rings) = self.rings(side, n);
         let f = owners.features;
         let boxed = |vertices: &[u32]| self.boxed(side, vertices);
         out.vertices.clear();
@@ -252,12 +248,15 @@ impl<T: PrimitiveTest> Narrow<'_, T> {
         b
     }
 
+    /// The mesh of `side` and the rings below its node `n`.
     #[inline(always)]
-    fn side(&self, side: Side) -> &Owners<'_> {
-        match side {
+    fn rings(&self, side: Side, n: u32) -> (&Owners<'_>, std::ops::Range<usize>) {
+        let owners = match side {
             Side::A => &self.a,
             Side::B => &self.b,
-        }
+        };
+        let node = &owners.mesh.tree().nodes[n as usize];
+        (owners, node.ring_start as usize..node.ring_end as usize)
     }
 
     /// The primitive pairs of a node of one mesh with itself.
