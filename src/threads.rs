@@ -30,6 +30,24 @@ pub(crate) fn on_each<W: Send, F: Fn(&mut W, usize) + Sync>(workers: &mut [W], f
     });
 }
 
+/// Runs `f` on every item of `items` on `threads` threads at once (as [`on_each`]), each thread
+/// taking the next item as it comes free: for items of uneven cost.
+pub(crate) fn in_turns<S: Send, F: Fn(S) + Sync>(threads: usize, items: Vec<S>, f: &F) {
+    let items = std::sync::Mutex::new(items.into_iter());
+    // Zero-sized: no allocation.
+    let mut workers = vec![(); threads];
+    on_each(&mut workers, &|_, _| {
+        loop {
+            // The lock is let go before `f` runs: a panic in `f` cannot poison it.
+            let next = items.lock().expect("no item is taken mid-panic").next();
+            let Some(item) = next else {
+                break;
+            };
+            f(item);
+        }
+    });
+}
+
 /// Runs `a` on the calling thread and `b` on a thread of the pool, at once (see [`on_each`]
 /// for why the calling thread works rather than waits). Allocates one small job.
 pub(crate) fn join<A, B, RA, RB>(a: A, b: B) -> (RA, RB)

@@ -123,6 +123,37 @@ impl DdInterval {
         q.is_finite().then_some(q)
     }
 
+    /// The squared distance of points `a` and `b`, enclosed: the differences and their squares
+    /// split exactly into double-double parts, summed with a bound on what the sum rounds off.
+    /// The general operations would do the same at several times the cost (each checks for
+    /// exact and zero operands and bounds cancellation); here every square is non-negative, so
+    /// nothing cancels and one bound on the small parts' magnitudes covers every rounding.
+    pub(crate) fn squared_distance(a: &[f64; 3], b: &[f64; 3]) -> DdInterval {
+        // The large parts' sum is kept exactly as `hi` plus the errors `t`; everything else
+        // (product errors, cross terms, the `t`s) is at most 2^-52 of the sum and goes to `small`.
+        let (mut hi, mut small, mut size) = (0.0, 0.0, 0.0);
+        for k in 0..3 {
+            let (h, l) = two_sum(a[k], -b[k]);
+            let (p, e) = two_prod(h, h);
+            let (s, t) = two_sum(hi, p);
+            hi = s;
+            // (h + l)^2 = p + e + 2 h l + l^2.
+            let c = (2.0 * h) * l + l * l;
+            small += (t + e) + c;
+            size += t.abs() + e.abs() + c.abs();
+        }
+        let (hi, lo) = two_sum(hi, small);
+        // Each `c` is rounded three times (its partial sums no larger than `|c|`), and each
+        // step of `small` three times (no larger than `size`): each rounding is at most 2^-53 of
+        // its partial sum, 8 2^-53 `size` in all, half the radius. Underflow in them and in the
+        // products' errors is covered by `up`.
+        DdInterval {
+            hi,
+            lo,
+            rad: up(4.0 * REL * size),
+        }
+    }
+
     /// A double within two units in the last place of every value, if there is one: `hi`, when
     /// every value lies within two of its neighbours (then so does every value rounded).
     pub(crate) fn tight(&self) -> Option<f64> {
@@ -332,6 +363,36 @@ mod tests {
         }
         // The rounding is not vacuous: inexact results were rounded.
         assert!(tight > 10_000, "{tight}");
+    }
+
+    #[test]
+    fn squared_distances_hold_the_exact_value_and_round_their_root() {
+        let mut rng = Rng::new(0x5eed_d157);
+        let mut rounded = 0;
+        for case in 0..4000 {
+            // Normal magnitudes, extreme ones, and points close together far from the origin.
+            let span = [4, 40, 600, 1100][case % 4];
+            let a: [f64; 3] = std::array::from_fn(|_| random_double(&mut rng, span));
+            let b: [f64; 3] = if case % 3 == 0 {
+                a.map(|x| x * (1.0 + rng.range(-1e-9, 1e-9)))
+            } else {
+                std::array::from_fn(|_| random_double(&mut rng, span))
+            };
+            let x = DdInterval::squared_distance(&a, &b);
+            let exact: Q = (0..3)
+                .map(|k| (q(a[k]) - q(b[k])) * (q(a[k]) - q(b[k])))
+                .sum();
+            if !x.is_finite() {
+                continue;
+            }
+            assert!(holds(&x, &exact), "{a:?} {b:?} -> {x:?}");
+            if let Some(s) = x.tight_sqrt() {
+                assert!(root_near(s, &exact), "{a:?} {b:?}: root {s}");
+                rounded += 1;
+            }
+        }
+        // Every finite case in range is rounded: the enclosure is as tight as its centre.
+        assert!(rounded > 2500, "{rounded}");
     }
 
     #[test]

@@ -342,14 +342,50 @@ pub(crate) fn nearest(pair: Primitive, p: &[Point; 4], d: f64) -> Option<Nearest
     if boxes_apart(pair, p, d) {
         return None;
     }
-    nearest_boxed_within(pair, p, d)
+    decide_within(pair, p, d).map(|decided| values(pair, p, decided))
 }
 
-/// [`nearest`] for primitives whose boxes are known to come within `d` of each other (as
-/// [`crate::geometry::aabb::Aabb::within`] tells, the same test as [`nearest`]'s own): the
-/// box test is not repeated.
+/// Where the closest points of a pair within the distance lie, as the exact decision found it:
+/// all [`values`] needs besides the points. One byte, so that a query can keep it for every
+/// pair it finds and compute the values later, in the results' final order and place.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Decided(u8);
+
+impl Decided {
+    fn of(choice: Choice) -> Decided {
+        Decided(match choice {
+            Choice::FaceInterior => 0,
+            Choice::FaceEdge(k) => 1 + k as u8,
+            Choice::FaceCorner(k) => 4 + k as u8,
+            Choice::BothInside => 7,
+            Choice::End { p, on: None } => 8 + p as u8,
+            Choice::End { p, on: Some(j) } => 12 + 2 * p as u8 + j as u8,
+        })
+    }
+
+    fn choice(self) -> Choice {
+        match self.0 {
+            0 => Choice::FaceInterior,
+            1..=3 => Choice::FaceEdge((self.0 - 1) as usize),
+            4..=6 => Choice::FaceCorner((self.0 - 4) as usize),
+            7 => Choice::BothInside,
+            8..=11 => Choice::End {
+                p: (self.0 - 8) as usize,
+                on: None,
+            },
+            k => Choice::End {
+                p: ((k - 12) / 2) as usize,
+                on: Some(((k - 12) % 2) as usize),
+            },
+        }
+    }
+}
+
+/// The exact decision "distance at most `d`" for primitives whose boxes are known to come
+/// within `d` of each other (as [`crate::geometry::aabb::Aabb::within`] tells, the same test as
+/// [`nearest`]'s own: it is not repeated), and where their closest points lie if so.
 #[inline(never)]
-pub(crate) fn nearest_boxed_within(pair: Primitive, p: &[Point; 4], d: f64) -> Option<Nearest> {
+pub(crate) fn decide_within(pair: Primitive, p: &[Point; 4], d: f64) -> Option<Decided> {
     debug_assert!(d >= 0.0 && d.is_finite());
     if !filter::certainly_within(pair, p, d) && filter::certainly_apart(pair, p, d) {
         return None;
@@ -371,7 +407,13 @@ pub(crate) fn nearest_boxed_within(pair: Primitive, p: &[Point; 4], d: f64) -> O
             decide(pair, &to_integers(values).map(Big), &Big(BigInt::one()))
         });
     let (choice, within) = decided.expect("exact arithmetic decides every sign");
-    within.then(|| values_of(pair, p, choice))
+    within.then(|| Decided::of(choice))
+}
+
+/// The distance, closest points and weights of the primitives `p`, whose closest points lie
+/// where `decided` says ([`decide_within`] on the same points).
+pub(crate) fn values(pair: Primitive, p: &[Point; 4], decided: Decided) -> Nearest {
+    values_of(pair, p, decided.choice())
 }
 
 /// Are the boxes of the two primitives more than `d` apart along some axis? (Then so are the
@@ -644,16 +686,15 @@ fn values_of(pair: Primitive, p: &[Point; 4], choice: Choice) -> Nearest {
         w[k] = 1.0;
         w
     };
-    if let Some((i, j)) = corners(choice) {
-        let x = sub(&p[i].map(DdInterval::point), &p[j].map(DdInterval::point));
-        if let Some(distance) = dot(&x, &x).tight_sqrt() {
-            return Nearest {
-                features,
-                distance,
-                points: [p[i], p[j]],
-                weights: [unit(i), unit(j - pair.split())],
-            };
-        }
+    if let Some((i, j)) = corners(choice)
+        && let Some(distance) = DdInterval::squared_distance(&p[i], &p[j]).tight_sqrt()
+    {
+        return Nearest {
+            features,
+            distance,
+            points: [p[i], p[j]],
+            weights: [unit(i), unit(j - pair.split())],
+        };
     }
     if let Some(v) = values_in(pair, p.map(|x| x.map(DdInterval::point)), choice)
         && let Some(rounded) = round(&v)

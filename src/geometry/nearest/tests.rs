@@ -451,3 +451,20 @@ fn decisions_stay_within_the_permanents_limits() {
     assert!(roundings <= MOST_ROUNDINGS, "{roundings} roundings");
     assert_eq!(degree, MOST_DEGREE, "the highest degree signed");
 }
+
+#[test]
+fn a_decision_keeps_its_choice_in_one_byte() {
+    let mut all = vec![Choice::FaceInterior, Choice::BothInside];
+    for k in 0..3 {
+        all.extend([Choice::FaceEdge(k), Choice::FaceCorner(k)]);
+    }
+    for p in 0..4 {
+        all.extend([None, Some(0), Some(1)].map(|on| Choice::End { p, on }));
+    }
+    let mut bytes = std::collections::HashSet::new();
+    for c in all {
+        let d = Decided::of(c);
+        assert_eq!(d.choice(), c, "{d:?}");
+        assert!(bytes.insert(d.0), "{c:?} shares its byte");
+    }
+}

@@ -1,19 +1,23 @@
 //! The closest-point queries: the traversal with volumes widened by the distance finds the node
-//! pairs that may hold stencils; the shared narrow phase tests their primitive pairs exactly.
+//! pairs that may hold stencils; the shared narrow phase decides their primitive pairs exactly,
+//! keeping where each stencil's closest points lie; once the stencils are sorted, their values
+//! are computed straight into the result, on every thread the query may use.
 
-use super::near_pairs::{NearPair, NearPairs};
-use crate::error::Result;
+use super::near_pairs::{NearPair, NearPairs, Stencil};
+use crate::error::{Error, Result};
 use crate::geometry::Primitive;
 use crate::geometry::aabb::Aabb;
-use crate::geometry::nearest::nearest_boxed_within;
+use crate::geometry::nearest::{decide_within, values};
 use crate::geometry::pose::Pose;
 use crate::geometry::predicates::Point;
 use crate::mesh::Mesh;
 use crate::query::engine::{query, query_one};
 use crate::query::options::{QueryMode, QueryOptions};
 use crate::query::pairs::QueryStats;
-use crate::query::primitives::{self, Key, Narrow, Owners, PrimitiveTest, Side};
+use crate::query::primitives::{self, ImpactKind, Key, Narrow, Owners, PrimitiveTest, Side};
 use crate::query::proximity::{Near, check_distance};
+use crate::threads;
+use std::mem::MaybeUninit;
 
 /// Every vertex-face and edge-edge pair of mesh `a` placed by `pose_a` and mesh `b` placed by
 /// `pose_b` (`None`: the mesh's coordinates are world coordinates) whose distance is at most
@@ -70,10 +74,17 @@ pub fn self_nearest_features(
     run(mesh, None, None, distance, options, out)
 }
 
+/// Below this many stencils, their values are computed on the calling thread.
+const PARALLEL_MIN_VALUES: usize = 4096;
+/// Shares of the stencils per thread, for their values.
+const SHARES_PER_THREAD: usize = 8;
+
 /// The closest-point test: primitive pairs whose boxes come within `d`, then the exact one.
 struct Stencils<'p> {
     a: &'p [Point],
     b: &'p [Point],
+    triangles_a: &'p [[u32; 3]],
+    triangles_b: &'p [[u32; 3]],
     d: f64,
 }
 
@@ -85,10 +96,68 @@ impl Stencils<'_> {
             Side::B => self.b,
         }
     }
+
+    /// The points of the stencil `key` in the order its test took them (the vertex, then the
+    /// triangle's corners; or the two edges' ends), and its kind of pair.
+    #[inline]
+    fn points(&self, (kind, a0, a1, b0, b1): Key) -> (Primitive, [Point; 4]) {
+        let (a, b) = (self.a, self.b);
+        let at = |p: &[Point], v: u32| p[v as usize];
+        match kind {
+            ImpactKind::VertexFace => {
+                let t = self.triangles_b[b0 as usize];
+                let p = [at(a, a0), at(b, t[0]), at(b, t[1]), at(b, t[2])];
+                (Primitive::VertexFace, p)
+            }
+            ImpactKind::FaceVertex => {
+                let t = self.triangles_a[a0 as usize];
+                let p = [at(b, b0), at(a, t[0]), at(a, t[1]), at(a, t[2])];
+                (Primitive::VertexFace, p)
+            }
+            ImpactKind::EdgeEdge => {
+                let p = [at(a, a0), at(a, a1), at(b, b0), at(b, b1)];
+                (Primitive::EdgeEdge, p)
+            }
+        }
+    }
+
+    /// The stencil `s` with its values.
+    #[inline]
+    fn near_pair(&self, s: &Stencil) -> NearPair {
+        let (kind, p) = self.points(s.key);
+        NearPair::new(s.key, &values(kind, &p, s.decided))
+    }
+
+    /// The stencils `found` with their values appended to `out`, which has room for them, on
+    /// up to `threads` threads, each writing its share in place.
+    fn with_values(&self, found: &[Stencil], threads: usize, out: &mut Vec<NearPair>) {
+        let n = found.len();
+        debug_assert!(out.capacity() - out.len() >= n);
+        if threads <= 1 || n < PARALLEL_MIN_VALUES {
+            out.extend(found.iter().map(|s| self.near_pair(s)));
+            return;
+        }
+        let start = out.len();
+        // Shares taken in turn by the threads: the values of some stencils cost many times
+        // those of others (a corner pair's against an edge's inside).
+        let size = n.div_ceil(threads * SHARES_PER_THREAD);
+        let shares: Vec<(&[Stencil], &mut [MaybeUninit<NearPair>])> = found
+            .chunks(size)
+            .zip(out.spare_capacity_mut()[..n].chunks_mut(size))
+            .collect();
+        threads::in_turns(threads, shares, &|(from, to)| {
+            for (s, slot) in from.iter().zip(to.iter_mut()) {
+                slot.write(self.near_pair(s));
+            }
+        });
+        // SAFETY: the shares cover the first `n` slots past the length, and each wrote every
+        // slot of its own (a panic in one would have unwound past this line).
+        unsafe { out.set_len(start + n) };
+    }
 }
 
 impl PrimitiveTest for Stencils<'_> {
-    type Found = NearPair;
+    type Found = Stencil;
 
     #[inline]
     fn grow(&self, side: Side, v: u32, b: &mut Aabb) {
@@ -109,7 +178,7 @@ impl PrimitiveTest for Stencils<'_> {
         second: Side,
         pb: [u32; M],
         key: Key,
-    ) -> Option<NearPair> {
+    ) -> Option<Stencil> {
         let (pos_a, pos_b) = (self.side(first), self.side(second));
         let mut p = [[0.0; 3]; 4];
         for (i, &v) in pa.iter().enumerate() {
@@ -119,7 +188,8 @@ impl PrimitiveTest for Stencils<'_> {
             p[N + i] = pos_b[v as usize];
         }
         // The narrow phase gives only primitives whose boxes come within `d`.
-        Some(NearPair::new(key, &nearest_boxed_within(kind, &p, self.d)?))
+        let decided = decide_within(kind, &p, self.d)?;
+        Some(Stencil { key, decided })
     }
 }
 
@@ -174,6 +244,7 @@ fn run(
     let NearPairs {
         items,
         spare,
+        found,
         nodes,
         workers,
         placed: [buf_a, buf_b],
@@ -204,18 +275,28 @@ fn run(
         test: Stencils {
             a: pa,
             b: pb,
+            triangles_a: a.triangles(),
+            triangles_b: b.triangles(),
             d: distance,
         },
     };
+    found.clear();
     let joined = primitives::run(
         &narrow,
         nodes.as_slice(),
         options.threads,
         limit,
         workers,
-        spare,
-        NearPair::key,
+        found,
+        Stencil::key,
     )?;
+    if spare.try_reserve(found.len()).is_err() {
+        return Err(Error::OutOfMemory {
+            bytes: found.len() * std::mem::size_of::<NearPair>(),
+        });
+    }
+    let threads = threads::resolve(options.threads);
+    narrow.test.with_values(found, threads, spare);
     stats.triangle_tests = joined.primitive_tests;
     // As the discrete queries: FirstHit stopping at its one stencil is not a cut.
     stats.truncated = joined.truncated && options.mode != QueryMode::FirstHit;

@@ -1,7 +1,7 @@
 //! What the closest-point query reports, and the reusable buffer it goes to.
 
 use crate::csr::heap_bytes;
-use crate::geometry::nearest::{Feature, Nearest};
+use crate::geometry::nearest::{Decided, Feature, Nearest};
 use crate::geometry::predicates::Point;
 use crate::query::pairs::Pairs;
 use crate::query::primitives::{ImpactKind, Key, Worker};
@@ -78,8 +78,24 @@ impl NearPair {
     }
 
     /// The order of a result: `(kind, a0, a1, b0, b1)`.
+    #[cfg(test)]
     pub(crate) fn key(&self) -> Key {
         (self.kind, self.a0, self.a1, self.b0, self.b1)
+    }
+}
+
+/// A stencil as the narrow phase finds it: its key and where its closest points lie. Its values
+/// are computed once the stencils are sorted, straight into the result, so that what the
+/// narrow phase keeps, and what is moved and sorted, is 24 bytes a stencil rather than 136.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Stencil {
+    pub key: Key,
+    pub decided: Decided,
+}
+
+impl Stencil {
+    pub(crate) fn key(&self) -> Key {
+        self.key
     }
 }
 
@@ -93,7 +109,9 @@ pub struct NearPairs {
     pub(crate) spare: Vec<NearPair>,
     /// The traversal's node pairs, and its scratch space.
     pub(crate) nodes: Pairs,
-    pub(crate) workers: Vec<Worker<NearPair>>,
+    /// The stencils found, sorted, before their values are computed into `spare`.
+    pub(crate) found: Vec<Stencil>,
+    pub(crate) workers: Vec<Worker<Stencil>>,
     /// The placed vertices of a posed mesh (each side).
     pub(crate) placed: [Vec<Point>; 2],
 }
@@ -130,6 +148,7 @@ impl NearPairs {
         heap_bytes(&self.items)
             + heap_bytes(&self.spare)
             + self.nodes.memory_bytes()
+            + heap_bytes(&self.found)
             + heap_bytes(&self.workers)
             + self.workers.iter().map(Worker::heap_bytes).sum::<usize>()
             + self.placed.iter().map(heap_bytes).sum::<usize>()

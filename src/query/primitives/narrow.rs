@@ -115,6 +115,8 @@ pub(crate) struct Worker<F> {
     pub out: Vec<F>,
     /// For each chunk of node pairs this worker took: (chunk, start, end) in `out`.
     pub done: Vec<(usize, usize, usize)>,
+    /// The first worker's: scratch space for sorting the joined results.
+    pub counts: Vec<usize>,
     owned_a: Owned,
     owned_b: Owned,
     /// The one result kept, when a query keeps only the best.
@@ -129,6 +131,7 @@ impl<F> Default for Worker<F> {
         Worker {
             out: Vec::new(),
             done: Vec::new(),
+            counts: Vec::new(),
             owned_a: Owned::default(),
             owned_b: Owned::default(),
             best: None,
@@ -143,6 +146,7 @@ impl<F> Worker<F> {
     pub fn heap_bytes(&self) -> usize {
         crate::csr::heap_bytes(&self.out)
             + crate::csr::heap_bytes(&self.done)
+            + crate::csr::heap_bytes(&self.counts)
             + self.owned_a.heap_bytes()
             + self.owned_b.heap_bytes()
     }

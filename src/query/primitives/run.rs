@@ -14,27 +14,28 @@ const PARALLEL_MIN_PAIRS: usize = 256;
 const CHUNKS_PER_THREAD: usize = 64;
 /// Below this many results, they are sorted on the calling thread.
 const PARALLEL_SORT_MIN: usize = 1 << 14;
+/// Below this many results, they are sorted as they are, not first put in buckets.
+const BUCKETS_MIN_RESULTS: usize = 1 << 10;
+/// Results are put in buckets only when the buckets number at most this many per result (so
+/// that counting them costs less than sorting).
+const BUCKETS_PER_RESULT: usize = 4;
+/// Shares of the buckets per thread, for their sorts.
+const SHARES_PER_THREAD: usize = 8;
 
-/// A result's place in the order: its packed key ([`packed`]), its worker (the top bit set for
-/// the edge-edge run) and its index there.
-type Entry = (u128, u32, usize);
-
-/// The bit of [`Entry`]'s worker that marks the edge-edge run.
-const EDGE_RUN: u32 = 1 << 31;
-
-/// `key` as an integer that orders keys of its run as `key` does, and whether it is of the
-/// edge-edge run (which follows the other). Vertex-face and face-vertex keys have `a1 = b1 = 0`.
+/// `key` as a value that orders keys as `key` does: vertex-face and face-vertex keys
+/// `(kind, a0, b0)` packed into an integer (their `a1 = b1 = 0`), then edge-edge keys
+/// `(a0, a1, b0, b1)` packed into another, after every other kind.
 #[inline]
-fn packed(key: Key) -> (u128, bool) {
+fn packed(key: Key) -> (bool, u128) {
     let (kind, a0, a1, b0, b1) = key;
     if kind == ImpactKind::EdgeEdge {
         let k = (a0 as u128) << 96 | (a1 as u128) << 64 | (b0 as u128) << 32 | b1 as u128;
-        (k, true)
+        (true, k)
     } else {
         debug_assert!(a1 == 0 && b1 == 0, "a vertex-face key has two indices");
         (
-            (kind as u128) << 64 | (a0 as u128) << 32 | b0 as u128,
             false,
+            (kind as u128) << 64 | (a0 as u128) << 32 | b0 as u128,
         )
     }
 }
@@ -61,11 +62,9 @@ pub(crate) fn run<T: PrimitiveTest>(
     limit: usize,
     workers: &mut Vec<Worker<T::Found>>,
     out: &mut Vec<T::Found>,
-    key: impl Fn(&T::Found) -> Key,
+    key: impl Fn(&T::Found) -> Key + Sync,
 ) -> Result<Joined> {
-    // The sort of a large result is shared out when the query may use every thread of the pool.
-    let pool = rayon::current_num_threads();
-    let parallel_sort = pool > 1 && threads::resolve(threads) == pool;
+    let sort_threads = threads::resolve(threads);
     let threads = if pairs.len() < PARALLEL_MIN_PAIRS {
         1
     } else {
@@ -92,68 +91,60 @@ pub(crate) fn run<T: PrimitiveTest>(
         joined.primitive_tests += w.primitive_tests;
     }
     // The first `limit` results in the chunks' order (so the same whatever the thread count),
-    // then sorted by `key`: the order is sorted as small (key, worker, index) entries and the
-    // results gathered once into `out`, rather than the (large) results themselves moved about.
-    // The keys are packed into integers, in two runs that follow each other in key order:
-    // vertex-face and face-vertex keys (kind, a0, b0), then edge-edge keys (a0, a1, b0, b1).
+    // then sorted by `key`.
     let total: usize = workers
         .iter()
         .map(|w| w.done.iter().map(|d| d.2 - d.1).sum::<usize>())
         .sum();
     let wanted = total.min(limit);
-    let mut order: Vec<Entry> = Vec::new();
     let mut chunks: Vec<(usize, usize, usize, usize)> = Vec::new();
     if out.try_reserve(wanted).is_err()
-        || order.try_reserve(wanted).is_err()
         || chunks
             .try_reserve(workers.iter().map(|w| w.done.len()).sum())
             .is_err()
     {
         return Err(Error::OutOfMemory {
-            bytes: wanted * (std::mem::size_of::<T::Found>() + std::mem::size_of::<Entry>()),
+            bytes: wanted * std::mem::size_of::<T::Found>(),
         });
     }
     for (wi, w) in workers.iter().enumerate() {
         chunks.extend(w.done.iter().map(|&(c, s, e)| (c, wi, s, e)));
     }
     chunks.sort_unstable();
-    debug_assert!(workers.len() < EDGE_RUN as usize);
-    for &(_, wi, s, e) in &chunks {
-        if order.len() >= limit {
-            break;
+    let mut counts = std::mem::take(&mut workers[0].counts);
+    // The results taken, in order: the chunks' up to the limit.
+    let mut left = wanted;
+    let taken: Vec<&[T::Found]> = chunks
+        .iter()
+        .filter_map(|&(_, wi, s, e)| {
+            let take = (e - s).min(left);
+            left -= take;
+            (take > 0).then(|| &workers[wi].out[s..s + take])
+        })
+        .collect();
+    let buckets = Buckets::of(narrow);
+    counts.clear();
+    let bucketed = wanted >= BUCKETS_MIN_RESULTS
+        && buckets.count() <= wanted.saturating_mul(BUCKETS_PER_RESULT)
+        && counts.try_reserve(buckets.count() + 1).is_ok();
+    if bucketed {
+        buckets.sort(&taken, &key, &mut counts, sort_threads, out);
+    } else {
+        for part in &taken {
+            out.extend_from_slice(part);
         }
-        let take = (e - s).min(limit - order.len());
-        let found = &workers[wi].out[s..s + take];
-        order.extend(found.iter().enumerate().map(|(i, f)| {
-            let (k, edge) = packed(key(f));
-            (k, wi as u32 | if edge { EDGE_RUN } else { 0 }, s + i)
-        }));
-    }
-    // The edge-edge entries moved to the end, in place: they sort after every other kind.
-    let mut split = order.len();
-    let mut i = 0;
-    while i < split {
-        if order[i].1 & EDGE_RUN != 0 {
-            split -= 1;
-            order.swap(i, split);
-        } else {
-            i += 1;
-        }
-    }
-    let (vertex_face, edge_edge) = order.split_at_mut(split);
-    for part in [vertex_face, edge_edge] {
-        if parallel_sort && part.len() >= PARALLEL_SORT_MIN {
+        // Few results for the meshes' size: sorted as they are, on the whole pool when the
+        // query may use it.
+        let pool = rayon::current_num_threads();
+        if pool > 1 && sort_threads == pool && out.len() >= PARALLEL_SORT_MIN {
             use rayon::slice::ParallelSliceMut;
-            part.par_sort_unstable_by_key(|e| e.0);
+            out.par_sort_unstable_by_key(|f| packed(key(f)));
         } else {
-            part.sort_unstable_by_key(|e| e.0);
+            out.sort_unstable_by_key(|f| packed(key(f)));
         }
     }
-    out.extend(
-        order
-            .iter()
-            .map(|&(_, wi, i)| workers[(wi & !EDGE_RUN) as usize].out[i]),
-    );
+    drop(taken);
+    workers[0].counts = counts;
     // As the discrete queries: the limit reached stops the query.
     joined.truncated = limit != usize::MAX && out.len() >= limit;
     Ok(joined)
@@ -214,4 +205,100 @@ fn in_chunks<T: PrimitiveTest>(
             }
         }
     });
+}
+
+/// Results in buckets by the first two parts of their key, `(kind, a0)`: a bucket for each
+/// vertex of the first mesh (vertex-face), each triangle (face-vertex), then each vertex again
+/// (edge-edge), so that the buckets follow each other in key order. Putting results in buckets
+/// is two passes over them; each bucket, a few hundred results at most where many are found, is
+/// then sorted in cache, and the buckets on several threads at once.
+struct Buckets {
+    vertices: usize,
+    triangles: usize,
+}
+
+impl Buckets {
+    fn of<T: PrimitiveTest>(narrow: &Narrow<T>) -> Buckets {
+        let mesh = narrow.a.mesh;
+        Buckets {
+            vertices: mesh.vertex_count(),
+            triangles: mesh.triangle_count(),
+        }
+    }
+
+    fn count(&self) -> usize {
+        2 * self.vertices + self.triangles
+    }
+
+    #[inline]
+    fn of_key(&self, (kind, a0, ..): Key) -> usize {
+        a0 as usize
+            + match kind {
+                ImpactKind::VertexFace => 0,
+                ImpactKind::FaceVertex => self.vertices,
+                ImpactKind::EdgeEdge => self.vertices + self.triangles,
+            }
+    }
+
+    /// The results `taken` appended to `out` (empty, with room for them all) in the order of
+    /// `key`, with `counts` (room for [`Buckets::count`] + 1) as scratch space, on up to
+    /// `threads` threads.
+    fn sort<F: Copy + Send>(
+        &self,
+        taken: &[&[F]],
+        key: &(impl Fn(&F) -> Key + Sync),
+        counts: &mut Vec<usize>,
+        threads: usize,
+        out: &mut Vec<F>,
+    ) {
+        let n: usize = taken.iter().map(|p| p.len()).sum();
+        debug_assert!(out.is_empty() && out.capacity() >= n);
+        counts.clear();
+        counts.resize(self.count() + 1, 0);
+        for f in taken.iter().flat_map(|p| p.iter()) {
+            counts[self.of_key(key(f)) + 1] += 1;
+        }
+        // `counts[b]`: where bucket `b` starts; moved along to where it ends as it is filled.
+        for b in 1..counts.len() {
+            counts[b] += counts[b - 1];
+        }
+        let room = &mut out.spare_capacity_mut()[..n];
+        for f in taken.iter().flat_map(|p| p.iter()) {
+            let b = self.of_key(key(f));
+            room[counts[b]].write(*f);
+            counts[b] += 1;
+        }
+        // SAFETY: the buckets' ranges, counted above, partition the first `n` slots, and each
+        // slot was written once as its bucket was filled.
+        unsafe { out.set_len(n) };
+        // Bucket `b` now runs from `counts[b - 1]` (0 for the first) to `counts[b]`.
+        let ends = &counts[..self.count()];
+        let sort = |part: &mut [F], start: usize, ends: &[usize]| {
+            let mut from = start;
+            for &end in ends {
+                if end - from > 1 {
+                    part[from - start..end - start].sort_unstable_by_key(|f| packed(key(f)));
+                }
+                from = end;
+            }
+        };
+        if threads <= 1 || n < PARALLEL_SORT_MIN {
+            sort(out, 0, ends);
+            return;
+        }
+        // Shares of whole buckets, each about `size` results, taken in turn by the threads.
+        let size = n.div_ceil(threads * SHARES_PER_THREAD);
+        let mut shares: Vec<(&mut [F], usize, &[usize])> = Vec::new();
+        let (mut rest, mut start, mut first) = (&mut out[..], 0, 0);
+        for (b, &end) in ends.iter().enumerate() {
+            if end - start >= size || b + 1 == ends.len() {
+                let (part, tail) = std::mem::take(&mut rest).split_at_mut(end - start);
+                shares.push((part, start, &ends[first..=b]));
+                (rest, start, first) = (tail, end, b + 1);
+            }
+        }
+        threads::in_turns(threads, shares, &|(part, start, ends)| {
+            sort(part, start, ends)
+        });
+    }
 }
