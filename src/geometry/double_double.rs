@@ -38,7 +38,7 @@ pub(crate) struct DdInterval {
 
 /// `a + b` as `s + e` exactly (Knuth), `s` the rounded sum.
 #[inline(always)]
-fn two_sum(a: f64, b: f64) -> (f64, f64) {
+pub(crate) fn two_sum(a: f64, b: f64) -> (f64, f64) {
     let s = a + b;
     let bb = s - a;
     (s, (a - (s - bb)) + (b - bb))
@@ -90,12 +90,6 @@ impl DdInterval {
 
     pub(crate) fn is_finite(&self) -> bool {
         self.hi.is_finite() && self.lo.is_finite() && self.rad.is_finite()
-    }
-
-    /// Is every value certainly at least zero?
-    fn nonnegative(&self) -> bool {
-        // `hi` at least a bound on |lo| + rad, rounded up.
-        self.is_finite() && self.hi >= 0.0 && self.hi >= (self.lo.abs() + self.rad) * SLACK
     }
 
     /// `self / d` for `d` certainly positive; `None` when `d` may hold zero or a magnitude is
@@ -154,20 +148,52 @@ impl DdInterval {
         }
     }
 
+    /// The dot product of two vectors, enclosed: each centre product split exactly where its
+    /// leading parts meet, the rest summed with one bound on what the sum rounds off, as
+    /// [`DdInterval::squared_distance`] does. The general operations would compute the same
+    /// centre at about twice the cost (each checks for exact and zero operands and bounds every
+    /// step apart). Unlike a squared distance, the terms may cancel: every error is bounded by
+    /// the terms' magnitudes, not the result's.
+    pub(crate) fn dot(a: &[DdInterval; 3], b: &[DdInterval; 3]) -> DdInterval {
+        let (mut hi, mut small, mut size, mut rest) = (0.0, 0.0, 0.0, 0.0);
+        for k in 0..3 {
+            let (x, y) = (a[k], b[k]);
+            let (p, e) = two_prod(x.hi, y.hi);
+            let (s, t) = two_sum(hi, p);
+            hi = s;
+            // (h + l)(h' + l') = p + e + h l' + l h' + l l': the middle two rounded, the last
+            // dropped (at most 2^-106 of the product) and bounded with the radii's spread.
+            let (c0, c1) = (x.hi * y.lo, x.lo * y.hi);
+            small += (t + e) + (c0 + c1);
+            size += t.abs() + e.abs() + c0.abs() + c1.abs();
+            rest += (x.lo * y.lo).abs()
+                + (x.hi.abs() + x.lo.abs()) * y.rad
+                + (y.hi.abs() + y.lo.abs()) * x.rad
+                + x.rad * y.rad;
+        }
+        let (hi, lo) = two_sum(hi, small);
+        // Per term, the two cross products and their sum are rounded (at most 2 2^-53 of the
+        // products' magnitudes, both in `size`), and `small` takes three more roundings, each at
+        // most 2^-53 of a partial sum no larger than `size`: 11 2^-53 `size` in all, under the
+        // 16 2^-53 allowed. Underflow, and the rounding of `size` and `rest` (sums of
+        // non-negative terms), are covered by `up`.
+        DdInterval {
+            hi,
+            lo,
+            rad: up(4.0 * REL * size + rest),
+        }
+    }
+
     /// A double within two units in the last place of every value, if there is one: `hi`, when
-    /// every value lies within two of its neighbours (then so does every value rounded).
+    /// every value lies within `2^-53 |hi|` of it, at most two of its units (a unit of `hi` is
+    /// more than `2^-53 |hi|`, and at least half that below a power of two).
+    #[inline]
     pub(crate) fn tight(&self) -> Option<f64> {
         let m = self.hi;
-        if self.is_double() {
-            return m.is_finite().then_some(m);
-        }
-        if !(self.is_finite() && m.abs() >= SAFE && m.abs() <= BIG) {
-            return None;
-        }
         let off = (self.lo.abs() + self.rad) * SLACK;
-        // Both differences exact (Sterbenz): the neighbours are within a factor two of `m`.
-        let (down, up) = (m - m.next_down().next_down(), m.next_up().next_up() - m);
-        (off <= down && off <= up).then_some(m)
+        // Both bounds in one test; false for NaN, infinities and magnitudes out of range.
+        let ok = off <= m.abs() * pow2(-53) && (SAFE..=BIG).contains(&m.abs());
+        (ok || (self.is_double() && m.is_finite())).then_some(m)
     }
 
     /// The square root of a value (not negative), within one unit in the last place of the
@@ -182,14 +208,26 @@ impl DdInterval {
             return None;
         }
         let s = self.hi.sqrt();
-        // The squares are exact: s is within 2^±450.
-        let square = |x: f64| {
-            let (hi, lo) = two_prod(x, x);
-            DdInterval { hi, lo, rad: 0.0 }
-        };
-        let ok = (*self - square(s.next_down())).nonnegative()
-            && (square(s.next_up()) - *self).nonnegative();
-        ok.then_some(s)
+        // `s` lies within 2^±450, a positive normal: its neighbours are one bit pattern away,
+        // and the gaps `g` below and `h` above are exact powers of two (Sterbenz).
+        let bits = s.to_bits();
+        let (g, h) = (s - f64::from_bits(bits - 1), f64::from_bits(bits + 1) - s);
+        // A value `y` is `s^2 + delta`; it lies between the neighbours' squares exactly when
+        // `-(2 s g - g^2) <= delta <= 2 s h + h^2`. `s^2 = p + e` exactly (no underflow at
+        // this scale), and `hi - p` is exact (Sterbenz: `p` is within a factor two of `hi`), so
+        // `delta` is `c` give or take `off`: the radius and `c`'s two roundings.
+        let (p, e) = two_prod(s, s);
+        let r = self.hi - p;
+        let c = r + (self.lo - e);
+        let off = up(self.rad + REL * (r.abs() + self.lo.abs() + e.abs())) * (1.0 + pow2(-50));
+        // The gaps' bounds from below: `2 s g` and `g^2` are exact, their sum or difference
+        // rounded once, then lowered past that rounding and their own with `c` below.
+        let low = 1.0 - pow2(-50);
+        let below = (2.0 * s * g - g * g) * low;
+        let above = (2.0 * s * h + h * h) * low;
+        // Each side rounded once: a rounded sum at least `off` (positive) is exactly at least
+        // `off` less 2^-53 of it, which `off`'s own factor covers.
+        (c + below >= off && above - c >= off).then_some(s)
     }
 }
 
@@ -393,6 +431,47 @@ mod tests {
         }
         // Every finite case in range is rounded: the enclosure is as tight as its centre.
         assert!(rounded > 2500, "{rounded}");
+    }
+
+    /// A root is claimed only where every value of the enclosure lies between the squares of
+    /// its neighbours, and claimed wherever they do with room to spare: enclosures of every
+    /// width about a double-double centre, the answer checked in rationals.
+    #[test]
+    fn a_root_is_claimed_exactly_where_the_enclosure_allows() {
+        let mut rng = Rng::new(0x5a7_0f7e);
+        let (mut claimed, mut roomy) = (0, 0);
+        for _ in 0..20_000 {
+            let hi = rng.range(1.0, 4.0) * pow2(rng.below(1600) as i64 - 800);
+            let unit = hi - hi.next_down();
+            let lo = rng.range(-0.5, 0.5) * unit;
+            let rad = [0.0, pow2(-60) * hi, rng.range(0.0, 3.0) * unit][rng.below(3) as usize];
+            let x = DdInterval { hi, lo, rad };
+            let s = hi.sqrt();
+            let (below, above) = (q(s.next_down()), q(s.next_up()));
+            let (centre, r) = (q(hi) + q(lo), q(rad));
+            // How far the enclosure keeps inside the neighbours' squares, at its nearer end.
+            let room = (&centre - &r - &below * &below).min(&above * &above - &centre - &r);
+            match x.tight_sqrt() {
+                Some(root) => {
+                    assert_eq!(root, s);
+                    assert!(
+                        !room.is_negative(),
+                        "{x:?}: claimed {s} outside the squares"
+                    );
+                    claimed += 1;
+                }
+                // Twice the room the enclosure takes (and what rounding its centre may take,
+                // far less): the test must claim it.
+                None => {
+                    let slack = r.clone() + r + q(pow2(-98) * hi);
+                    assert!(room <= slack, "{x:?}: not claimed, room {room}");
+                }
+            }
+            if room > q(0.0) {
+                roomy += 1;
+            }
+        }
+        assert!(claimed > 5000 && roomy > claimed / 2, "{claimed} {roomy}");
     }
 
     #[test]

@@ -22,7 +22,7 @@ pub(crate) use super::Primitive;
 use super::aabb::Aabb;
 use super::ball::Ball;
 use super::distance::{Big, Num, Ring, V, at_most, cross, dot, sub};
-use super::double_double::DdInterval;
+use super::double_double::{DdInterval, two_sum};
 use super::permanent::Permanent;
 use super::predicates::{Point, to_integers, to_integers_scaled};
 use num_bigint::BigInt;
@@ -232,10 +232,16 @@ fn edge_edge<T: Num>(q: &[V<T>; 4], one: &T) -> Option<Candidate<T>> {
     let n = cross(&u, &v);
     let nn = dot(&n, &n);
     if nn.sign()? > 0 {
-        let (uu, uv, vv) = (dot(&u, &u), dot(&u, &v), dot(&v, &v));
-        let (uw, vw) = (dot(&u, &w), dot(&v, &w));
-        let s = uv.clone() * vw.clone() - vv * uw.clone();
-        let t = uu * vw - uv * uw;
+        let dots = Dots {
+            uu: dot(&u, &u),
+            uv: dot(&u, &v),
+            vv: dot(&v, &v),
+            uw: dot(&u, &w),
+            vw: dot(&v, &w),
+        };
+        let Dots { uu, uv, vv, uw, vw } = &dots;
+        let s = uv.clone() * vw.clone() - vv.clone() * uw.clone();
+        let t = uu.clone() * vw.clone() - uv.clone() * uw.clone();
         let mut inside = true;
         for x in [s, t] {
             if x.sign()? <= 0 || (x - nn.clone()).sign()? >= 0 {
@@ -250,7 +256,7 @@ fn edge_edge<T: Num>(q: &[V<T>; 4], one: &T) -> Option<Candidate<T>> {
                 choice: Choice::BothInside,
             });
         }
-        if let Some(c) = by_slopes(q, [&u, &v], one)? {
+        if let Some(c) = by_slopes(q, &dots, one)? {
             return Some(c);
         }
     }
@@ -274,37 +280,72 @@ fn edge_edge<T: Num>(q: &[V<T>; 4], one: &T) -> Option<Candidate<T>> {
 /// distance is strictly convex in the two parameters, so its minimum over the segments is at one
 /// pair of points, on the side of the parameter square of the first end `p` (in the order of
 /// [`Choice::End`]) from which moving into its own segment brings it no closer to its closest
-/// point on the other: the same choice as comparing the four ends' candidates. `dir` holds the
-/// segments' directions, `q[1] - q[0]` and `q[3] - q[2]`. `Some(None)` if no end qualifies
-/// (exactly, one always does).
-fn by_slopes<T: Num>(q: &[V<T>; 4], dir: [&V<T>; 2], one: &T) -> Option<Option<Candidate<T>>> {
+/// point on the other: the same choice as comparing the four ends' candidates. `dots` holds the
+/// products of the directions `u = q[1] - q[0]`, `v = q[3] - q[2]` and `w = q[0] - q[2]`.
+/// `Some(None)` if no end qualifies (exactly, one always does).
+fn by_slopes<T: Num>(q: &[V<T>; 4], dots: &Dots<T>, one: &T) -> Option<Option<Candidate<T>>> {
+    let Dots { uu, uv, vv, uw, vw } = dots;
     for p in 0..4 {
-        let (own, other) = (p / 2, 1 - p / 2);
-        let (g, start, end) = (dir[other], &q[2 * other], &q[2 * other + 1]);
-        let x = sub(&q[p], start);
-        let (gg, along) = (dot(g, g), dot(g, &x));
+        let other = 1 - p / 2;
+        let (start, end) = (&q[2 * other], &q[2 * other + 1]);
+        // With `x` the end less the other segment's start, `g` that segment's direction and `e`
+        // the end's own: each product of them is one of `dots` or a sum of two or three, since
+        // `x` is `w`, `w + u`, `-w` or `v - w` and `e.g` is `uv`. At `p = 2` the products `x`
+        // enters are kept unnegated and their signs flipped.
+        let flip = p == 2;
+        let signed = |x: &T| Some(if flip { -x.sign()? } else { x.sign()? });
+        let gg = if p < 2 { vv } else { uu };
+        // g.x, and e.x (each flipped at 2).
+        let along = match p {
+            0 => vw.clone(),
+            1 => vw.clone() + uv.clone(),
+            2 => uw.clone(),
+            _ => uv.clone() - uw.clone(),
+        };
+        let ex = || match p {
+            0 => uw.clone(),
+            1 => uw.clone() + uu.clone(),
+            2 => vw.clone(),
+            _ => vv.clone() - vw.clone(),
+        };
         // The slope of the squared distance as end `p` moves into its segment, up to a positive
-        // factor, against its closest point on the other segment.
-        // `from`: the end from the other segment's end closest to it, if it is one.
-        let (on, slope, from) = if along.sign()? <= 0 {
-            (Some(0), dot(dir[own], &x), Some(x.clone()))
-        } else if (along.clone() - gg.clone()).sign()? >= 0 {
-            let y = sub(&q[p], end);
-            (Some(1), dot(dir[own], &y), Some(y))
+        // factor, against its closest point on the other segment: at its start, `e.x`; at its
+        // end, `e.(x - g)`; inside, `e.x g.g - g.x e.g`.
+        // g.x - g.g, flipped at 2.
+        let past = if flip {
+            along.clone() + gg.clone()
         } else {
-            let slope = dot(dir[own], &x) * gg.clone() - along * dot(dir[own], g);
-            (None, slope, None)
+            along.clone() - gg.clone()
+        };
+        let (on, sign) = if signed(&along)? <= 0 {
+            (Some(0), signed(&ex())?)
+        } else if signed(&past)? >= 0 {
+            let slope = if flip {
+                ex() + uv.clone()
+            } else {
+                ex() - uv.clone()
+            };
+            (Some(1), signed(&slope)?)
+        } else if flip {
+            (
+                None,
+                (uw.clone() * uv.clone() - vw.clone() * uu.clone()).sign()?,
+            )
+        } else {
+            (None, (ex() * gg.clone() - along * uv.clone()).sign()?)
         };
         // Moving in from end 0 is along the direction, from end 1 against it.
-        let sign = slope.sign()?;
         if (p % 2 == 0 && sign < 0) || (p % 2 == 1 && sign > 0) {
             continue;
         }
-        let (num, den) = match from {
-            Some(y) => (dot(&y, &y), one.clone()),
+        let (num, den) = match on {
+            Some(j) => {
+                let y = sub(&q[p], [start, end][j]);
+                (dot(&y, &y), one.clone())
+            }
             None => {
-                let c = cross(&x, g);
-                (dot(&c, &c), gg)
+                let c = cross(&sub(&q[p], start), &sub(end, start));
+                (dot(&c, &c), gg.clone())
             }
         };
         return Some(Some(Candidate {
@@ -314,6 +355,16 @@ fn by_slopes<T: Num>(q: &[V<T>; 4], dir: [&V<T>; 2], one: &T) -> Option<Option<C
         }));
     }
     Some(None)
+}
+
+/// The products of two segments' directions `u`, `v` and the vector `w` from the second's start
+/// to the first's, as [`edge_edge`] names them.
+struct Dots<T> {
+    uu: T,
+    uv: T,
+    vv: T,
+    uw: T,
+    vw: T,
 }
 
 /// The choice and the decision "distance at most `d`" for the points `v` (12 coordinates) and
@@ -427,6 +478,10 @@ fn boxes_apart(pair: Primitive, p: &[Point; 4], d: f64) -> bool {
 /// Arithmetic for the values: intervals, or exact rationals.
 trait Field: Ring {
     fn of(x: f64) -> Self;
+    /// The dot product of `a` and `b`.
+    fn dot(a: &V<Self>, b: &V<Self>) -> Self {
+        dot(a, b)
+    }
     /// `self / d`, `d` positive; `None` when the arithmetic cannot divide (an interval holding
     /// zero).
     fn over(&self, d: &Self) -> Option<Self>;
@@ -435,6 +490,9 @@ trait Field: Ring {
 impl Field for DdInterval {
     fn of(x: f64) -> DdInterval {
         DdInterval::point(x)
+    }
+    fn dot(a: &V<DdInterval>, b: &V<DdInterval>) -> DdInterval {
+        DdInterval::dot(a, b)
     }
     fn over(&self, d: &DdInterval) -> Option<DdInterval> {
         self.divide(d)
@@ -550,21 +608,22 @@ fn values_in<F: Field>(pair: Primitive, q: [V<F>; 4], choice: Choice) -> Option<
         w[k] = one.clone();
         w
     };
-    // Point `x` against segment `[a, b]` at parameter `s` = along / uu, inside. Each
-    // denominator is inverted once and its quotients multiplied: a division costs two products
-    // and more.
-    let segment_param = |x: &V<F>, a: &V<F>, b: &V<F>| -> Option<(F, F)> {
+    // Point `x` against segment `[a, b]`, inside it: the parameter `s` = w.u / u.u, the
+    // closest point `a + s u`, and the squared distance as the length of what is left of `w`.
+    // The products `s u` serve both; one division, no cross product.
+    let on_segment = |x: &V<F>, a: &V<F>, b: &V<F>| -> Option<(F, F, V<F>)> {
         let (u, w) = (sub(b, a), sub(x, a));
-        let inv = one.over(&dot(&u, &u))?;
-        let s = dot(&w, &u) * inv.clone();
-        let c = cross(&w, &u);
-        Some((s, dot(&c, &c) * inv))
+        let s = F::dot(&w, &u).over(&F::dot(&u, &u))?;
+        let su = u.map(|c| s.clone() * c);
+        let point = [0, 1, 2].map(|k| a[k].clone() + su[k].clone());
+        let r = sub(&w, &su);
+        Some((s, F::dot(&r, &r), point))
     };
     // Two corners: the points are inputs, the weights units.
     if let Some((i, j)) = corners(choice) {
         let x = sub(&q[i], &q[j]);
         return Some(Values {
-            squared: dot(&x, &x),
+            squared: F::dot(&x, &x),
             points: [q[i].clone(), q[j].clone()],
             weights: [unit(i), unit(j - pair.split())],
         });
@@ -573,15 +632,15 @@ fn values_in<F: Field>(pair: Primitive, q: [V<F>; 4], choice: Choice) -> Option<
         (Primitive::VertexFace, Choice::FaceInterior) => {
             let t = [&q[1], &q[2], &q[3]];
             let n = cross(&sub(t[1], t[0]), &sub(t[2], t[0]));
-            let inv = one.over(&dot(&n, &n))?;
+            let inv = one.over(&F::dot(&n, &n))?;
             // Two weights from the areas they weigh; the third is what they leave of one.
             let [w0, w1] = [0, 1].map(|k| {
                 let (b, c) = (t[(k + 1) % 3], t[(k + 2) % 3]);
-                dot(&n, &cross(&sub(b, &q[0]), &sub(c, &q[0]))) * inv.clone()
+                F::dot(&n, &cross(&sub(b, &q[0]), &sub(c, &q[0]))) * inv.clone()
             });
             let w2 = one.clone() - w0.clone() - w1.clone();
             // The point is the vertex less its height along the normal: `h / |n|^2` of `n`.
-            let h = dot(&n, &sub(&q[0], t[0]));
+            let h = F::dot(&n, &sub(&q[0], t[0]));
             let along_n = h.clone() * inv;
             let point = [0, 1, 2].map(|k| q[0][k].clone() - along_n.clone() * n[k].clone());
             Values {
@@ -592,22 +651,22 @@ fn values_in<F: Field>(pair: Primitive, q: [V<F>; 4], choice: Choice) -> Option<
         }
         (Primitive::VertexFace, Choice::FaceEdge(k)) => {
             let (a, b) = (&q[1 + k], &q[1 + (k + 1) % 3]);
-            let (s, squared) = segment_param(&q[0], a, b)?;
+            let (s, squared, point) = on_segment(&q[0], a, b)?;
             Values {
                 squared,
-                points: [q[0].clone(), along(a, b, &s)],
+                points: [q[0].clone(), point],
                 weights: [unit(0), on_edge(k, &s)],
             }
         }
         (Primitive::EdgeEdge, Choice::BothInside) => {
             let (u, v, w) = (sub(&q[1], &q[0]), sub(&q[3], &q[2]), sub(&q[0], &q[2]));
             let n = cross(&u, &v);
-            let inv = one.over(&dot(&n, &n))?;
-            let (uu, uv, vv) = (dot(&u, &u), dot(&u, &v), dot(&v, &v));
-            let (uw, vw) = (dot(&u, &w), dot(&v, &w));
+            let inv = one.over(&F::dot(&n, &n))?;
+            let (uu, uv, vv) = (F::dot(&u, &u), F::dot(&u, &v), F::dot(&v, &v));
+            let (uw, vw) = (F::dot(&u, &w), F::dot(&v, &w));
             let s = (uv.clone() * vw.clone() - vv * uw.clone()) * inv.clone();
             let t = (uu * vw - uv * uw) * inv.clone();
-            let h = dot(&w, &n);
+            let h = F::dot(&w, &n);
             Values {
                 squared: h.clone() * (h * inv),
                 points: [along(&q[0], &q[1], &s), along(&q[2], &q[3], &t)],
@@ -617,10 +676,10 @@ fn values_in<F: Field>(pair: Primitive, q: [V<F>; 4], choice: Choice) -> Option<
         (Primitive::EdgeEdge, Choice::End { p, on: None }) => {
             let other = if p < 2 { 1 } else { 0 };
             let (a, b) = (&q[2 * other], &q[2 * other + 1]);
-            let (s, squared) = segment_param(&q[p], a, b)?;
+            let (s, squared, point) = on_segment(&q[p], a, b)?;
             let mut points = [q[p].clone(), q[p].clone()];
             let mut weights = [unit(p % 2), unit(p % 2)];
-            points[other] = along(a, b, &s);
+            points[other] = point;
             weights[other] = on_edge(0, &s);
             Values {
                 squared,
@@ -696,6 +755,34 @@ fn values_of(pair: Primitive, p: &[Point; 4], choice: Choice) -> Nearest {
             weights: [unit(i), unit(j - pair.split())],
         };
     }
+    // A point and a segment it projects strictly inside, the next most common: computed
+    // directly, without the general path's vectors of intervals. `x` is the point, `[a, b]`
+    // the segment, on side `side`; the point's own weight is a unit at `own`, the segment's
+    // weights start at corner `k`.
+    let inside = match choice {
+        Choice::FaceEdge(k) => Some((0, 1 + k, 1 + (k + 1) % 3, 1, 0, k)),
+        Choice::End { p: e, on: None } => {
+            let other = if e < 2 { 1 } else { 0 };
+            Some((e, 2 * other, 2 * other + 1, other, e % 2, 0))
+        }
+        _ => None,
+    };
+    if let Some((x, a, b, side, own, k)) = inside
+        && let Some((distance, point, [s0, s1])) = on_segment(&p[x], &p[a], &p[b])
+    {
+        let mut points = [p[x]; 2];
+        points[side] = point;
+        let mut weights = [unit(own); 2];
+        weights[side] = [0.0; 3];
+        weights[side][k] = s0;
+        weights[side][(k + 1) % 3] = s1;
+        return Nearest {
+            features,
+            distance,
+            points,
+            weights,
+        };
+    }
     if let Some(v) = values_in(pair, p.map(|x| x.map(DdInterval::point)), choice)
         && let Some(rounded) = round(&v)
     {
@@ -719,6 +806,26 @@ fn values_of(pair: Primitive, p: &[Point; 4], choice: Choice) -> Nearest {
         points: v.points.map(|x| [f(&x[0], e), f(&x[1], e), f(&x[2], e)]),
         weights: v.weights.map(|w| [f(&w[0], 0), f(&w[1], 0), f(&w[2], 0)]),
     }
+}
+
+/// The distance of point `x` from segment `[a, b]`, its closest point on the segment and the
+/// weights `(1 - s, s)` of that point, rounded, for a point that projects inside the segment;
+/// `None` when the enclosures are too wide to round (then the general path decides). The same
+/// computation as `values_in`'s, in intervals throughout.
+fn on_segment(x: &Point, a: &Point, b: &Point) -> Option<(f64, Point, [f64; 2])> {
+    let exact = |(hi, lo): (f64, f64)| DdInterval { hi, lo, rad: 0.0 };
+    let u = [0, 1, 2].map(|k| exact(two_sum(b[k], -a[k])));
+    let w = [0, 1, 2].map(|k| exact(two_sum(x[k], -a[k])));
+    let s = DdInterval::dot(&w, &u).divide(&DdInterval::dot(&u, &u))?;
+    let weights = [(DdInterval::point(1.0) - s).tight()?, s.tight()?];
+    let su = u.map(|c| s * c);
+    let mut point = [0.0; 3];
+    for k in 0..3 {
+        point[k] = (DdInterval::point(a[k]) + su[k]).tight()?;
+    }
+    let r = [0, 1, 2].map(|k| w[k] - su[k]);
+    let distance = DdInterval::dot(&r, &r).tight_sqrt()?;
+    Some((distance, point, weights))
 }
 
 type Rounded = (f64, [Point; 2], [[f64; 3]; 2]);
