@@ -44,22 +44,46 @@ pub(crate) fn two_sum(a: f64, b: f64) -> (f64, f64) {
     (s, (a - (s - bb)) + (b - bb))
 }
 
-/// `a b` as `p + e` exactly when neither underflows nor overflows, `p` the rounded product;
-/// otherwise `e` is off by underflow's few 2^-1075, or NaN.
-#[inline(always)]
-fn two_prod(a: f64, b: f64) -> (f64, f64) {
-    let p = a * b;
-    if cfg!(any(target_feature = "fma", target_arch = "aarch64")) {
-        return (p, a.mul_add(b, -p));
+/// How a product is split into its rounded value and its error. Both ways give the same
+/// results: `a b` as `p + e` exactly when neither underflows nor overflows, `p` the rounded
+/// product; otherwise `e` is off by underflow's few 2^-1075, or NaN.
+pub(crate) trait Split {
+    fn two_prod(a: f64, b: f64) -> (f64, f64);
+}
+
+/// The split the target is compiled for: the fused multiply-add where every processor of the
+/// target has it, else Dekker's (several times the operations).
+pub(crate) enum Plain {}
+
+/// The fused multiply-add, for arithmetic inlined into a function compiled with it (see
+/// [`crate::geometry::nearest`]'s values, chosen when the processor has it). Called elsewhere,
+/// it is the C library's `fma`: as exact, but a call per product.
+pub(crate) enum Fused {}
+
+impl Split for Plain {
+    #[inline(always)]
+    fn two_prod(a: f64, b: f64) -> (f64, f64) {
+        if cfg!(any(target_feature = "fma", target_arch = "aarch64")) {
+            return Fused::two_prod(a, b);
+        }
+        let p = a * b;
+        // Dekker: each factor split into halves of at most 26 bits, whose products are exact.
+        let split = |x: f64| {
+            let c = 134_217_729.0 * x;
+            let h = c - (c - x);
+            (h, x - h)
+        };
+        let ((ah, al), (bh, bl)) = (split(a), split(b));
+        (p, ((ah * bh - p) + ah * bl + al * bh) + al * bl)
     }
-    // Dekker: each factor split into halves of at most 26 bits, whose products are exact.
-    let split = |x: f64| {
-        let c = 134_217_729.0 * x;
-        let h = c - (c - x);
-        (h, x - h)
-    };
-    let ((ah, al), (bh, bl)) = (split(a), split(b));
-    (p, ((ah * bh - p) + ah * bl + al * bh) + al * bl)
+}
+
+impl Split for Fused {
+    #[inline(always)]
+    fn two_prod(a: f64, b: f64) -> (f64, f64) {
+        let p = a * b;
+        (p, a.mul_add(b, -p))
+    }
 }
 
 /// A radius computed in round-to-nearest from non-negative terms, made an upper bound on the
@@ -70,6 +94,12 @@ fn up(x: f64) -> f64 {
 }
 
 impl DdInterval {
+    /// The double-double `hi + lo`, exactly.
+    #[inline(always)]
+    pub(crate) fn exact(hi: f64, lo: f64) -> DdInterval {
+        DdInterval { hi, lo, rad: 0.0 }
+    }
+
     pub(crate) fn point(x: f64) -> DdInterval {
         DdInterval {
             hi: x,
@@ -95,7 +125,8 @@ impl DdInterval {
     /// `self / d` for `d` certainly positive; `None` when `d` may hold zero or a magnitude is
     /// out of the safe range. The centre is the double-double quotient; the radius bounds
     /// `|x - c y| / |y|` for `x` in `self`, `y` in `d`, with `x - c y` enclosed by `self - c d`.
-    pub(crate) fn divide(&self, d: &DdInterval) -> Option<DdInterval> {
+    #[inline(always)]
+    pub(crate) fn divide<S: Split>(&self, d: &DdInterval) -> Option<DdInterval> {
         if !(self.is_finite() && d.is_finite() && d.hi >= SAFE && d.hi <= BIG) {
             return None;
         }
@@ -108,10 +139,10 @@ impl DdInterval {
             return Some(*self);
         }
         let q0 = self.hi / d.hi;
-        let r = *self - DdInterval::point(q0) * *d;
+        let r = *self - DdInterval::point(q0).times::<S>(*d);
         let (hi, lo) = two_sum(q0, (r.hi + r.lo) / d.hi);
         let c = DdInterval { hi, lo, rad: 0.0 };
-        let residual = *self - c * *d;
+        let residual = *self - c.times::<S>(*d);
         let rad = up((residual.hi.abs() + residual.lo.abs() + residual.rad) / below);
         let q = DdInterval { hi, lo, rad };
         q.is_finite().then_some(q)
@@ -122,13 +153,14 @@ impl DdInterval {
     /// The general operations would do the same at several times the cost (each checks for
     /// exact and zero operands and bounds cancellation); here every square is non-negative, so
     /// nothing cancels and one bound on the small parts' magnitudes covers every rounding.
-    pub(crate) fn squared_distance(a: &[f64; 3], b: &[f64; 3]) -> DdInterval {
+    #[inline(always)]
+    pub(crate) fn squared_distance<S: Split>(a: &[f64; 3], b: &[f64; 3]) -> DdInterval {
         // The large parts' sum is kept exactly as `hi` plus the errors `t`; everything else
         // (product errors, cross terms, the `t`s) is at most 2^-52 of the sum and goes to `small`.
         let (mut hi, mut small, mut size) = (0.0, 0.0, 0.0);
         for k in 0..3 {
             let (h, l) = two_sum(a[k], -b[k]);
-            let (p, e) = two_prod(h, h);
+            let (p, e) = S::two_prod(h, h);
             let (s, t) = two_sum(hi, p);
             hi = s;
             // (h + l)^2 = p + e + 2 h l + l^2.
@@ -154,11 +186,12 @@ impl DdInterval {
     /// centre at about twice the cost (each checks for exact and zero operands and bounds every
     /// step apart). Unlike a squared distance, the terms may cancel: every error is bounded by
     /// the terms' magnitudes, not the result's.
-    pub(crate) fn dot(a: &[DdInterval; 3], b: &[DdInterval; 3]) -> DdInterval {
+    #[inline(always)]
+    pub(crate) fn dot<S: Split>(a: &[DdInterval; 3], b: &[DdInterval; 3]) -> DdInterval {
         let (mut hi, mut small, mut size, mut rest) = (0.0, 0.0, 0.0, 0.0);
         for k in 0..3 {
             let (x, y) = (a[k], b[k]);
-            let (p, e) = two_prod(x.hi, y.hi);
+            let (p, e) = S::two_prod(x.hi, y.hi);
             let (s, t) = two_sum(hi, p);
             hi = s;
             // (h + l)(h' + l') = p + e + h l' + l h' + l l': the middle two rounded, the last
@@ -200,7 +233,8 @@ impl DdInterval {
     /// correctly rounded root of every value, if there is one: `s`, the rounded root of `hi`,
     /// when every value lies between the squares of `s`'s neighbours (then its root does, and
     /// rounds to one of them or to `s`).
-    pub(crate) fn tight_sqrt(&self) -> Option<f64> {
+    #[inline(always)]
+    pub(crate) fn tight_sqrt<S: Split>(&self) -> Option<f64> {
         if self.is_zero() {
             return Some(0.0);
         }
@@ -216,7 +250,7 @@ impl DdInterval {
         // `-(2 s g - g^2) <= delta <= 2 s h + h^2`. `s^2 = p + e` exactly (no underflow at
         // this scale), and `hi - p` is exact (Sterbenz: `p` is within a factor two of `hi`), so
         // `delta` is `c` give or take `off`: the radius and `c`'s two roundings.
-        let (p, e) = two_prod(s, s);
+        let (p, e) = S::two_prod(s, s);
         let r = self.hi - p;
         let c = r + (self.lo - e);
         let off = up(self.rad + REL * (r.abs() + self.lo.abs() + e.abs())) * (1.0 + pow2(-50));
@@ -278,12 +312,20 @@ impl Mul for DdInterval {
     type Output = DdInterval;
     #[inline(always)]
     fn mul(self, o: DdInterval) -> DdInterval {
+        self.times::<Plain>(o)
+    }
+}
+
+impl DdInterval {
+    /// The product, with the split `S`.
+    #[inline(always)]
+    pub(crate) fn times<S: Split>(self, o: DdInterval) -> DdInterval {
         // Products with an exact zero stay exact zeros (coordinates shared by both primitives),
         // whatever the other factor, even one that overflowed.
         if self.is_zero() || o.is_zero() {
             return DdInterval::point(0.0);
         }
-        let (p, e) = two_prod(self.hi, o.hi);
+        let (p, e) = S::two_prod(self.hi, o.hi);
         if self.is_double() && o.is_double() && (SAFE..=BIG).contains(&p.abs()) {
             return DdInterval {
                 hi: p,
@@ -343,6 +385,11 @@ mod tests {
 
     #[test]
     fn enclosures_hold_the_exact_results_of_random_operations() {
+        random_operations::<Plain>();
+        random_operations::<Fused>();
+    }
+
+    fn random_operations<S: Split>() {
         let mut rng = Rng::new(0xdd_1e7e);
         let mut tight = 0;
         for case in 0..4000 {
@@ -363,8 +410,8 @@ mod tests {
                 let got = match rng.below(5) {
                     0 => Some((a + b, &qa + &qb)),
                     1 => Some((a - b, &qa - &qb)),
-                    2 | 3 => Some((a * b, &qa * &qb)),
-                    _ => a.divide(&b).map(|x| {
+                    2 | 3 => Some((a.times::<S>(b), &qa * &qb)),
+                    _ => a.divide::<S>(&b).map(|x| {
                         // Only a divisor certainly positive is accepted.
                         assert!(qb.is_positive(), "{b:?}");
                         (x, &qa / &qb)
@@ -391,7 +438,7 @@ mod tests {
                     }
                 }
                 if v.is_positive()
-                    && let Some(s) = x.tight_sqrt()
+                    && let Some(s) = x.tight_sqrt::<S>()
                 {
                     assert!(root_near(s, &v), "{x:?}: root {s}");
                 }
@@ -405,6 +452,11 @@ mod tests {
 
     #[test]
     fn squared_distances_hold_the_exact_value_and_round_their_root() {
+        squared_distances::<Plain>();
+        squared_distances::<Fused>();
+    }
+
+    fn squared_distances<S: Split>() {
         let mut rng = Rng::new(0x5eed_d157);
         let mut rounded = 0;
         for case in 0..4000 {
@@ -416,7 +468,7 @@ mod tests {
             } else {
                 std::array::from_fn(|_| random_double(&mut rng, span))
             };
-            let x = DdInterval::squared_distance(&a, &b);
+            let x = DdInterval::squared_distance::<S>(&a, &b);
             let exact: Q = (0..3)
                 .map(|k| (q(a[k]) - q(b[k])) * (q(a[k]) - q(b[k])))
                 .sum();
@@ -424,7 +476,7 @@ mod tests {
                 continue;
             }
             assert!(holds(&x, &exact), "{a:?} {b:?} -> {x:?}");
-            if let Some(s) = x.tight_sqrt() {
+            if let Some(s) = x.tight_sqrt::<S>() {
                 assert!(root_near(s, &exact), "{a:?} {b:?}: root {s}");
                 rounded += 1;
             }
@@ -451,7 +503,9 @@ mod tests {
             let (centre, r) = (q(hi) + q(lo), q(rad));
             // How far the enclosure keeps inside the neighbours' squares, at its nearer end.
             let room = (&centre - &r - &below * &below).min(&above * &above - &centre - &r);
-            match x.tight_sqrt() {
+            let root = x.tight_sqrt::<Plain>();
+            assert_eq!(root, x.tight_sqrt::<Fused>(), "{x:?}");
+            match root {
                 Some(root) => {
                     assert_eq!(root, s);
                     assert!(
@@ -474,6 +528,20 @@ mod tests {
         assert!(claimed > 5000 && roomy > claimed / 2, "{claimed} {roomy}");
     }
 
+    /// The two splits give the same parts wherever the error is exact (no underflow), so the
+    /// arithmetic built on them gives the same results either way.
+    #[test]
+    fn both_splits_give_the_same_parts() {
+        let mut rng = Rng::new(0x0005_b117);
+        for case in 0..100_000 {
+            let span = [4, 40, 400][case % 3];
+            let (a, b) = (random_double(&mut rng, span), random_double(&mut rng, span));
+            let fused = Fused::two_prod(a, b);
+            assert_eq!(Plain::two_prod(a, b), fused, "{a:e} * {b:e}");
+            assert_eq!(q(fused.0) + q(fused.1), q(a) * q(b), "{a:e} * {b:e}");
+        }
+    }
+
     #[test]
     fn roots_of_squares_and_products() {
         let mut rng = Rng::new(0x05ee_d0f5);
@@ -481,14 +549,14 @@ mod tests {
             // An exact square of a double: its root is the double.
             let x = rng.range(1.0, 2.0) * pow2(rng.below(800) as i64 - 400);
             let sq = DdInterval::point(x) * DdInterval::point(x);
-            assert_eq!(sq.tight_sqrt(), Some(x), "{x}");
+            assert_eq!(sq.tight_sqrt::<Plain>(), Some(x), "{x}");
             // A product of three: within one unit of the correctly rounded root.
             let y = rng.range(0.5, 2.0);
             let z = rng.range(0.5, 2.0);
             let p = DdInterval::point(x) * DdInterval::point(y) * DdInterval::point(z);
             let exact = q(x) * q(y) * q(z);
             assert!(holds(&p, &exact));
-            let s = p.tight_sqrt().expect("a tight root");
+            let s = p.tight_sqrt::<Plain>().expect("a tight root");
             assert!(root_near(s, &exact), "{p:?}: root {s}");
         }
     }

@@ -22,7 +22,7 @@ pub(crate) use super::Primitive;
 use super::aabb::Aabb;
 use super::ball::Ball;
 use super::distance::{Big, Num, Ring, V, at_most, cross, dot, sub};
-use super::double_double::{DdInterval, two_sum};
+use super::double_double::{DdInterval, Plain, Split, two_sum};
 use super::permanent::Permanent;
 use super::predicates::{Point, to_integers, to_integers_scaled};
 use num_bigint::BigInt;
@@ -147,28 +147,54 @@ fn point_segment<T: Num>(p: &V<T>, a: &V<T>, b: &V<T>, one: &T) -> Option<(Optio
 }
 
 /// The vertex-face choice for point `p` and triangle `t`, if the arithmetic can tell.
-fn vertex_face<T: Num>(p: &V<T>, t: &[V<T>; 3], one: &T) -> Option<Candidate<T>> {
-    let n = cross(&sub(&t[1], &t[0]), &sub(&t[2], &t[0]));
-    let nn = dot(&n, &n);
-    if nn.sign()? > 0 {
-        // Edge `k` runs from corner `k` to corner `k + 1`; `w[k]` is `p` from corner `k`.
-        let e = [sub(&t[1], &t[0]), sub(&t[2], &t[1]), sub(&t[0], &t[2])];
-        let w = [sub(p, &t[0]), sub(p, &t[1]), sub(p, &t[2])];
-        let mut outside = [false; 3];
-        for k in 0..3 {
-            outside[k] = dot(&n, &cross(&e[k], &w[k])).sign()? <= 0;
+///
+/// For a triangle that is not flat, the closest feature is found by signs alone (no distances
+/// compared), from the six products of the edges from corner 0 with the point's offsets from
+/// the corners (as in Ericson, *Real-Time Collision Detection*, 5.1.5): the closest point is
+/// corner `k` exactly when the point lies at 90 degrees or more from both edges at `k`; inside
+/// an edge exactly when it projects strictly inside the edge and lies on or outside its line;
+/// else inside the triangle. The three "outside" tests are `n.(e x w)` for the edge `e`, the
+/// point's offset `w` from its start and the normal `n`, written as differences of products of
+/// the six; they sum to `n.n`, which tells a flat triangle.
+fn vertex_face<T: Num>(p: &V<T>, t: &[V<T>; 3], one: &T) -> Option<Choice> {
+    let (ab, ac) = (sub(&t[1], &t[0]), sub(&t[2], &t[0]));
+    let (ap, bp, cp) = (sub(p, &t[0]), sub(p, &t[1]), sub(p, &t[2]));
+    let (d1, d2) = (dot(&ab, &ap), dot(&ac, &ap));
+    let (d3, d4) = (dot(&ab, &bp), dot(&ac, &bp));
+    let (d5, d6) = (dot(&ab, &cp), dot(&ac, &cp));
+    // n.(bc x bp), n.(ca x cp) and n.(ab x ap), by Lagrange's identity.
+    let va = d3.clone() * d6.clone() - d5.clone() * d4.clone();
+    let vb = d5.clone() * d2.clone() - d1.clone() * d6.clone();
+    let vc = d1.clone() * d4.clone() - d3.clone() * d2.clone();
+    if (va.clone() + vb.clone() + vc.clone()).sign()? > 0 {
+        let [s1, s2, s3, s6] = [&d1, &d2, &d3, &d6].map(|x| x.sign());
+        let (s1, s2, s3, s6) = (s1?, s2?, s3?, s6?);
+        // Past corner 1 towards corner 2, and past corner 2 towards corner 1 (`bc.bp`, `cb.cp`).
+        let (b_in, c_in) = ((d4 - d3).sign()?, (d5 - d6).sign()?);
+        // Corners: `p` at 90 degrees or more from both edges there (closed).
+        if s1 <= 0 && s2 <= 0 {
+            return Some(Choice::FaceCorner(0));
         }
-        if outside == [false; 3] {
-            let h = dot(&n, &w[0]);
-            return Some(Candidate {
-                num: h.clone() * h,
-                den: nn,
-                choice: Choice::FaceInterior,
-            });
+        if s3 >= 0 && b_in <= 0 {
+            return Some(Choice::FaceCorner(1));
         }
-        if let Some(c) = by_regions(&e, &w, outside, one)? {
-            return Some(c);
+        if s6 >= 0 && c_in <= 0 {
+            return Some(Choice::FaceCorner(2));
         }
+        // Edges: on or outside the line, strictly between its ends' perpendiculars.
+        let (a, b, c) = (va.sign()?, vb.sign()?, vc.sign()?);
+        if c <= 0 && s1 > 0 && s3 < 0 {
+            return Some(Choice::FaceEdge(0));
+        }
+        if a <= 0 && b_in > 0 && c_in > 0 {
+            return Some(Choice::FaceEdge(1));
+        }
+        if b <= 0 && s2 > 0 && s6 < 0 {
+            return Some(Choice::FaceEdge(2));
+        }
+        // No corner or edge claims the point: it projects strictly inside every edge's line.
+        debug_assert!(a > 0 && b > 0 && c > 0);
+        return Some(Choice::FaceInterior);
     }
     // A flat triangle: the closest of the edges' closest points.
     let mut best: Option<Candidate<T>> = None;
@@ -180,66 +206,24 @@ fn vertex_face<T: Num>(p: &V<T>, t: &[V<T>; 3], one: &T) -> Option<Candidate<T>>
         };
         keep_closer(&mut best, Candidate { num, den, choice })?;
     }
-    best
-}
-
-/// The closest feature of a triangle that is not flat, for a point whose projection is not
-/// strictly inside it, by signs alone (no distances compared): the closest point is corner `k`
-/// exactly when the point lies at 90 degrees or more from both edges at `k`, and inside edge `k`
-/// exactly when it projects strictly inside the edge and lies on or outside its line (the
-/// conditions for a closest point of a convex set). `e`, `w` and `outside` as in
-/// [`vertex_face`]. `Some(None)` if no region claims the point (exactly, one always does).
-fn by_regions<T: Num>(
-    e: &[V<T>; 3],
-    w: &[V<T>; 3],
-    outside: [bool; 3],
-    one: &T,
-) -> Option<Option<Candidate<T>>> {
-    let uu = [dot(&e[0], &e[0]), dot(&e[1], &e[1]), dot(&e[2], &e[2])];
-    let mut after_start = [false; 3];
-    let mut past_end = [false; 3];
-    for k in 0..3 {
-        let along = dot(&w[k], &e[k]);
-        after_start[k] = along.sign()? > 0;
-        past_end[k] = (along - uu[k].clone()).sign()? >= 0;
-    }
-    for k in 0..3 {
-        if !after_start[k] && past_end[(k + 2) % 3] {
-            return Some(Some(Candidate {
-                num: dot(&w[k], &w[k]),
-                den: one.clone(),
-                choice: Choice::FaceCorner(k),
-            }));
-        }
-    }
-    for k in 0..3 {
-        if outside[k] && after_start[k] && !past_end[k] {
-            let c = cross(&w[k], &e[k]);
-            return Some(Some(Candidate {
-                num: dot(&c, &c),
-                den: uu[k].clone(),
-                choice: Choice::FaceEdge(k),
-            }));
-        }
-    }
-    Some(None)
+    best.map(|c| c.choice)
 }
 
 /// The edge-edge choice for segments `[q[0], q[1]]` and `[q[2], q[3]]`, if the arithmetic can
 /// tell.
-fn edge_edge<T: Num>(q: &[V<T>; 4], one: &T) -> Option<Candidate<T>> {
+fn edge_edge<T: Num>(q: &[V<T>; 4], one: &T) -> Option<Choice> {
     let (u, v, w) = (sub(&q[1], &q[0]), sub(&q[3], &q[2]), sub(&q[0], &q[2]));
-    let n = cross(&u, &v);
-    let nn = dot(&n, &n);
+    let dots = Dots {
+        uu: dot(&u, &u),
+        uv: dot(&u, &v),
+        vv: dot(&v, &v),
+        uw: dot(&u, &w),
+        vw: dot(&v, &w),
+    };
+    let Dots { uu, uv, vv, uw, vw } = &dots;
+    // |u x v|^2, by Lagrange's identity: zero exactly for parallel segments.
+    let nn = uu.clone() * vv.clone() - uv.clone() * uv.clone();
     if nn.sign()? > 0 {
-        let dots = Dots {
-            uu: dot(&u, &u),
-            uv: dot(&u, &v),
-            vv: dot(&v, &v),
-            uw: dot(&u, &w),
-            vw: dot(&v, &w),
-        };
-        let Dots { uu, uv, vv, uw, vw } = &dots;
         let s = uv.clone() * vw.clone() - vv.clone() * uw.clone();
         let t = uu.clone() * vw.clone() - uv.clone() * uw.clone();
         let mut inside = true;
@@ -249,14 +233,9 @@ fn edge_edge<T: Num>(q: &[V<T>; 4], one: &T) -> Option<Candidate<T>> {
             }
         }
         if inside {
-            let h = dot(&w, &n);
-            return Some(Candidate {
-                num: h.clone() * h,
-                den: nn,
-                choice: Choice::BothInside,
-            });
+            return Some(Choice::BothInside);
         }
-        if let Some(c) = by_slopes(q, &dots, one)? {
+        if let Some(c) = by_slopes(&dots)? {
             return Some(c);
         }
     }
@@ -272,7 +251,7 @@ fn edge_edge<T: Num>(q: &[V<T>; 4], one: &T) -> Option<Candidate<T>> {
         let choice = Choice::End { p, on };
         keep_closer(&mut best, Candidate { num, den, choice })?;
     }
-    best
+    best.map(|c| c.choice)
 }
 
 /// The end pair of two segments that are not parallel, found by signs alone (no distances
@@ -283,11 +262,9 @@ fn edge_edge<T: Num>(q: &[V<T>; 4], one: &T) -> Option<Candidate<T>> {
 /// point on the other: the same choice as comparing the four ends' candidates. `dots` holds the
 /// products of the directions `u = q[1] - q[0]`, `v = q[3] - q[2]` and `w = q[0] - q[2]`.
 /// `Some(None)` if no end qualifies (exactly, one always does).
-fn by_slopes<T: Num>(q: &[V<T>; 4], dots: &Dots<T>, one: &T) -> Option<Option<Candidate<T>>> {
+fn by_slopes<T: Num>(dots: &Dots<T>) -> Option<Option<Choice>> {
     let Dots { uu, uv, vv, uw, vw } = dots;
     for p in 0..4 {
-        let other = 1 - p / 2;
-        let (start, end) = (&q[2 * other], &q[2 * other + 1]);
         // With `x` the end less the other segment's start, `g` that segment's direction and `e`
         // the end's own: each product of them is one of `dots` or a sum of two or three, since
         // `x` is `w`, `w + u`, `-w` or `v - w` and `e.g` is `uv`. At `p = 2` the products `x`
@@ -338,21 +315,7 @@ fn by_slopes<T: Num>(q: &[V<T>; 4], dots: &Dots<T>, one: &T) -> Option<Option<Ca
         if (p % 2 == 0 && sign < 0) || (p % 2 == 1 && sign > 0) {
             continue;
         }
-        let (num, den) = match on {
-            Some(j) => {
-                let y = sub(&q[p], [start, end][j]);
-                (dot(&y, &y), one.clone())
-            }
-            None => {
-                let c = cross(&sub(&q[p], start), &sub(end, start));
-                (dot(&c, &c), gg.clone())
-            }
-        };
-        return Some(Some(Candidate {
-            num,
-            den,
-            choice: Choice::End { p, on },
-        }));
+        return Some(Some(Choice::End { p, on }));
     }
     Some(None)
 }
@@ -368,20 +331,55 @@ struct Dots<T> {
 }
 
 /// The choice and the decision "distance at most `d`" for the points `v` (12 coordinates) and
-/// `d`, in the arithmetic `T`.
-fn decide<T: Num>(pair: Primitive, v: &[T; 13], one: &T) -> Option<(Choice, bool)> {
+/// `d`, in the arithmetic `T`; the decision is not computed again when `within` is already
+/// known.
+fn decide<T: Num>(pair: Primitive, v: &[T; 13], one: &T, within: bool) -> Option<(Choice, bool)> {
     let point =
         |k: usize| -> V<T> { [v[3 * k].clone(), v[3 * k + 1].clone(), v[3 * k + 2].clone()] };
     let q = [point(0), point(1), point(2), point(3)];
-    let c = match pair {
+    let choice = match pair {
         Primitive::VertexFace => {
             vertex_face(&q[0], &[q[1].clone(), q[2].clone(), q[3].clone()], one)?
         }
         Primitive::EdgeEdge => edge_edge(&q, one)?,
     };
+    if within {
+        return Some((choice, true));
+    }
+    let (num, den) = squared(&q, choice, one);
     let dd = v[12].clone() * v[12].clone();
-    let within = at_most(c.num.clone(), dd * c.den.clone())?;
-    Some((c.choice, within))
+    Some((choice, at_most(num, dd * den)?))
+}
+
+/// The squared distance of `choice`'s closest points among `q` (the point and the triangle's
+/// corners, or the two segments' ends), as `num / den`.
+fn squared<T: Num>(q: &[V<T>; 4], choice: Choice, one: &T) -> (T, T) {
+    // The height over a plane through `o` spanned by `u` and `v`, squared, over `|u x v|^2`.
+    let height = |x: &V<T>, o: &V<T>, u: V<T>, v: V<T>| {
+        let n = cross(&u, &v);
+        let h = dot(&n, &sub(x, o));
+        (h.clone() * h, dot(&n, &n))
+    };
+    // Point `x` against the line through `a` and `b`.
+    let to_line = |x: &V<T>, a: &V<T>, b: &V<T>| {
+        let u = sub(b, a);
+        let c = cross(&sub(x, a), &u);
+        (dot(&c, &c), dot(&u, &u))
+    };
+    if let Some((i, j)) = corners(choice) {
+        let x = sub(&q[i], &q[j]);
+        return (dot(&x, &x), one.clone());
+    }
+    match choice {
+        Choice::FaceInterior => height(&q[0], &q[1], sub(&q[2], &q[1]), sub(&q[3], &q[1])),
+        Choice::FaceEdge(k) => to_line(&q[0], &q[1 + k], &q[1 + (k + 1) % 3]),
+        Choice::BothInside => height(&q[0], &q[2], sub(&q[1], &q[0]), sub(&q[3], &q[2])),
+        Choice::End { p, on: None } => {
+            let other = 1 - p / 2;
+            to_line(&q[p], &q[2 * other], &q[2 * other + 1])
+        }
+        _ => unreachable!("corners are taken above"),
+    }
 }
 
 /// The closest points of the primitives `p` (as [`Primitive`] says) when their distance is at most
@@ -438,7 +436,8 @@ impl Decided {
 #[inline(never)]
 pub(crate) fn decide_within(pair: Primitive, p: &[Point; 4], d: f64) -> Option<Decided> {
     debug_assert!(d >= 0.0 && d.is_finite());
-    if !filter::certainly_within(pair, p, d) && filter::certainly_apart(pair, p, d) {
+    let within = filter::certainly_within(pair, p, d);
+    if !within && filter::certainly_apart(pair, p, d) {
         return None;
     }
     let mut values = [0.0; 13];
@@ -447,15 +446,20 @@ pub(crate) fn decide_within(pair: Primitive, p: &[Point; 4], d: f64) -> Option<D
     }
     values[12] = d;
     let decided = Permanent::inputs(&values)
-        .and_then(|inputs| decide(pair, &inputs, &Permanent::point(1.0)))
-        .or_else(|| decide(pair, &values.map(Ball::point), &Ball::point(1.0)))
+        .and_then(|inputs| decide(pair, &inputs, &Permanent::point(1.0), within))
+        .or_else(|| decide(pair, &values.map(Ball::point), &Ball::point(1.0), within))
         .or_else(|| {
             // The same signs in integers: every double is an integer times a power of two, and
             // scaling all inputs by one power changes no sign (each test compares terms of one
             // degree). The constant one is not scaled, so the comparisons that use it (a vertex
             // candidate's denominator) must be of one degree on both sides: they are (num is a
             // squared length, the others' num / den too).
-            decide(pair, &to_integers(values).map(Big), &Big(BigInt::one()))
+            decide(
+                pair,
+                &to_integers(values).map(Big),
+                &Big(BigInt::one()),
+                within,
+            )
         });
     let (choice, within) = decided.expect("exact arithmetic decides every sign");
     within.then(|| Decided::of(choice))
@@ -463,8 +467,24 @@ pub(crate) fn decide_within(pair: Primitive, p: &[Point; 4], d: f64) -> Option<D
 
 /// The distance, closest points and weights of the primitives `p`, whose closest points lie
 /// where `decided` says ([`decide_within`] on the same points).
+#[inline]
 pub(crate) fn values(pair: Primitive, p: &[Point; 4], decided: Decided) -> Nearest {
-    values_of(pair, p, decided.choice())
+    let choice = decided.choice();
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("fma") {
+        // SAFETY: the processor has the fused multiply-add.
+        return unsafe { values_fused(pair, p, choice) };
+    }
+    values_of::<Plain>(pair, p, choice)
+}
+
+/// [`values_of`] with the products of the common choices split by the fused multiply-add,
+/// which the default x86-64 target does not assume: Dekker's split takes about nine operations
+/// more a product, a quarter of a point's values against a segment. The results are the same.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "fma")]
+fn values_fused(pair: Primitive, p: &[Point; 4], choice: Choice) -> Nearest {
+    values_of::<super::double_double::Fused>(pair, p, choice)
 }
 
 /// Are the boxes of the two primitives more than `d` apart along some axis? (Then so are the
@@ -492,10 +512,10 @@ impl Field for DdInterval {
         DdInterval::point(x)
     }
     fn dot(a: &V<DdInterval>, b: &V<DdInterval>) -> DdInterval {
-        DdInterval::dot(a, b)
+        DdInterval::dot::<Plain>(a, b)
     }
     fn over(&self, d: &DdInterval) -> Option<DdInterval> {
-        self.divide(d)
+        self.divide::<Plain>(d)
     }
 }
 
@@ -729,15 +749,12 @@ fn sqrt_rational(x: &BigRational) -> f64 {
     r.to_f64().expect("a finite root")
 }
 
-/// The rounded values of `choice` for the points `p`.
-fn values_of(pair: Primitive, p: &[Point; 4], choice: Choice) -> Nearest {
+/// The rounded values of `choice` for the points `p`: the common choices directly, with the
+/// split `S` (inlined, so that a caller compiled for the fused multiply-add uses it), the others
+/// by the general path.
+#[inline(always)]
+fn values_of<S: Split>(pair: Primitive, p: &[Point; 4], choice: Choice) -> Nearest {
     let features = features(choice);
-    let done = |rounded: Rounded| Nearest {
-        features,
-        distance: rounded.0,
-        points: rounded.1,
-        weights: rounded.2,
-    };
     // Two corners, the most common choice where many pairs come near: the points are inputs and
     // the weights units, so only the distance is computed.
     let unit = |k: usize| {
@@ -746,7 +763,7 @@ fn values_of(pair: Primitive, p: &[Point; 4], choice: Choice) -> Nearest {
         w
     };
     if let Some((i, j)) = corners(choice)
-        && let Some(distance) = DdInterval::squared_distance(&p[i], &p[j]).tight_sqrt()
+        && let Some(distance) = DdInterval::squared_distance::<S>(&p[i], &p[j]).tight_sqrt::<S>()
     {
         return Nearest {
             features,
@@ -768,7 +785,7 @@ fn values_of(pair: Primitive, p: &[Point; 4], choice: Choice) -> Nearest {
         _ => None,
     };
     if let Some((x, a, b, side, own, k)) = inside
-        && let Some((distance, point, [s0, s1])) = on_segment(&p[x], &p[a], &p[b])
+        && let Some((distance, point, [s0, s1])) = on_segment::<S>(&p[x], &p[a], &p[b])
     {
         let mut points = [p[x]; 2];
         points[side] = point;
@@ -783,6 +800,136 @@ fn values_of(pair: Primitive, p: &[Point; 4], choice: Choice) -> Nearest {
             weights,
         };
     }
+    // The two choices inside: rarer, but each several times a corner's cost in the general
+    // path.
+    let inside = match choice {
+        Choice::FaceInterior => in_triangle::<S>(&p[0], [&p[1], &p[2], &p[3]])
+            .map(|(distance, point, w)| (distance, [p[0], point], [unit(0), w])),
+        Choice::BothInside => between_segments::<S>(p).map(|(distance, points, [s, t])| {
+            let w = |s: [f64; 2]| [s[0], s[1], 0.0];
+            (distance, points, [w(s), w(t)])
+        }),
+        _ => None,
+    };
+    if let Some((distance, points, weights)) = inside {
+        return Nearest {
+            features,
+            distance,
+            points,
+            weights,
+        };
+    }
+    general_values(pair, p, choice)
+}
+
+// The direct paths below are inlined whole into the caller compiled for the fused
+// multiply-add, so they take no closures over the arithmetic (`array::map` and the like): one
+// left out of line is compiled for the default target, where a fused multiply-add is a call.
+
+/// `a - b` exactly, as double-doubles.
+#[inline(always)]
+fn exact_difference(a: &Point, b: &Point) -> V<DdInterval> {
+    let (h0, l0) = two_sum(a[0], -b[0]);
+    let (h1, l1) = two_sum(a[1], -b[1]);
+    let (h2, l2) = two_sum(a[2], -b[2]);
+    let exact = DdInterval::exact;
+    [exact(h0, l0), exact(h1, l1), exact(h2, l2)]
+}
+
+/// The cross product, with the split `S`.
+#[inline(always)]
+fn cross_with<S: Split>(a: &V<DdInterval>, b: &V<DdInterval>) -> V<DdInterval> {
+    [
+        a[1].times::<S>(b[2]) - a[2].times::<S>(b[1]),
+        a[2].times::<S>(b[0]) - a[0].times::<S>(b[2]),
+        a[0].times::<S>(b[1]) - a[1].times::<S>(b[0]),
+    ]
+}
+
+/// `n.(b x c)`, with the split `S`.
+#[inline(always)]
+fn triple_with<S: Split>(n: &V<DdInterval>, b: &V<DdInterval>, c: &V<DdInterval>) -> DdInterval {
+    DdInterval::dot::<S>(n, &cross_with::<S>(b, c))
+}
+
+/// `(1 - s, s)` and the point `a + s u`, rounded, for the segment from `a` along `u`.
+#[inline(always)]
+fn along_with<S: Split>(a: &Point, u: &V<DdInterval>, s: DdInterval) -> Option<([f64; 2], Point)> {
+    let weights = [(DdInterval::point(1.0) - s).tight()?, s.tight()?];
+    let mut point = [0.0; 3];
+    for k in 0..3 {
+        point[k] = (DdInterval::point(a[k]) + s.times::<S>(u[k])).tight()?;
+    }
+    Some((weights, point))
+}
+
+/// The distance of point `x` from the plane of triangle `t`, its projection and that
+/// projection's weights, rounded, for a point that projects strictly inside; `None` when the
+/// enclosures are too wide to round. The same computation as `values_in`'s, in intervals with
+/// the split `S`.
+#[inline(always)]
+fn in_triangle<S: Split>(x: &Point, t: [&Point; 3]) -> Option<(f64, Point, [f64; 3])> {
+    let n = cross_with::<S>(&exact_difference(t[1], t[0]), &exact_difference(t[2], t[0]));
+    let inv = DdInterval::point(1.0).divide::<S>(&DdInterval::dot::<S>(&n, &n))?;
+    let to = [
+        exact_difference(t[0], x),
+        exact_difference(t[1], x),
+        exact_difference(t[2], x),
+    ];
+    // Two weights from the areas they weigh; the third is what they leave of one.
+    let w0 = triple_with::<S>(&n, &to[1], &to[2]).times::<S>(inv);
+    let w1 = triple_with::<S>(&n, &to[2], &to[0]).times::<S>(inv);
+    let w2 = DdInterval::point(1.0) - w0 - w1;
+    // The height `h = n.(x - t0)`: the point is `x` less `h / |n|^2` of `n`.
+    let h = -DdInterval::dot::<S>(&n, &to[0]);
+    let along = h.times::<S>(inv);
+    let mut point = [0.0; 3];
+    for k in 0..3 {
+        point[k] = (DdInterval::point(x[k]) - along.times::<S>(n[k])).tight()?;
+    }
+    let distance = h.times::<S>(along).tight_sqrt::<S>()?;
+    Some((distance, point, [w0.tight()?, w1.tight()?, w2.tight()?]))
+}
+
+/// The distance of the lines of segments `[q0, q1]` and `[q2, q3]`, their closest points and
+/// those points' parameters `(1 - s, s)` on each, rounded, for lines whose closest points lie
+/// strictly inside both segments; `None` when the enclosures are too wide to round. The same
+/// computation as `values_in`'s, in intervals with the split `S`.
+#[inline(always)]
+fn between_segments<S: Split>(q: &[Point; 4]) -> Option<(f64, [Point; 2], [[f64; 2]; 2])> {
+    let (u, v) = (
+        exact_difference(&q[1], &q[0]),
+        exact_difference(&q[3], &q[2]),
+    );
+    let w = exact_difference(&q[0], &q[2]);
+    let n = cross_with::<S>(&u, &v);
+    let inv = DdInterval::point(1.0).divide::<S>(&DdInterval::dot::<S>(&n, &n))?;
+    let (uu, uv, vv) = (
+        DdInterval::dot::<S>(&u, &u),
+        DdInterval::dot::<S>(&u, &v),
+        DdInterval::dot::<S>(&v, &v),
+    );
+    let (uw, vw) = (DdInterval::dot::<S>(&u, &w), DdInterval::dot::<S>(&v, &w));
+    let s = (uv.times::<S>(vw) - vv.times::<S>(uw)).times::<S>(inv);
+    let t = (uu.times::<S>(vw) - uv.times::<S>(uw)).times::<S>(inv);
+    let h = DdInterval::dot::<S>(&w, &n);
+    let distance = h.times::<S>(h.times::<S>(inv)).tight_sqrt::<S>()?;
+    let (ws, ps) = along_with::<S>(&q[0], &u, s)?;
+    let (wt, pt) = along_with::<S>(&q[2], &v, t)?;
+    Some((distance, [ps, pt], [ws, wt]))
+}
+
+/// The rounded values of `choice` for the points `p`, by the general path: in intervals, and
+/// where they are too wide, in exact rationals.
+#[inline(never)]
+fn general_values(pair: Primitive, p: &[Point; 4], choice: Choice) -> Nearest {
+    let features = features(choice);
+    let done = |rounded: Rounded| Nearest {
+        features,
+        distance: rounded.0,
+        points: rounded.1,
+        weights: rounded.2,
+    };
     if let Some(v) = values_in(pair, p.map(|x| x.map(DdInterval::point)), choice)
         && let Some(rounded) = round(&v)
     {
@@ -811,27 +958,26 @@ fn values_of(pair: Primitive, p: &[Point; 4], choice: Choice) -> Nearest {
 /// The distance of point `x` from segment `[a, b]`, its closest point on the segment and the
 /// weights `(1 - s, s)` of that point, rounded, for a point that projects inside the segment;
 /// `None` when the enclosures are too wide to round (then the general path decides). The same
-/// computation as `values_in`'s, in intervals throughout.
-fn on_segment(x: &Point, a: &Point, b: &Point) -> Option<(f64, Point, [f64; 2])> {
-    let exact = |(hi, lo): (f64, f64)| DdInterval { hi, lo, rad: 0.0 };
-    let u = [0, 1, 2].map(|k| exact(two_sum(b[k], -a[k])));
-    let w = [0, 1, 2].map(|k| exact(two_sum(x[k], -a[k])));
-    let s = DdInterval::dot(&w, &u).divide(&DdInterval::dot(&u, &u))?;
+/// computation as `values_in`'s, in intervals throughout, with the split `S`.
+#[inline(always)]
+fn on_segment<S: Split>(x: &Point, a: &Point, b: &Point) -> Option<(f64, Point, [f64; 2])> {
+    let (u, w) = (exact_difference(b, a), exact_difference(x, a));
+    let s = DdInterval::dot::<S>(&w, &u).divide::<S>(&DdInterval::dot::<S>(&u, &u))?;
     let weights = [(DdInterval::point(1.0) - s).tight()?, s.tight()?];
-    let su = u.map(|c| s * c);
+    let su = [s.times::<S>(u[0]), s.times::<S>(u[1]), s.times::<S>(u[2])];
     let mut point = [0.0; 3];
     for k in 0..3 {
         point[k] = (DdInterval::point(a[k]) + su[k]).tight()?;
     }
-    let r = [0, 1, 2].map(|k| w[k] - su[k]);
-    let distance = DdInterval::dot(&r, &r).tight_sqrt()?;
+    let r = [w[0] - su[0], w[1] - su[1], w[2] - su[2]];
+    let distance = DdInterval::dot::<S>(&r, &r).tight_sqrt::<S>()?;
     Some((distance, point, weights))
 }
 
 type Rounded = (f64, [Point; 2], [[f64; 3]; 2]);
 
 fn round(v: &Values<DdInterval>) -> Option<Rounded> {
-    let distance = v.squared.tight_sqrt()?;
+    let distance = v.squared.tight_sqrt::<Plain>()?;
     let mut points = [[0.0; 3]; 2];
     let mut weights = [[0.0; 3]; 2];
     for s in 0..2 {

@@ -441,7 +441,7 @@ fn decisions_stay_within_the_permanents_limits() {
         v[12] = [0.0, 0.1, 0.5, 2.0][rng.below(4) as usize];
         for pair in [Primitive::VertexFace, Primitive::EdgeEdge] {
             let inputs = v.map(|x| Traced::input(Ball::point(x)));
-            if decide(pair, &inputs, &Traced::constant(Ball::point(1.0))).is_some() {
+            if decide(pair, &inputs, &Traced::constant(Ball::point(1.0)), false).is_some() {
                 decided += 1;
             }
         }
