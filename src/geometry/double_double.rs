@@ -141,7 +141,7 @@ impl DdInterval {
         let q0 = self.hi / d.hi;
         let r = *self - DdInterval::point(q0).times::<S>(*d);
         let (hi, lo) = two_sum(q0, (r.hi + r.lo) / d.hi);
-        let c = DdInterval { hi, lo, rad: 0.0 };
+        let c = DdInterval::exact(hi, lo);
         let residual = *self - c.times::<S>(*d);
         let rad = up((residual.hi.abs() + residual.lo.abs() + residual.rad) / below);
         let q = DdInterval { hi, lo, rad };
@@ -327,11 +327,7 @@ impl DdInterval {
         }
         let (p, e) = S::two_prod(self.hi, o.hi);
         if self.is_double() && o.is_double() && (SAFE..=BIG).contains(&p.abs()) {
-            return DdInterval {
-                hi: p,
-                lo: e,
-                rad: 0.0,
-            };
+            return DdInterval::exact(p, e);
         }
         // (a + a')(b + b') = p + e + a b' + a' b + a' b': the last term is dropped, the middle
         // two are rounded three times (two products, one sum) and once more added to e.

@@ -852,13 +852,20 @@ fn triple_with<S: Split>(n: &V<DdInterval>, b: &V<DdInterval>, c: &V<DdInterval>
     DdInterval::dot::<S>(n, &cross_with::<S>(b, c))
 }
 
-/// `(1 - s, s)` and the point `a + s u`, rounded, for the segment from `a` along `u`.
+/// `s u`, with the split `S`.
 #[inline(always)]
-fn along_with<S: Split>(a: &Point, u: &V<DdInterval>, s: DdInterval) -> Option<([f64; 2], Point)> {
+fn scaled<S: Split>(s: DdInterval, u: &V<DdInterval>) -> V<DdInterval> {
+    [s.times::<S>(u[0]), s.times::<S>(u[1]), s.times::<S>(u[2])]
+}
+
+/// `(1 - s, s)` and the point `a + su`, rounded, for the segment from `a` along `u`, with `su`
+/// the product `s u`.
+#[inline(always)]
+fn rounded_along(a: &Point, s: DdInterval, su: &V<DdInterval>) -> Option<([f64; 2], Point)> {
     let weights = [(DdInterval::point(1.0) - s).tight()?, s.tight()?];
     let mut point = [0.0; 3];
     for k in 0..3 {
-        point[k] = (DdInterval::point(a[k]) + s.times::<S>(u[k])).tight()?;
+        point[k] = (DdInterval::point(a[k]) + su[k]).tight()?;
     }
     Some((weights, point))
 }
@@ -914,8 +921,8 @@ fn between_segments<S: Split>(q: &[Point; 4]) -> Option<(f64, [Point; 2], [[f64;
     let t = (uu.times::<S>(vw) - uv.times::<S>(uw)).times::<S>(inv);
     let h = DdInterval::dot::<S>(&w, &n);
     let distance = h.times::<S>(h.times::<S>(inv)).tight_sqrt::<S>()?;
-    let (ws, ps) = along_with::<S>(&q[0], &u, s)?;
-    let (wt, pt) = along_with::<S>(&q[2], &v, t)?;
+    let (ws, ps) = rounded_along(&q[0], s, &scaled::<S>(s, &u))?;
+    let (wt, pt) = rounded_along(&q[2], t, &scaled::<S>(t, &v))?;
     Some((distance, [ps, pt], [ws, wt]))
 }
 
@@ -963,12 +970,8 @@ fn general_values(pair: Primitive, p: &[Point; 4], choice: Choice) -> Nearest {
 fn on_segment<S: Split>(x: &Point, a: &Point, b: &Point) -> Option<(f64, Point, [f64; 2])> {
     let (u, w) = (exact_difference(b, a), exact_difference(x, a));
     let s = DdInterval::dot::<S>(&w, &u).divide::<S>(&DdInterval::dot::<S>(&u, &u))?;
-    let weights = [(DdInterval::point(1.0) - s).tight()?, s.tight()?];
-    let su = [s.times::<S>(u[0]), s.times::<S>(u[1]), s.times::<S>(u[2])];
-    let mut point = [0.0; 3];
-    for k in 0..3 {
-        point[k] = (DdInterval::point(a[k]) + su[k]).tight()?;
-    }
+    let su = scaled::<S>(s, &u);
+    let (weights, point) = rounded_along(a, s, &su)?;
     let r = [w[0] - su[0], w[1] - su[1], w[2] - su[2]];
     let distance = DdInterval::dot::<S>(&r, &r).tight_sqrt::<S>()?;
     Some((distance, point, weights))
