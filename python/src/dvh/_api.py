@@ -535,6 +535,14 @@ class _Buffers(threading.local):
 _buffers = _Buffers()
 
 
+def _copied(data, n: int, dtype: np.dtype) -> np.ndarray:
+    """The ``n`` items of ``dtype`` at ``data`` (a C array of the same layout), copied into a new
+    array. Copied as bytes: NumPy copies a structured dtype with padding (``DvhImpact``'s,
+    ``DvhNearPair``'s) item by item, about three times slower than the bytes."""
+    raw = np.frombuffer(ffi.buffer(data, dtype.itemsize * n), dtype=np.uint8)
+    return raw.copy().view(dtype)
+
+
 def _pairs_array(buf) -> np.ndarray:
     n = lib.dvh_pairs_len(buf)
     if n == 0:
@@ -743,9 +751,7 @@ def _impacts_array(buf) -> np.ndarray:
     n = lib.dvh_impacts_len(buf)
     if n == 0:
         return np.empty(0, dtype=IMPACT_DTYPE)
-    data = lib.dvh_impacts_data(buf)
-    size = IMPACT_DTYPE.itemsize * n
-    return np.frombuffer(ffi.buffer(data, size), dtype=IMPACT_DTYPE).copy()
+    return _copied(lib.dvh_impacts_data(buf), n, IMPACT_DTYPE)
 
 
 def _ccd_finish(status, buf, stats):
@@ -1022,8 +1028,7 @@ class Scene:
         if n == 0:
             contacts = np.empty(0, dtype=CONTACT_DTYPE)
         else:
-            data = lib.dvh_contacts_data(self._contacts)
-            contacts = np.frombuffer(ffi.buffer(data, 16 * n), dtype=CONTACT_DTYPE).copy()
+            contacts = _copied(lib.dvh_contacts_data(self._contacts), n, CONTACT_DTYPE)
         if not stats:
             return contacts
         st = SceneStats(
@@ -1091,8 +1096,7 @@ def _near_finish(status, buf, stats):
     if n == 0:
         near = np.empty(0, dtype=NEAR_PAIR_DTYPE)
     else:
-        data = lib.dvh_near_pairs_data(buf)
-        near = np.frombuffer(ffi.buffer(data, NEAR_PAIR_DTYPE.itemsize * n), dtype=NEAR_PAIR_DTYPE).copy()
+        near = _copied(lib.dvh_near_pairs_data(buf), n, NEAR_PAIR_DTYPE)
     return near if stats == ffi.NULL else (near, QueryStats._of(stats))
 
 

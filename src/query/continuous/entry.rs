@@ -104,7 +104,7 @@ fn run(a: &Mesh, b: Option<&Mesh>, options: &CcdOptions, out: &mut Impacts) -> R
         items,
         spare,
         leaves,
-        workers,
+        narrow_space,
     } = out;
     let leaves = leaves.as_slice();
     spare.clear();
@@ -131,13 +131,14 @@ fn run(a: &Mesh, b: Option<&Mesh>, options: &CcdOptions, out: &mut Impacts) -> R
         leaves,
         options.threads,
         limit,
-        workers,
+        narrow_space,
         spare,
         Impact::key,
     )?;
     stats.primitive_tests = joined.primitive_tests;
     if options.earliest_only {
-        let first = workers
+        let first = narrow_space
+            .workers
             .iter()
             .filter_map(|w| w.best)
             .min_by(|x, y| (x.toi, x.key()).partial_cmp(&(y.toi, y.key())).unwrap());

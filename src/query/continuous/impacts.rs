@@ -5,7 +5,7 @@ use crate::csr::heap_bytes;
 use crate::geometry::ccd::CcdMode;
 use crate::query::pairs::Pairs;
 pub use crate::query::primitives::ImpactKind;
-use crate::query::primitives::Worker;
+use crate::query::primitives::Workspace;
 
 /// Two primitives that meet during the step, and the earliest time they do.
 ///
@@ -124,7 +124,8 @@ pub struct Impacts {
     pub(crate) spare: Vec<Impact>,
     /// The traversal's leaf pairs, and its scratch space.
     pub(crate) leaves: Pairs,
-    pub(crate) workers: Vec<Worker<Impact>>,
+    /// The narrow phase's scratch space.
+    pub(crate) narrow_space: Workspace<Impact>,
 }
 
 impl Impacts {
@@ -159,8 +160,7 @@ impl Impacts {
         heap_bytes(&self.items)
             + heap_bytes(&self.spare)
             + self.leaves.memory_bytes()
-            + heap_bytes(&self.workers)
-            + self.workers.iter().map(Worker::heap_bytes).sum::<usize>()
+            + self.narrow_space.heap_bytes()
     }
 }
 

@@ -73,6 +73,12 @@ impl Sweeps<'_, '_> {
 impl PrimitiveTest for Sweeps<'_, '_> {
     type Found = Impact;
 
+    /// The earliest impact alone, exact: the boxes end at the earliest time found so far.
+    #[inline]
+    fn fixed_boxes(&self) -> bool {
+        !(self.earliest_only && self.mode == CcdMode::Exact)
+    }
+
     #[inline]
     fn grow(&self, side: Side, v: u32, b: &mut Aabb) {
         let m = self.side(side);

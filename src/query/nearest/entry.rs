@@ -246,7 +246,7 @@ fn run(
         spare,
         found,
         nodes,
-        workers,
+        narrow_space,
         placed: [buf_a, buf_b],
     } = out;
     let mut stats = QueryStats {
@@ -286,7 +286,7 @@ fn run(
         nodes.as_slice(),
         options.threads,
         limit,
-        workers,
+        narrow_space,
         found,
         Stencil::key,
     )?;

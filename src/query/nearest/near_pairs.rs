@@ -4,7 +4,7 @@ use crate::csr::heap_bytes;
 use crate::geometry::nearest::{Decided, Feature, Nearest};
 use crate::geometry::predicates::Point;
 use crate::query::pairs::Pairs;
-use crate::query::primitives::{ImpactKind, Key, Worker};
+use crate::query::primitives::{ImpactKind, Key, Workspace};
 
 /// A vertex-face or edge-edge pair within the query's distance: a contact stencil, with the
 /// closest point on each primitive.
@@ -111,7 +111,8 @@ pub struct NearPairs {
     pub(crate) nodes: Pairs,
     /// The stencils found, sorted, before their values are computed into `spare`.
     pub(crate) found: Vec<Stencil>,
-    pub(crate) workers: Vec<Worker<Stencil>>,
+    /// The narrow phase's scratch space.
+    pub(crate) narrow_space: Workspace<Stencil>,
     /// The placed vertices of a posed mesh (each side).
     pub(crate) placed: [Vec<Point>; 2],
 }
@@ -149,8 +150,7 @@ impl NearPairs {
             + heap_bytes(&self.spare)
             + self.nodes.memory_bytes()
             + heap_bytes(&self.found)
-            + heap_bytes(&self.workers)
-            + self.workers.iter().map(Worker::heap_bytes).sum::<usize>()
+            + self.narrow_space.heap_bytes()
             + self.placed.iter().map(heap_bytes).sum::<usize>()
     }
 }

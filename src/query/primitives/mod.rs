@@ -5,10 +5,11 @@
 //! out in chunks whose results are joined in order (so the answer does not depend on the thread
 //! count).
 
+mod boxes;
 mod kind;
 mod narrow;
 mod run;
 
 pub use kind::ImpactKind;
 pub(crate) use narrow::{Key, Narrow, Owners, PrimitiveTest, Side, Worker};
-pub(crate) use run::run;
+pub(crate) use run::{Workspace, run};

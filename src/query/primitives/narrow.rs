@@ -3,6 +3,7 @@
 //! boxes come within the test's reach is given to the test, once.
 
 use super::ImpactKind;
+use super::boxes::OwnedBoxes;
 use crate::geometry::Primitive;
 use crate::geometry::aabb::Aabb;
 use crate::mesh::{Features, Mesh};
@@ -40,6 +41,14 @@ pub(crate) trait PrimitiveTest: Sync {
 
     /// Grows `b` by vertex `v` of `side` as the test sees it (its sweep, its placed position).
     fn grow(&self, side: Side, v: u32, b: &mut Aabb);
+
+    /// Do the boxes [`PrimitiveTest::grow`] makes stay the same for the whole query? Then
+    /// they are computed once per query; otherwise (a test that shrinks them as it finds
+    /// results) for each node pair.
+    #[inline(always)]
+    fn fixed_boxes(&self) -> bool {
+        true
+    }
 
     /// How near primitives must come to be tested: their boxes are compared within this
     /// distance ([`Aabb::within`]). Zero by default: boxes that meet.
@@ -98,13 +107,6 @@ impl Owned {
         crate::csr::heap_bytes(&self.vertices)
             + crate::csr::heap_bytes(&self.triangles)
             + crate::csr::heap_bytes(&self.edges)
-    }
-
-    /// Keeps the primitives whose boxes come within `d` of `other`.
-    fn retain_near(&mut self, other: &Aabb, d: f64) {
-        self.vertices.retain(|x| x.bounds.within(other, d));
-        self.triangles.retain(|x| x.bounds.within(other, d));
-        self.edges.retain(|x| x.bounds.within(other, d));
     }
 }
 
@@ -184,62 +186,103 @@ pub(crate) struct Narrow<'m, T> {
     pub test: T,
 }
 
+/// Each side's boxes of its owned primitives, computed once for the query (one table for
+/// both sides of a self query).
+#[derive(Clone, Copy)]
+pub(crate) struct Tables<'b> {
+    pub a: &'b OwnedBoxes,
+    pub b: &'b OwnedBoxes,
+}
+
 impl<T: PrimitiveTest> Narrow<'_, T> {
     /// Tests the primitive pairs of node `na` of `a` and `nb` of `b` (of one mesh, `na <= nb`,
     /// the two equal or with no ring in common) into `w`, stopping once `w.out` holds `limit`
-    /// results. Returns whether it stopped.
-    pub fn node_pair(&self, w: &mut Worker<T::Found>, na: u32, nb: u32, limit: usize) -> bool {
+    /// results. Returns whether it stopped. The primitives' boxes come from `tables`, filled
+    /// for both nodes, or are built here when the test's boxes change during the query
+    /// ([`PrimitiveTest::fixed_boxes`]).
+    pub fn node_pair(
+        &self,
+        tables: Option<Tables>,
+        w: &mut Worker<T::Found>,
+        na: u32,
+        nb: u32,
+        limit: usize,
+    ) -> bool {
         let mut owned_a = std::mem::take(&mut w.owned_a);
         let mut owned_b = std::mem::take(&mut w.owned_b);
         let stopped = if self.one_mesh && na == nb {
-            self.triangles(Side::A, na, &mut owned_a);
-            self.vertices_and_edges(Side::A, na, &mut owned_a);
+            self.gather(Side::A, na, tables.map(|t| t.a), None, &mut owned_a);
             self.own(w, &owned_a, limit)
         } else {
-            self.apart(w, na, nb, &mut owned_a, &mut owned_b, limit)
+            self.apart(tables, w, na, nb, &mut owned_a, &mut owned_b, limit)
         };
         w.owned_a = owned_a;
         w.owned_b = owned_b;
         stopped
     }
 
-    /// The triangles the rings of node `n` of `side` own, each with its box, into `out`;
-    /// returns the box of them all (which holds every primitive the rings own).
-    fn triangles(&self, side: Side, n: u32, out: &mut Owned) -> Aabb {
+    /// The box of every primitive the rings of node `n` of `side` own, built from its
+    /// triangles.
+    fn node_box(&self, side: Side, n: u32) -> Aabb {
         let (owners, rings) = self.rings(side, n);
         let tris = owners.mesh.triangles();
         let mut all = Aabb::EMPTY;
-        out.triangles.clear();
         for &t in owners.features.triangles.row_range(rings) {
-            let corners = tris[t as usize];
-            let bounds = self.boxed(side, &corners);
-            all.merge(&bounds);
-            out.triangles.push(Boxed {
-                item: Triangle { index: t, corners },
-                bounds,
-            });
+            all.merge(&self.boxed(side, &tris[t as usize]));
         }
         all
     }
 
-    /// The vertices and edges the rings of node `n` of `side` own, each with its box, into
-    /// `out`.
-    fn vertices_and_edges(&self, side: Side, n: u32, out: &mut Owned) {
+    /// The primitives the rings of node `n` of `side` own, each with its box (from `table`, or
+    /// built), into `out`: those whose boxes come within the test's reach of `near`, or all.
+    fn gather(
+        &self,
+        side: Side,
+        n: u32,
+        table: Option<&OwnedBoxes>,
+        near: Option<&Aabb>,
+        out: &mut Owned,
+    ) {
         let (owners, rings) = self.rings(side, n);
         let f = owners.features;
-        let boxed = |vertices: &[u32]| self.boxed(side, vertices);
+        let d = self.test.reach();
+        let keep = |b: &Aabb| near.is_none_or(|o| b.within(o, d));
+        let tris = owners.mesh.triangles();
+        out.triangles.clear();
+        for i in f.triangles.span(rings.clone()) {
+            let index = f.triangles.items()[i];
+            let corners = tris[index as usize];
+            let bounds = match table {
+                Some(t) => t.triangles[i],
+                None => self.boxed(side, &corners),
+            };
+            if keep(&bounds) {
+                let item = Triangle { index, corners };
+                out.triangles.push(Boxed { item, bounds });
+            }
+        }
         out.vertices.clear();
-        out.vertices
-            .extend(f.vertices.row_range(rings.clone()).iter().map(|&v| Boxed {
-                item: v,
-                bounds: boxed(&[v]),
-            }));
+        for i in f.vertices.span(rings.clone()) {
+            let item = f.vertices.items()[i];
+            let bounds = match table {
+                Some(t) => t.vertices[i],
+                None => self.boxed(side, &[item]),
+            };
+            if keep(&bounds) {
+                out.vertices.push(Boxed { item, bounds });
+            }
+        }
         out.edges.clear();
-        out.edges
-            .extend(f.edges.row_range(rings).iter().map(|&e| Boxed {
-                item: e,
-                bounds: boxed(&e),
-            }));
+        for i in f.edges.span(rings) {
+            let item = f.edges.items()[i];
+            let bounds = match table {
+                Some(t) => t.edges[i],
+                None => self.boxed(side, &item),
+            };
+            if keep(&bounds) {
+                out.edges.push(Boxed { item, bounds });
+            }
+        }
     }
 
     /// The box of `vertices` of `side` as the test sees them.
@@ -281,8 +324,10 @@ impl<T: PrimitiveTest> Narrow<'_, T> {
 
     /// The primitive pairs of node `na` of `a` and `nb` of `b`, two meshes' or one mesh's
     /// with no ring in common, gathered into `owned_a` and `owned_b`.
+    #[allow(clippy::too_many_arguments)]
     fn apart(
         &self,
+        tables: Option<Tables>,
         w: &mut Worker<T::Found>,
         na: u32,
         nb: u32,
@@ -290,18 +335,21 @@ impl<T: PrimitiveTest> Narrow<'_, T> {
         owned_b: &mut Owned,
         limit: usize,
     ) -> bool {
-        let box_a = self.triangles(Side::A, na, owned_a);
-        let box_b = self.triangles(Side::B, nb, owned_b);
+        let (box_a, box_b) = match tables {
+            Some(t) => (
+                t.a.of_rings(self.rings(Side::A, na).1),
+                t.b.of_rings(self.rings(Side::B, nb).1),
+            ),
+            None => (self.node_box(Side::A, na), self.node_box(Side::B, nb)),
+        };
         let d = self.test.reach();
         if !box_a.within(&box_b, d) {
             return false;
         }
-        self.vertices_and_edges(Side::A, na, owned_a);
-        self.vertices_and_edges(Side::B, nb, owned_b);
         // A leaf's ring owns about 7 triangles and 10 edges: each side keeps what comes near
         // the other node before the pairs are formed (most does not).
-        owned_a.retain_near(&box_b, d);
-        owned_b.retain_near(&box_a, d);
+        self.gather(Side::A, na, tables.map(|t| t.a), Some(&box_b), owned_a);
+        self.gather(Side::B, nb, tables.map(|t| t.b), Some(&box_a), owned_b);
         if self.vertex_faces(w, &owned_a.vertices, Side::A, &owned_b.triangles, limit)
             || self.vertex_faces(w, &owned_b.vertices, Side::B, &owned_a.triangles, limit)
         {

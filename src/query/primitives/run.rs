@@ -2,7 +2,8 @@
 //! taken in order by several, the results joined in the order of the chunks.
 
 use super::ImpactKind;
-use super::narrow::{Key, Narrow, PrimitiveTest, Worker};
+use super::boxes::OwnedBoxes;
+use super::narrow::{Key, Narrow, PrimitiveTest, Side, Tables, Worker};
 use crate::error::{Error, Result};
 use crate::query::pairs::Pair;
 use crate::threads;
@@ -55,8 +56,34 @@ pub(crate) struct Joined {
     pub truncated: bool,
 }
 
+/// The scratch space of [`run`], kept between queries: each thread's, and the boxes of the
+/// primitives of each side.
+#[derive(Debug)]
+pub(crate) struct Workspace<F> {
+    pub workers: Vec<Worker<F>>,
+    boxes: [OwnedBoxes; 2],
+}
+
+impl<F> Default for Workspace<F> {
+    fn default() -> Workspace<F> {
+        Workspace {
+            workers: Vec::new(),
+            boxes: Default::default(),
+        }
+    }
+}
+
+impl<F> Workspace<F> {
+    /// Heap bytes held.
+    pub fn heap_bytes(&self) -> usize {
+        crate::csr::heap_bytes(&self.workers)
+            + self.workers.iter().map(Worker::heap_bytes).sum::<usize>()
+            + self.boxes.iter().map(OwnedBoxes::heap_bytes).sum::<usize>()
+    }
+}
+
 /// Runs the narrow phase of `narrow` over the node pairs `pairs` on up to `threads` threads
-/// ([`crate::QueryOptions::threads`]), with `workers` grown to the threads used. Unless the
+/// ([`crate::QueryOptions::threads`]), with `space`'s workers grown to the threads used. Unless the
 /// test keeps only a best result ([`Worker::best`]), the first `limit` results in the order of
 /// `pairs` (so the same whatever the thread count) are appended to `out`, which must be empty,
 /// sorted by `key` (unique per result).
@@ -67,10 +94,28 @@ pub(crate) fn run<T: PrimitiveTest>(
     pairs: &[Pair],
     threads: u32,
     limit: usize,
-    workers: &mut Vec<Worker<T::Found>>,
+    space: &mut Workspace<T::Found>,
     out: &mut Vec<T::Found>,
     key: impl Fn(&T::Found) -> Key + Sync,
 ) -> Result<Joined> {
+    let Workspace { workers, boxes } = space;
+    let tables = if narrow.test.fixed_boxes() {
+        let [box_a, box_b] = boxes;
+        let (a, b) = (&narrow.a, &narrow.b);
+        let filled = if narrow.one_mesh {
+            let nodes = pairs.iter().flat_map(|p| [p.a, p.b]);
+            box_a.fill(a, Side::A, &narrow.test, nodes)
+        } else {
+            box_a
+                .fill(a, Side::A, &narrow.test, pairs.iter().map(|p| p.a))
+                .and_then(|()| box_b.fill(b, Side::B, &narrow.test, pairs.iter().map(|p| p.b)))
+        };
+        filled.map_err(|bytes| Error::OutOfMemory { bytes })?;
+        let b = if narrow.one_mesh { &*box_a } else { &*box_b };
+        Some(Tables { a: box_a, b })
+    } else {
+        None
+    };
     let sort_threads = threads::resolve(threads);
     let threads = if pairs.len() < PARALLEL_MIN_PAIRS {
         1
@@ -86,7 +131,7 @@ pub(crate) fn run<T: PrimitiveTest>(
     } else {
         pairs.len().min(threads * CHUNKS_PER_THREAD)
     };
-    in_chunks(narrow, pairs, chunks, limit, workers);
+    in_chunks(narrow, tables, pairs, chunks, limit, workers);
     let mut joined = Joined {
         primitive_tests: 0,
         truncated: false,
@@ -160,6 +205,7 @@ pub(crate) fn run<T: PrimitiveTest>(
 /// The narrow phase over `pairs`, cut into `chunks` chunks taken in order by the workers.
 fn in_chunks<T: PrimitiveTest>(
     narrow: &Narrow<T>,
+    tables: Option<Tables>,
     pairs: &[Pair],
     chunks: usize,
     limit: usize,
@@ -172,7 +218,7 @@ fn in_chunks<T: PrimitiveTest>(
         let start = w.out.len();
         let mut stopped = false;
         for p in chunk(c) {
-            if narrow.node_pair(w, p.a, p.b, start.saturating_add(limit)) {
+            if narrow.node_pair(tables, w, p.a, p.b, start.saturating_add(limit)) {
                 stopped = true;
                 break;
             }
