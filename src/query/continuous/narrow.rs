@@ -79,7 +79,7 @@ impl PrimitiveTest for Sweeps<'_, '_> {
         !(self.earliest_only && self.mode == CcdMode::Exact)
     }
 
-    #[inline]
+    #[inline(always)]
     fn grow(&self, side: Side, v: u32, b: &mut Aabb) {
         let m = self.side(side);
         sweep_point(b, &m.start[v as usize], &m.end[v as usize], self.box_cut());

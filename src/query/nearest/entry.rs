@@ -159,7 +159,7 @@ impl Stencils<'_> {
 impl PrimitiveTest for Stencils<'_> {
     type Found = Stencil;
 
-    #[inline]
+    #[inline(always)]
     fn grow(&self, side: Side, v: u32, b: &mut Aabb) {
         b.grow(&self.side(side)[v as usize]);
     }

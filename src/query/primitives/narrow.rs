@@ -221,21 +221,53 @@ impl<T: PrimitiveTest> Narrow<'_, T> {
         stopped
     }
 
-    /// The box of every primitive the rings of node `n` of `side` own, built from its
-    /// triangles.
-    fn node_box(&self, side: Side, n: u32) -> Aabb {
+    /// The primitives the rings of node `n` of `side` own, each with its box (from `table`, or
+    /// built), into `out`: those whose boxes come within the test's reach of `near`, or all.
+    fn gather(
+        &self,
+        side: Side,
+        n: u32,
+        table: Option<&OwnedBoxes>,
+        near: Option<&Aabb>,
+        out: &mut Owned,
+    ) {
+        self.gather_triangles(side, n, table, near, out);
+        self.gather_vertices_and_edges(side, n, table, near, out);
+    }
+
+    /// The triangles of [`Narrow::gather`]; returns the box of those kept.
+    fn gather_triangles(
+        &self,
+        side: Side,
+        n: u32,
+        table: Option<&OwnedBoxes>,
+        near: Option<&Aabb>,
+        out: &mut Owned,
+    ) -> Aabb {
         let (owners, rings) = self.rings(side, n);
+        let f = owners.features;
+        let d = self.test.reach();
         let tris = owners.mesh.triangles();
         let mut all = Aabb::EMPTY;
-        for &t in owners.features.triangles.row_range(rings) {
-            all.merge(&self.boxed(side, &tris[t as usize]));
+        out.triangles.clear();
+        for i in f.triangles.span(rings) {
+            let index = f.triangles.items()[i];
+            let corners = tris[index as usize];
+            let bounds = match table {
+                Some(t) => t.triangles[i],
+                None => self.boxed(side, &corners),
+            };
+            if near.is_none_or(|o| bounds.within(o, d)) {
+                all.merge(&bounds);
+                let item = Triangle { index, corners };
+                out.triangles.push(Boxed { item, bounds });
+            }
         }
         all
     }
 
-    /// The primitives the rings of node `n` of `side` own, each with its box (from `table`, or
-    /// built), into `out`: those whose boxes come within the test's reach of `near`, or all.
-    fn gather(
+    /// The vertices and edges of [`Narrow::gather`].
+    fn gather_vertices_and_edges(
         &self,
         side: Side,
         n: u32,
@@ -247,20 +279,6 @@ impl<T: PrimitiveTest> Narrow<'_, T> {
         let f = owners.features;
         let d = self.test.reach();
         let keep = |b: &Aabb| near.is_none_or(|o| b.within(o, d));
-        let tris = owners.mesh.triangles();
-        out.triangles.clear();
-        for i in f.triangles.span(rings.clone()) {
-            let index = f.triangles.items()[i];
-            let corners = tris[index as usize];
-            let bounds = match table {
-                Some(t) => t.triangles[i],
-                None => self.boxed(side, &corners),
-            };
-            if keep(&bounds) {
-                let item = Triangle { index, corners };
-                out.triangles.push(Boxed { item, bounds });
-            }
-        }
         out.vertices.clear();
         for i in f.vertices.span(rings.clone()) {
             let item = f.vertices.items()[i];
@@ -335,21 +353,29 @@ impl<T: PrimitiveTest> Narrow<'_, T> {
         owned_b: &mut Owned,
         limit: usize,
     ) -> bool {
-        let (box_a, box_b) = match tables {
-            Some(t) => (
-                t.a.of_rings(self.rings(Side::A, na).1),
-                t.b.of_rings(self.rings(Side::B, nb).1),
-            ),
-            None => (self.node_box(Side::A, na), self.node_box(Side::B, nb)),
-        };
         let d = self.test.reach();
-        if !box_a.within(&box_b, d) {
-            return false;
-        }
         // A leaf's ring owns about 7 triangles and 10 edges: each side keeps what comes near
         // the other node before the pairs are formed (most does not).
-        self.gather(Side::A, na, tables.map(|t| t.a), Some(&box_b), owned_a);
-        self.gather(Side::B, nb, tables.map(|t| t.b), Some(&box_a), owned_b);
+        if let Some(t) = tables {
+            let box_a = t.a.of_rings(self.rings(Side::A, na).1);
+            let box_b = t.b.of_rings(self.rings(Side::B, nb).1);
+            if !box_a.within(&box_b, d) {
+                return false;
+            }
+            self.gather(Side::A, na, Some(t.a), Some(&box_b), owned_a);
+            self.gather(Side::B, nb, Some(t.b), Some(&box_a), owned_b);
+        } else {
+            // Boxes built here, the triangles' first: they give each node's box.
+            let box_a = self.gather_triangles(Side::A, na, None, None, owned_a);
+            let box_b = self.gather_triangles(Side::B, nb, None, None, owned_b);
+            if !box_a.within(&box_b, d) {
+                return false;
+            }
+            owned_a.triangles.retain(|x| x.bounds.within(&box_b, d));
+            owned_b.triangles.retain(|x| x.bounds.within(&box_a, d));
+            self.gather_vertices_and_edges(Side::A, na, None, Some(&box_b), owned_a);
+            self.gather_vertices_and_edges(Side::B, nb, None, Some(&box_a), owned_b);
+        }
         if self.vertex_faces(w, &owned_a.vertices, Side::A, &owned_b.triangles, limit)
             || self.vertex_faces(w, &owned_b.vertices, Side::B, &owned_a.triangles, limit)
         {
