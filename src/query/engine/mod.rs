@@ -15,4 +15,4 @@ pub(crate) use narrow::PairTest;
 pub(crate) use run::{QueryMesh, query, query_one};
 pub(crate) use side::{NodeVolumes, Widened};
 pub(crate) use traverse::OneMesh;
-pub(crate) use workspace::{Prepared, Workspace};
+pub(crate) use workspace::{Prepared, Stamped, Workspace};

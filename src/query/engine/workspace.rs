@@ -243,7 +243,8 @@ pub(crate) struct Workspace {
 }
 
 impl<T> Stamped<T> {
-    fn heap_bytes(&self) -> usize {
+    /// Heap bytes held.
+    pub fn heap_bytes(&self) -> usize {
         heap_bytes(&self.values) + heap_bytes(&self.stamp)
     }
 }

@@ -5,6 +5,7 @@
 
 use super::narrow::{Owners, PrimitiveTest, Side};
 use crate::geometry::aabb::Aabb;
+use crate::query::engine::Stamped;
 use std::ops::Range;
 
 /// The boxes of one mesh's owned primitives, at the positions of [`crate::mesh::Features`]'
@@ -14,21 +15,18 @@ pub(crate) struct OwnedBoxes {
     pub vertices: Vec<Aabb>,
     pub triangles: Vec<Aabb>,
     pub edges: Vec<Aabb>,
-    /// Per ring, the box of the triangles it owns, which holds every primitive it owns.
-    rings: Vec<Aabb>,
-    /// Per ring: the query whose boxes it holds (the work is the rings asked for, not the
-    /// mesh's).
-    stamp: Vec<u32>,
-    current: u32,
+    /// Per ring, the box of the triangles it owns, which holds every primitive it owns; current
+    /// for the rings asked for this query (the work is theirs, not the mesh's).
+    rings: Stamped<Aabb>,
 }
 
 /// `v` grown to at least `n` entries; the bytes asked for if it cannot grow.
-fn sized<T: Clone>(v: &mut Vec<T>, n: usize, fill: T) -> Result<(), usize> {
+fn sized(v: &mut Vec<Aabb>, n: usize) -> Result<(), usize> {
     if v.len() < n {
         if v.try_reserve(n - v.len()).is_err() {
-            return Err(n * std::mem::size_of::<T>());
+            return Err(n * std::mem::size_of::<Aabb>());
         }
-        v.resize(n, fill);
+        v.resize(n, Aabb::EMPTY);
     }
     Ok(())
 }
@@ -40,8 +38,7 @@ impl OwnedBoxes {
         heap_bytes(&self.vertices)
             + heap_bytes(&self.triangles)
             + heap_bytes(&self.edges)
-            + heap_bytes(&self.rings)
-            + heap_bytes(&self.stamp)
+            + self.rings.heap_bytes()
     }
 
     /// Computes the boxes of the primitives owned by the rings below `nodes` of `owners`, the
@@ -55,16 +52,10 @@ impl OwnedBoxes {
         nodes: impl Iterator<Item = u32>,
     ) -> Result<(), usize> {
         let f = owners.features;
-        sized(&mut self.vertices, f.vertices.items().len(), Aabb::EMPTY)?;
-        sized(&mut self.triangles, f.triangles.items().len(), Aabb::EMPTY)?;
-        sized(&mut self.edges, f.edges.items().len(), Aabb::EMPTY)?;
-        sized(&mut self.rings, f.triangles.rows(), Aabb::EMPTY)?;
-        sized(&mut self.stamp, f.triangles.rows(), 0)?;
-        if self.current == u32::MAX {
-            self.stamp.fill(0);
-            self.current = 0;
-        }
-        self.current += 1;
+        sized(&mut self.vertices, f.vertices.items().len())?;
+        sized(&mut self.triangles, f.triangles.items().len())?;
+        sized(&mut self.edges, f.edges.items().len())?;
+        self.rings.begin(f.triangles.rows());
         let boxed = |vertices: &[u32]| {
             let mut b = Aabb::EMPTY;
             for &v in vertices {
@@ -77,23 +68,23 @@ impl OwnedBoxes {
         for n in nodes {
             let node = &tree[n as usize];
             for r in node.ring_start as usize..node.ring_end as usize {
-                if self.stamp[r] == self.current {
-                    continue;
-                }
-                self.stamp[r] = self.current;
-                let mut all = Aabb::EMPTY;
-                for i in f.triangles.span(r..r + 1) {
-                    let b = boxed(&corners[f.triangles.items()[i] as usize]);
-                    all.merge(&b);
-                    self.triangles[i] = b;
-                }
-                self.rings[r] = all;
-                for i in f.vertices.span(r..r + 1) {
-                    self.vertices[i] = boxed(&[f.vertices.items()[i]]);
-                }
-                for i in f.edges.span(r..r + 1) {
-                    self.edges[i] = boxed(&f.edges.items()[i]);
-                }
+                let (triangles, vertices, edges) =
+                    (&mut self.triangles, &mut self.vertices, &mut self.edges);
+                self.rings.get_or(r, || {
+                    let mut all = Aabb::EMPTY;
+                    for i in f.triangles.span(r..r + 1) {
+                        let b = boxed(&corners[f.triangles.items()[i] as usize]);
+                        all.merge(&b);
+                        triangles[i] = b;
+                    }
+                    for i in f.vertices.span(r..r + 1) {
+                        vertices[i] = boxed(&[f.vertices.items()[i]]);
+                    }
+                    for i in f.edges.span(r..r + 1) {
+                        edges[i] = boxed(&f.edges.items()[i]);
+                    }
+                    all
+                });
             }
         }
         Ok(())
@@ -102,9 +93,10 @@ impl OwnedBoxes {
     /// The box of every primitive the rings `rings` own (all filled).
     #[inline]
     pub fn of_rings(&self, rings: Range<usize>) -> Aabb {
-        debug_assert!(self.stamp[rings.clone()].iter().all(|&s| s == self.current));
+        let r = &self.rings;
+        debug_assert!(r.stamp[rings.clone()].iter().all(|&s| s == r.current));
         let mut all = Aabb::EMPTY;
-        for b in &self.rings[rings] {
+        for b in &r.values[rings] {
             all.merge(b);
         }
         all
