@@ -109,6 +109,29 @@ impl Aabb {
         }
     }
 
+    /// A box holding every point within distance `d >= 0` of this box, as [`Aabb::widened`]
+    /// but cheaper and looser by an ulp or two: each bound moved by `d`, then outwards by at
+    /// least one unit in its last place. For a box compared with many: [`Aabb::meets`] against
+    /// it tells what [`Aabb::within`] tells (and possibly more, by rounding) with six
+    /// subtractions fewer a comparison.
+    #[inline(always)]
+    pub fn reach(&self, d: f64) -> Aabb {
+        // `s` is within half an ulp of the exact sum; `|s| eps` (at least the least normal
+        // double) is at least one ulp of `s`, so adding it rounds to a double past `s`'s
+        // neighbour, beyond the exact sum.
+        let out = |s: f64| s.abs() * f64::EPSILON + f64::MIN_POSITIVE;
+        Aabb {
+            lo: self.lo.map(|x| {
+                let s = x - d;
+                s - out(s)
+            }),
+            hi: self.hi.map(|x| {
+                let s = x + d;
+                s + out(s)
+            }),
+        }
+    }
+
     /// Does the closed box hold `p`?
     #[inline]
     pub fn contains(&self, p: &Point) -> bool {
@@ -156,6 +179,30 @@ impl Aabb {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Any finite double: normal and subnormal, of both signs, and zero.
+    fn finite() -> impl proptest::strategy::Strategy<Value = f64> {
+        use proptest::num::f64::{NEGATIVE, NORMAL, POSITIVE, SUBNORMAL, ZERO};
+        POSITIVE | NEGATIVE | NORMAL | SUBNORMAL | ZERO
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig {
+            cases: 20_000, ..proptest::prelude::ProptestConfig::default()
+        })]
+
+        /// The cheap reach holds the exactly rounded one, at every scale.
+        #[test]
+        fn reach_holds_the_widened_box(x in finite(), y in finite(), d in finite()) {
+            let d = d.abs();
+            let b = Aabb::of_points(&[[x, y, 0.0], [y, x, 0.0]]);
+            let (fast, exact) = (b.reach(d), b.widened(d));
+            for k in 0..3 {
+                proptest::prop_assert!(fast.lo[k] <= exact.lo[k], "{:?} {:?}", fast, exact);
+                proptest::prop_assert!(fast.hi[k] >= exact.hi[k], "{:?} {:?}", fast, exact);
+            }
+        }
+    }
 
     #[test]
     fn grows_merges_and_meets_as_closed_boxes() {

@@ -430,9 +430,10 @@ impl Decided {
     }
 }
 
-/// The exact decision "distance at most `d`" for primitives whose boxes are known to come
-/// within `d` of each other (as [`crate::geometry::aabb::Aabb::within`] tells, the same test as
-/// [`nearest`]'s own: it is not repeated), and where their closest points lie if so.
+/// The exact decision "distance at most `d`", and where the closest points lie if so, for
+/// primitives whose boxes the caller found within `d` of each other (as
+/// [`crate::geometry::aabb::Aabb::within`] tells, [`nearest`]'s own filter, which is not
+/// repeated here). Exact for any primitives: the filter only spares work.
 #[inline(never)]
 pub(crate) fn decide_within(pair: Primitive, p: &[Point; 4], d: f64) -> Option<Decided> {
     debug_assert!(d >= 0.0 && d.is_finite());

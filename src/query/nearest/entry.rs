@@ -187,7 +187,8 @@ impl PrimitiveTest for Stencils<'_> {
         for (i, &v) in pb.iter().enumerate() {
             p[N + i] = pos_b[v as usize];
         }
-        // The narrow phase gives only primitives whose boxes come within `d`.
+        // The narrow phase gives only primitives whose boxes come within `d` (up to rounding;
+        // the decision is exact whatever it gives).
         let decided = decide_within(kind, &p, self.d)?;
         Some(Stencil { key, decided })
     }
