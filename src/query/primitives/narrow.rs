@@ -533,7 +533,7 @@ impl<T: PrimitiveTest> Narrow<'_, T> {
 
     /// The primitive pairs of a node of one mesh with itself, `kept` holding all of `p`.
     fn own(&self, w: &mut Worker<T::Found>, p: &Primitives, kept: &Kept, limit: usize) -> bool {
-        if self.vertex_faces(w, Side::A, (p, &kept.vertices), (p, &kept.triangles), limit) {
+        if self.vertex_faces(w, Side::A, &kept.vertices, (p, &kept.triangles), limit) {
             return true;
         }
         let d = self.test.reach();
@@ -564,8 +564,8 @@ impl<T: PrimitiveTest> Narrow<'_, T> {
         (pb, kb): (&Primitives, &Kept),
         limit: usize,
     ) -> bool {
-        if self.vertex_faces(w, Side::A, (pa, &ka.vertices), (pb, &kb.triangles), limit)
-            || self.vertex_faces(w, Side::B, (pb, &kb.vertices), (pa, &ka.triangles), limit)
+        if self.vertex_faces(w, Side::A, &ka.vertices, (pb, &kb.triangles), limit)
+            || self.vertex_faces(w, Side::B, &kb.vertices, (pa, &ka.triangles), limit)
         {
             return true;
         }
@@ -586,18 +586,17 @@ impl<T: PrimitiveTest> Narrow<'_, T> {
         false
     }
 
-    /// The vertices `vertices` of `pv`, of `side`, against the triangles `triangles` of `pt`,
-    /// of the other side (of one mesh, those that do not contain the vertex), each pair whose
-    /// boxes come within the reach.
+    /// The vertices `vertices` of `side` against the triangles `triangles` of `pt`, of the
+    /// other side (of one mesh, those that do not contain the vertex), each pair whose boxes
+    /// come within the reach.
     fn vertex_faces(
         &self,
         w: &mut Worker<T::Found>,
         side: Side,
-        (pv, vertices): (&Primitives, &Subset<u32>),
+        vertices: &Subset<u32>,
         (pt, triangles): (&Primitives, &Subset<[u32; 3]>),
         limit: usize,
     ) -> bool {
-        let _ = pv;
         let (d, one) = (self.test.reach(), self.one_mesh);
         let other = match side {
             Side::A => Side::B,
