@@ -127,7 +127,8 @@ fn refit_and_steady_state_queries_do_not_allocate() {
 /// (refit: storing the positions and the subtrees; query: the traversal and the sort). Jobs
 /// handed to rayon's pool from outside it queue in its injector, which allocates a block of 63
 /// slots every 63 jobs: where that falls depends on every job the process handed the pool
-/// before (the other tests' too), so it is allowed once in the measured frames.
+/// before (the other tests' too), so it is allowed once in the measured frames. A query whose
+/// buffers grew (a thread took a larger share than in any warm-up round) is not counted.
 #[test]
 fn threaded_refits_and_queries_allocate_only_their_jobs() {
     let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
@@ -157,21 +158,36 @@ fn threaded_refits_and_queries_allocate_only_their_jobs() {
         "{} pairs: not dense enough to share out",
         pairs.len()
     );
-    let (mut jobs, mut total) = (0usize, 0);
+    let (mut jobs, mut total, mut steady) = (0usize, 0, 0);
     for f in &frames {
         let refit = allocations_during(|| {
             a.refit(f).unwrap();
         });
+        let held = pairs.memory_bytes();
         let query = allocations_during(|| {
             collide(&a, None, &b, None, &threaded, &mut pairs).unwrap();
         });
         // At most one job per step shared out: two for a refit, two for a query; plus, at most
         // once, the injector's block.
         assert!(refit <= 3, "{refit} allocations in a threaded refit");
+        jobs += 2;
+        total += refit;
+        // A thread kept from its core (by another process) leaves a larger share than any
+        // warm-up round gave to the other, whose buffers then grow (geometrically: rarely, and
+        // less often each time). Such a query is told by the buffer's size and not counted.
+        if pairs.memory_bytes() > held {
+            assert!(
+                query <= 16,
+                "{query} allocations in a threaded query that grew"
+            );
+            continue;
+        }
         assert!(query <= 3, "{query} allocations in a threaded query");
-        jobs += 4;
-        total += refit + query;
+        jobs += 2;
+        total += query;
+        steady += 1;
     }
+    assert!(steady > 0, "every measured query grew its buffers");
     let blocks = jobs.div_ceil(63);
     assert!(
         total <= jobs + blocks,

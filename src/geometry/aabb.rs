@@ -115,7 +115,7 @@ impl Aabb {
     /// it tells what [`Aabb::within`] tells (and possibly more, by rounding) with six
     /// subtractions fewer a comparison.
     #[inline(always)]
-    pub fn reach(&self, d: f64) -> Aabb {
+    pub(crate) fn reach(&self, d: f64) -> Aabb {
         // `s` is within half an ulp of the exact sum; `|s| eps` (at least the least normal
         // double) is at least one ulp of `s`, so adding it rounds to a double past `s`'s
         // neighbour, beyond the exact sum.
