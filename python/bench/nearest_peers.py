@@ -759,7 +759,8 @@ def main() -> None:
           f"stops taking frames once the next would pass {budget:g} s (*frames* says which were used). "
           "Before every dvh call the mesh is refit to the frame (the *refit* column, not in the query "
           "times; ipctk has nothing to refit: its build makes its broad phase from scratch). The dvh "
-          "times include copying the result into a NumPy array; ipctk's result stays in C++. "
+          "times include handing the result to NumPy (an array viewing the library's buffer, no copy); "
+          "ipctk's result stays in C++. "
           "*broad + narrow*: `Candidates.build(mesh, V, d / 2)` then `NormalCollisions.build(candidates, "
           "mesh, V, d)`, timed apart in separate runs. *cores*: process CPU time ÷ wall time of the "
           "fastest run, so 2 means both cores busy throughout.\n")
@@ -799,8 +800,8 @@ def main() -> None:
               "largest over a frame's runs. dvh keeps its result buffers between calls, sized to the "
               "largest result so far in the process (any mesh), so a rise is only what a call needs "
               "beyond buffers earlier results left (0 when they suffice); where the first frame's "
-              "result is the largest yet, its rise per stencil is what a fresh call needs, and the "
-              "later frames' rise is mostly the NumPy copy. *after*: the process's "
+              "result is the largest yet, its rise per stencil is what a fresh call needs, the "
+              "array included (it views the library's buffer). *after*: the process's "
               "resident size once the distance is done and its results are freed (what stays "
               "allocated: dvh's buffers, the Python heap, freed memory not returned).\n")
         print(table(["mesh", "d", "dvh result (first frame)", "dvh rise, first call", "dvh rise, later frames (median)",

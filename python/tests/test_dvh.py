@@ -194,6 +194,61 @@ def test_scene_matches_pairwise_queries():
 
 
 # ---------------------------------------------------------------------------------------------
+# Results held
+
+
+def _fields(x):
+    """An array's values, field by field (a structured array's padding bytes are not values)."""
+    names = x.dtype.names or (None,)
+    return [x if n is None else x[n] for n in names]
+
+
+def _same(x, y):
+    return x.dtype == y.dtype and all(np.array_equal(u, v) for u, v in zip(_fields(x), _fields(y)))
+
+
+@pytest.mark.parametrize("kind", ["pairs", "stencils", "impacts", "contacts"])
+def test_results_held_while_later_queries_run_keep_their_values(kind):
+    # Two sheets, the top one tilted through the bottom one, lower at each step: every query
+    # finds something, and something different. Results are views of the library's buffers, a
+    # buffer reused only once no array views it, and copied out once two are held: six results
+    # held at once cover both ways.
+    p, t = grid(8)
+    top = lambda k: p * [1.0, 1.0, 0.0] + np.c_[0 * p[:, :2], 0.06 - 0.01 * k - 0.12 * p[:, 0]]  # noqa: E731
+    m = dvh.Mesh(np.vstack([p, p + [0.0, 0.0, 0.05]]), np.vstack([t, t + len(p)]))
+    scene = dvh.Scene()
+    ids = [scene.add_deformable(dvh.Mesh(p, t)), scene.add_deformable(dvh.Mesh(p, t))]
+
+    def query(k):
+        if kind == "contacts":
+            scene.set_positions(ids[1], top(k))
+            return scene.collide()
+        if kind == "impacts":
+            m.refit(np.vstack([p, p + [0.0, 0.0, 0.05]]))
+        m.refit(np.vstack([p, top(k)]))
+        if kind == "pairs":
+            return dvh.self_proximity(m, 0.01)
+        if kind == "stencils":
+            return dvh.self_nearest_features(m, 0.01)
+        return dvh.self_continuous_collide(m)
+
+    held, copies = [], []
+    for k in range(6):
+        r = query(k)
+        assert len(r) > 0 and r.flags.writeable
+        held.append(r)
+        copies.append(r.copy())
+        # A result dropped at once gives its buffer back for the next query.
+        query(k)
+    assert len({b"".join(f.tobytes() for f in _fields(c)) for c in copies}) == len(copies)
+    assert all(_same(r, c) for r, c in zip(held, copies))
+    # Each is the same result as a query asked for alone.
+    for k in range(6):
+        assert _same(query(k), copies[k])
+        assert _same(held[k], copies[k])
+
+
+# ---------------------------------------------------------------------------------------------
 # Arrays in and errors
 
 

@@ -9,6 +9,7 @@ the GIL for the duration of every C call, so refits and queries on other threads
 from __future__ import annotations
 
 import threading
+import weakref
 from dataclasses import dataclass
 from typing import Literal, Optional, Tuple, Union, overload
 
@@ -499,67 +500,110 @@ def _new_options(mode, max_pairs, threads, max_depth, budget):
     return o
 
 
+class _Lent:
+    """A result buffer's items lent to the arrays that view them: NumPy keeps this object as
+    their base, so the buffer stays alive, and is not queried into again, while any view is."""
+
+    __slots__ = ("_buffer", "__array_interface__", "__weakref__")
+
+    def __init__(self, buffer, data, nbytes: int):
+        self._buffer = buffer
+        self.__array_interface__ = {
+            "shape": (nbytes,),
+            "typestr": "|u1",
+            "data": (int(ffi.cast("uintptr_t", data)), False),
+            "version": 3,
+        }
+
+
+class _Results:
+    """The result buffers of one kind of query, whose results reach NumPy without a copy.
+
+    A query writes into a buffer; the array returned views the buffer's items, and the buffer is
+    used again only once every view of it is gone. (A result of a million stencils is 136 MB:
+    copying it, into pages the system must first clear, took a quarter of the query's time.) A
+    loop that holds the last result while it asks for the next alternates between two buffers,
+    each keeping its capacity and the library's workspace. With ``LENT_MAX`` results held, a
+    further query is copied out of one more buffer, so that results kept in numbers cost their
+    own size, not a buffer's."""
+
+    LENT_MAX = 2
+
+    def __init__(self, new, free, length, data, dtype: np.dtype, width: int, what: str):
+        self._new, self._free, self._len, self._data = new, free, length, data
+        self._dtype, self._width, self._what = dtype, width, what
+        self._itemsize = dtype.itemsize * width
+        # [buffer, weak reference to the _Lent viewing its items, or None]
+        self._lendable = []
+        self._copying = None
+
+    def _make(self):
+        buf = self._new()
+        if buf == ffi.NULL:
+            raise MemoryError(f"{self._what}: out of memory")
+        return ffi.gc(buf, self._free)
+
+    def _take(self):
+        """A buffer that no array views, and whether its result may be lent."""
+        for slot in self._lendable:
+            lent = slot[1]
+            if lent is None or lent() is None:
+                return slot, True
+        if len(self._lendable) < self.LENT_MAX:
+            self._lendable.append([self._make(), None])
+            return self._lendable[-1], True
+        if self._copying is None:
+            self._copying = [self._make(), None]
+        return self._copying, False
+
+    def run(self, query, args, stats) -> np.ndarray:
+        """The result of ``query(*args, buffer, stats)`` (a status, raised if an error; a failed
+        query leaves the buffer's items as they were) as an array of this kind: ``(n,)`` of the
+        dtype, or ``(n, width)``."""
+        slot, lend = self._take()
+        buf = slot[0]
+        status = query(*args, buf, stats)
+        if status:
+            _raise_for(status)
+        n = self._len(buf)
+        if n == 0:
+            slot[1] = None
+            return np.empty((0, self._width) if self._width > 1 else 0, dtype=self._dtype)
+        nbytes = self._itemsize * n
+        if lend:
+            owner = _Lent(buf, self._data(buf), nbytes)
+            slot[1] = weakref.ref(owner)
+            raw = np.asarray(owner)
+        else:
+            # Copied as bytes: NumPy copies a structured dtype with padding (``DvhImpact``'s,
+            # ``DvhNearPair``'s) item by item, about three times slower than the bytes.
+            raw = np.frombuffer(ffi.buffer(self._data(buf), nbytes), dtype=np.uint8).copy()
+        out = raw.view(self._dtype)
+        return out.reshape(n, self._width) if self._width > 1 else out
+
+
 class _Buffers(threading.local):
-    """One result buffer of each kind per thread, reused by every query on it: the library keeps
-    its workspace (the threads' scratch space) in the buffer, so reuse saves allocations."""
+    """The result buffers of each kind of query, per thread, reused by every query on it: the
+    library keeps its workspace (the threads' scratch space) in the buffer, so reuse saves
+    allocations. Each buffer is created by the first query that needs it."""
 
     def __init__(self):
-        pairs = lib.dvh_pairs_new()
-        if pairs == ffi.NULL:
-            raise MemoryError("dvh_pairs_new: out of memory")
-        self.pairs = ffi.gc(pairs, lib.dvh_pairs_free)
-        self._impacts = None
-        self._near_pairs = None
-
-    @property
-    def near_pairs(self):
-        """The thread's stencil buffer, created by the first closest-point query on the thread."""
-        if self._near_pairs is None:
-            near = lib.dvh_near_pairs_new()
-            if near == ffi.NULL:
-                raise MemoryError("dvh_near_pairs_new: out of memory")
-            self._near_pairs = ffi.gc(near, lib.dvh_near_pairs_free)
-        return self._near_pairs
-
-    @property
-    def impacts(self):
-        """The thread's impact buffer, created by the first continuous query on the thread."""
-        if self._impacts is None:
-            impacts = lib.dvh_impacts_new()
-            if impacts == ffi.NULL:
-                raise MemoryError("dvh_impacts_new: out of memory")
-            self._impacts = ffi.gc(impacts, lib.dvh_impacts_free)
-        return self._impacts
-
-
-_buffers = _Buffers()
-
-
-def _copied(data, n: int, dtype: np.dtype) -> np.ndarray:
-    """The ``n`` items of ``dtype`` at ``data`` (a C array of the same layout), copied into a new
-    array. Copied as bytes: NumPy copies a structured dtype with padding (``DvhImpact``'s,
-    ``DvhNearPair``'s) item by item, about three times slower than the bytes."""
-    raw = np.frombuffer(ffi.buffer(data, dtype.itemsize * n), dtype=np.uint8)
-    return raw.copy().view(dtype)
-
-
-def _pairs_array(buf) -> np.ndarray:
-    n = lib.dvh_pairs_len(buf)
-    if n == 0:
-        return np.empty((0, 2), dtype=np.uint32)
-    data = lib.dvh_pairs_data(buf)
-    return np.frombuffer(ffi.buffer(data, 8 * n), dtype=np.uint32).reshape(n, 2).copy()
+        self.pairs = _Results(lib.dvh_pairs_new, lib.dvh_pairs_free, lib.dvh_pairs_len,
+                              lib.dvh_pairs_data, np.dtype(np.uint32), 2, "dvh_pairs_new")
+        self.impacts = _Results(lib.dvh_impacts_new, lib.dvh_impacts_free, lib.dvh_impacts_len,
+                                lib.dvh_impacts_data, IMPACT_DTYPE, 1, "dvh_impacts_new")
+        self.near_pairs = _Results(lib.dvh_near_pairs_new, lib.dvh_near_pairs_free,
+                                   lib.dvh_near_pairs_len, lib.dvh_near_pairs_data,
+                                   NEAR_PAIR_DTYPE, 1, "dvh_near_pairs_new")
 
 
 def _stats_out(want: bool):
     return ffi.new("DvhQueryStats *") if want else ffi.NULL
 
 
-def _finish(status, buf, stats):
-    if status:
-        _raise_for(status)
-    pairs = _pairs_array(buf)
-    return pairs if stats == ffi.NULL else (pairs, QueryStats._of(stats))
+def _finish(result: np.ndarray, stats, kind):
+    """The result, with the statistics as ``kind`` when they were asked for."""
+    return result if stats == ffi.NULL else (result, kind._of(stats))
 
 
 _Result = Union[np.ndarray, Tuple[np.ndarray, QueryStats]]
@@ -591,8 +635,8 @@ def collide(
     ka, kb = _pose("pose_a", pose_a), _pose("pose_b", pose_b)
     o = _options(mode, max_pairs, threads, max_depth, budget)
     s = _stats_out(stats)
-    buf = _buffers.pairs
-    return _finish(lib.dvh_collide(pa, ka, pb, kb, o, buf, s), buf, s)
+    pairs = _buffers.pairs.run(lib.dvh_collide, (pa, ka, pb, kb, o), s)
+    return _finish(pairs, s, QueryStats)
 
 
 def self_collide(
@@ -610,8 +654,8 @@ def self_collide(
     p = _mesh("mesh", mesh)
     o = _options(mode, max_pairs, threads, max_depth, budget)
     s = _stats_out(stats)
-    buf = _buffers.pairs
-    return _finish(lib.dvh_self_collide(p, o, buf, s), buf, s)
+    pairs = _buffers.pairs.run(lib.dvh_self_collide, (p, o), s)
+    return _finish(pairs, s, QueryStats)
 
 
 def _distance(distance) -> float:
@@ -641,8 +685,8 @@ def proximity(
     ka, kb = _pose("pose_a", pose_a), _pose("pose_b", pose_b)
     o = _options(mode, max_pairs, threads, max_depth, budget)
     s = _stats_out(stats)
-    buf = _buffers.pairs
-    return _finish(lib.dvh_proximity(pa, ka, pb, kb, d, o, buf, s), buf, s)
+    pairs = _buffers.pairs.run(lib.dvh_proximity, (pa, ka, pb, kb, d, o), s)
+    return _finish(pairs, s, QueryStats)
 
 
 def self_proximity(
@@ -661,8 +705,8 @@ def self_proximity(
     d = _distance(distance)
     o = _options(mode, max_pairs, threads, max_depth, budget)
     s = _stats_out(stats)
-    buf = _buffers.pairs
-    return _finish(lib.dvh_self_proximity(p, d, o, buf, s), buf, s)
+    pairs = _buffers.pairs.run(lib.dvh_self_proximity, (p, d, o), s)
+    return _finish(pairs, s, QueryStats)
 
 
 def triangles_intersect(t1, t2) -> bool:
@@ -747,20 +791,6 @@ def _new_ccd_options(mode, threads, max_impacts, earliest_only):
     return o
 
 
-def _impacts_array(buf) -> np.ndarray:
-    n = lib.dvh_impacts_len(buf)
-    if n == 0:
-        return np.empty(0, dtype=IMPACT_DTYPE)
-    return _copied(lib.dvh_impacts_data(buf), n, IMPACT_DTYPE)
-
-
-def _ccd_finish(status, buf, stats):
-    if status:
-        _raise_for(status)
-    impacts = _impacts_array(buf)
-    return impacts if stats == ffi.NULL else (impacts, CcdStats._of(stats))
-
-
 _CcdResult = Union[np.ndarray, Tuple[np.ndarray, CcdStats]]
 
 
@@ -831,8 +861,8 @@ def continuous_collide(
     pa, pb = _mesh("a", a), _mesh("b", b)
     o = _ccd_options(mode, threads, max_impacts, earliest_only)
     s = ffi.new("DvhCcdStats *") if stats else ffi.NULL
-    buf = _buffers.impacts
-    return _ccd_finish(lib.dvh_continuous_collide(pa, pb, o, buf, s), buf, s)
+    impacts = _buffers.impacts.run(lib.dvh_continuous_collide, (pa, pb, o), s)
+    return _finish(impacts, s, CcdStats)
 
 
 @overload
@@ -882,8 +912,8 @@ def self_continuous_collide(
     p = _mesh("mesh", mesh)
     o = _ccd_options(mode, threads, max_impacts, earliest_only)
     s = ffi.new("DvhCcdStats *") if stats else ffi.NULL
-    buf = _buffers.impacts
-    return _ccd_finish(lib.dvh_self_continuous_collide(p, o, buf, s), buf, s)
+    impacts = _buffers.impacts.run(lib.dvh_self_continuous_collide, (p, o), s)
+    return _finish(impacts, s, CcdStats)
 
 
 def _points4(name: str, points) -> np.ndarray:
@@ -952,10 +982,9 @@ class Scene:
         _raise_for(lib.dvh_scene_create(out))
         self._ptr = ffi.gc(out[0], lib.dvh_scene_free)
         self._vertices = {}
-        contacts = lib.dvh_contacts_new()
-        if contacts == ffi.NULL:
-            raise MemoryError("dvh_contacts_new: out of memory")
-        self._contacts = ffi.gc(contacts, lib.dvh_contacts_free)
+        self._contacts = _Results(lib.dvh_contacts_new, lib.dvh_contacts_free, lib.dvh_contacts_len,
+                                  lib.dvh_contacts_data, CONTACT_DTYPE, 1,
+                                  "dvh_contacts_new")
 
     def add_rigid(self, mesh: Mesh, pose=None, group: int = 1, mask: int = _U32_MAX) -> int:
         """Adds a rigid object placed by ``pose`` (4x4 or 3x4; None: the identity); returns its id."""
@@ -1023,12 +1052,7 @@ class Scene:
         ``(contacts, SceneStats)``."""
         o = _options(mode, max_pairs, threads, max_depth, budget)
         s = ffi.new("DvhSceneStats *")
-        _raise_for(lib.dvh_scene_collide(self._ptr, o, self._contacts, s))
-        n = lib.dvh_contacts_len(self._contacts)
-        if n == 0:
-            contacts = np.empty(0, dtype=CONTACT_DTYPE)
-        else:
-            contacts = _copied(lib.dvh_contacts_data(self._contacts), n, CONTACT_DTYPE)
+        contacts = self._contacts.run(lib.dvh_scene_collide, (self._ptr, o), s)
         if not stats:
             return contacts
         st = SceneStats(
@@ -1089,17 +1113,6 @@ NEAR_PAIR_DTYPE = np.dtype(
 )
 
 
-def _near_finish(status, buf, stats):
-    if status:
-        _raise_for(status)
-    n = lib.dvh_near_pairs_len(buf)
-    if n == 0:
-        near = np.empty(0, dtype=NEAR_PAIR_DTYPE)
-    else:
-        near = _copied(lib.dvh_near_pairs_data(buf), n, NEAR_PAIR_DTYPE)
-    return near if stats == ffi.NULL else (near, QueryStats._of(stats))
-
-
 _NearResult = Union[np.ndarray, Tuple[np.ndarray, QueryStats]]
 
 
@@ -1139,8 +1152,8 @@ def nearest_features(
     ka, kb = _pose("pose_a", pose_a), _pose("pose_b", pose_b)
     o = _options(mode, max_pairs, threads, max_depth, budget)
     s = _stats_out(stats)
-    buf = _buffers.near_pairs
-    return _near_finish(lib.dvh_nearest_features(pa, ka, pb, kb, d, o, buf, s), buf, s)
+    near = _buffers.near_pairs.run(lib.dvh_nearest_features, (pa, ka, pb, kb, d, o), s)
+    return _finish(near, s, QueryStats)
 
 
 def self_nearest_features(
@@ -1161,5 +1174,9 @@ def self_nearest_features(
     d = _distance(distance)
     o = _options(mode, max_pairs, threads, max_depth, budget)
     s = _stats_out(stats)
-    buf = _buffers.near_pairs
-    return _near_finish(lib.dvh_self_nearest_features(p, d, o, buf, s), buf, s)
+    near = _buffers.near_pairs.run(lib.dvh_self_nearest_features, (p, d, o), s)
+    return _finish(near, s, QueryStats)
+
+
+# Last: the result dtypes the buffers use are defined above.
+_buffers = _Buffers()
