@@ -9,6 +9,8 @@ use std::f64::consts::{PI, TAU};
 
 /// One object: its mesh at rest, its deformation, and its rigid motion over the run.
 pub struct Object {
+    /// Named in the FCL peer's errors (read nowhere else when it is not built).
+    #[cfg_attr(not(fcl), allow(dead_code))]
     pub name: String,
     pub rest: MeshData,
     pub morph: Morph,
