@@ -185,11 +185,23 @@ impl Kept {
     /// within `d` of `near` (all, without it).
     #[inline(always)]
     fn keep(&mut self, p: &Primitives, corners: &[[u32; 3]], near: Option<&Aabb>, d: f64) {
-        let of_triangle = |k: usize| corners[p.triangles[k] as usize];
-        self.triangles.keep(p.triangle_boxes, of_triangle, near, d);
+        self.keep_triangles(p, corners, near, d);
         self.vertices
             .keep(p.vertex_boxes, |k| p.vertices[k], near, d);
         self.edges.keep(p.edge_boxes, |k| p.edges[k], near, d);
+    }
+
+    /// [`Kept::keep`]'s triangles alone, with their corners.
+    #[inline(always)]
+    fn keep_triangles(
+        &mut self,
+        p: &Primitives,
+        corners: &[[u32; 3]],
+        near: Option<&Aabb>,
+        d: f64,
+    ) {
+        let of_triangle = |k: usize| corners[p.triangles[k] as usize];
+        self.triangles.keep(p.triangle_boxes, of_triangle, near, d);
     }
 }
 
@@ -395,8 +407,9 @@ impl<T: PrimitiveTest> Narrow<'_, T> {
                     self.primitives_built(Side::A, na, built_a)
                 }
             };
-            kept_a.keep(&p, self.a.mesh.triangles(), None, d);
-            return self.own(w, &p, kept_a, limit);
+            // Every primitive is kept: only the triangles' corners need gathering.
+            kept_a.keep_triangles(&p, self.a.mesh.triangles(), None, d);
+            return self.own(w, &p, &kept_a.triangles, limit);
         }
         // A leaf's ring owns about 7 triangles and 10 edges: each side keeps what comes near
         // the other node before the pairs are formed (most does not).
@@ -531,14 +544,21 @@ impl<T: PrimitiveTest> Narrow<'_, T> {
         b
     }
 
-    /// The primitive pairs of a node of one mesh with itself, `kept` holding all of `p`.
-    fn own(&self, w: &mut Worker<T::Found>, p: &Primitives, kept: &Kept, limit: usize) -> bool {
-        if self.vertex_faces(w, Side::A, &kept.vertices, (p, &kept.triangles), limit) {
+    /// The primitive pairs of a node of one mesh with itself, `triangles` holding all of `p`'s
+    /// with their corners.
+    fn own(
+        &self,
+        w: &mut Worker<T::Found>,
+        p: &Primitives,
+        triangles: &Subset<[u32; 3]>,
+        limit: usize,
+    ) -> bool {
+        let vertices = (p.vertex_boxes, p.vertices);
+        if self.vertex_faces(w, Side::A, vertices, (p, triangles), limit) {
             return true;
         }
         let d = self.test.reach();
-        let e = &kept.edges;
-        let (boxes, ends) = (e.boxes(), e.vertices());
+        let (boxes, ends) = (p.edge_boxes, p.edges);
         for n in 0..ends.len() {
             let ea = ends[n];
             let later = (&boxes[n + 1..], &ends[n + 1..]);
@@ -564,9 +584,20 @@ impl<T: PrimitiveTest> Narrow<'_, T> {
         (pb, kb): (&Primitives, &Kept),
         limit: usize,
     ) -> bool {
-        if self.vertex_faces(w, Side::A, &ka.vertices, (pb, &kb.triangles), limit)
-            || self.vertex_faces(w, Side::B, &kb.vertices, (pa, &ka.triangles), limit)
-        {
+        let (va, vb) = (&ka.vertices, &kb.vertices);
+        if self.vertex_faces(
+            w,
+            Side::A,
+            (va.boxes(), va.vertices()),
+            (pb, &kb.triangles),
+            limit,
+        ) || self.vertex_faces(
+            w,
+            Side::B,
+            (vb.boxes(), vb.vertices()),
+            (pa, &ka.triangles),
+            limit,
+        ) {
             return true;
         }
         let (d, one) = (self.test.reach(), self.one_mesh);
@@ -586,14 +617,14 @@ impl<T: PrimitiveTest> Narrow<'_, T> {
         false
     }
 
-    /// The vertices `vertices` of `side` against the triangles `triangles` of `pt`, of the
-    /// other side (of one mesh, those that do not contain the vertex), each pair whose boxes
-    /// come within the reach.
+    /// The vertices `vertices` of `side` (their boxes and indices) against the triangles
+    /// `triangles` of `pt`, of the other side (of one mesh, those that do not contain the
+    /// vertex), each pair whose boxes come within the reach.
     fn vertex_faces(
         &self,
         w: &mut Worker<T::Found>,
         side: Side,
-        vertices: &Subset<u32>,
+        (v_boxes, v_ids): (&[Aabb], &[u32]),
         (pt, triangles): (&Primitives, &Subset<[u32; 3]>),
         limit: usize,
     ) -> bool {
@@ -604,7 +635,7 @@ impl<T: PrimitiveTest> Narrow<'_, T> {
         };
         let (at_t, corners_t) = (triangles.at(), triangles.vertices());
         let t_side = (triangles.boxes(), corners_t);
-        for (&v, boxed) in vertices.vertices().iter().zip(vertices.boxes()) {
+        for (&v, boxed) in v_ids.iter().zip(v_boxes) {
             let contains = |c: &[u32; 3]| one & ((c[0] == v) | (c[1] == v) | (c[2] == v));
             if each_near(boxed, d, t_side, contains, |j| {
                 let index = pt.triangles[at_t[j] as usize];
