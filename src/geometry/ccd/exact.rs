@@ -472,8 +472,9 @@ mod tests {
     }
 
     /// A point passing 1e-3 from a triangle's plane, nearly tangent to it (the coplanarity
-    /// cubic has a near-double root): the conservative mode settles it as the exact one does,
-    /// rather than reporting a contact where its search could not decide.
+    /// cubic has a near-double root): no contact, as the independent judge proves; the
+    /// conservative mode settles it as the exact one does, rather than reporting a contact
+    /// where its search could not decide.
     #[test]
     fn a_near_tangent_miss_is_no_contact_in_either_mode() {
         // The coordinates' bits, as the benchmark that found the case printed them.
@@ -490,6 +491,8 @@ mod tests {
             [0x3fe5ff62135d4de2, 0x3fee7e46d0d83338, 0x3f917e796ccd6920],
             [0x3fe5967787088c53, 0x3fea5c49fe0ae69d, 0x3fd0c6cf96aa7dc4],
         ]);
+        use crate::fixtures::ccd_judge::{Primitives, Verdict, judge};
+        assert_eq!(judge(Primitives::VertexFace, &s, &e, None), Verdict::Right);
         assert_eq!(time_of_impact(Primitive::VertexFace, &s, &e, 1.0), None);
         assert_eq!(
             conservative_time_of_impact(Primitive::VertexFace, &s, &e, 1.0),
