@@ -3,10 +3,12 @@
 # they are missing, installs dvh into the build directory, unpacks the CGAL demo meshes into a
 # cache, and runs the harness.
 #
-#   cross_check/run.sh           short version (small meshes, 4 frames, every scene kind; then the
-#                                self-collision run, 5 frames, and the proximity run, 2 frames)
-#   cross_check/run.sh --full    paper sizes, 200 frames (self-collision: larger meshes, 40 frames;
-#                                proximity: the short meshes, every scene, 10 frames)
+#   cross_check/run.sh           short version (small meshes, 4 frames, every scene kind, dvh's whole
+#                                set against CGAL's exact set on coplanar, near-1e-15 and medium; then
+#                                the self-collision run, 5 frames, and the proximity run, 2 frames)
+#   cross_check/run.sh --full    paper sizes, 200 frames, whole sets on every 10th (self-collision:
+#                                larger meshes, 40 frames; proximity: the short meshes, every scene,
+#                                10 frames)
 #   extra arguments go to the harness: --frames N (every run), --scene NAME (of any run), --threads N
 #   (dvh's threaded run; default 0, every core; dvh also runs on one thread, and both must agree),
 #   --scene-run-only (only the run of whole scenes: one DvhScene against FCL's broad phase, on every
