@@ -4,7 +4,8 @@
 # package's Python dependencies, and maturin and cffi for the build, come from PyPI), then
 # `import dvh`, the pytest suite (every query against brute force, the closest-point stencils
 # also against IPC Toolkit's distance functions, `pip install ipctk`; the errors, the arrays,
-# the GIL, `python -m dvh check`) and the README's Python example, run on the installed package.
+# the GIL, `python -m dvh check` with its built-in readers and through meshio and trimesh) and the
+# README's Python example, run on the installed package.
 #
 #   scripts/python.sh          about 3 minutes from a clean build on 2 cores, 40 seconds once built
 #   scripts/python.sh --full   and the peer benchmark's quick run, without the peers (they are
@@ -31,6 +32,10 @@ pip=("$venv/bin/python" -m pip --disable-pip-version-check --quiet)
 # IPC Toolkit's distance functions: the closest-point tests' second, floating-point reference.
 "${pip[@]}" install ipctk
 export DVH_REQUIRE_IPCTK=1
+# The readers `python -m dvh check` uses for PLY, STL and the rest, each tested; pinned pure-Python
+# wheels, so that the install is a download, never a build.
+"${pip[@]}" install --only-binary=:all: meshio==5.3.5 trimesh==5.2.0
+export DVH_REQUIRE_READERS=1
 # From outside the repository, so that only the installed package can be imported.
 cd "$work"
 "$venv/bin/python" -c "import dvh, sys; print('dvh', dvh.__version__, 'for Python', sys.version.split()[0])"

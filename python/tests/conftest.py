@@ -1,9 +1,20 @@
 """Small meshes and brute-force oracles for the tests."""
 
 import itertools
+import os
+import time
 
 import numpy as np
 import pytest
+
+# The library's cut-offs below which work stays on the calling thread (src/query/engine/run.rs,
+# src/query/primitives/run.rs, src/query/nearest/entry.rs, src/query/engine/sort.rs,
+# src/volume/fit.rs): a comparison of thread counts tests threads only above them.
+PARALLEL_MIN_TRIANGLES = 4096  # both meshes together
+PARALLEL_MIN_NODE_PAIRS = 256  # leaf pairs handed to the primitive tests
+PARALLEL_MIN_STENCIL_VALUES = 4096
+PARALLEL_SORT_MIN_PAIRS = 2 * 65536  # a share of 65,536 pairs per sorting thread
+REFIT_PARALLEL_MIN_RINGS = 8192
 
 
 def uv_sphere(n: int, radius: float = 1.0, centre=(0.0, 0.0, 0.0)):
@@ -143,6 +154,43 @@ def triangle_distance(dvh, t1, t2):
         for j in range(3):
             best = min(best, _segment_segment(t1[i], t1[(i + 1) % 3], t2[j], t2[(j + 1) % 3]))
     return best
+
+
+def two_cores() -> bool:
+    """Can the library's thread pool (sized to the cores, or to RAYON_NUM_THREADS) run two?"""
+    if os.environ.get("RAYON_NUM_THREADS", "").strip() == "1":
+        return False
+    try:
+        return len(os.sched_getaffinity(0)) >= 2
+    except AttributeError:
+        return (os.cpu_count() or 1) >= 2
+
+
+def same_on_threads(query, same=None):
+    """``query(threads)`` for 1, 2 and 0 (every core) threads, asserting one answer; returns it.
+
+    On two or more cores, also asserts that a second thread did a real part of the work of a
+    ``threads=2`` call (CPU time of the process's other threads while it ran), so that a
+    comparison on work too small to be shared, or a layer that dropped ``threads``, fails. The
+    library's calling thread works too and may take back an unstarted share, so a busy machine
+    gets a few tries."""
+    same = same or (lambda x, y: np.array_equal(x, y))
+    want = query(1)
+    assert len(want) > 0
+    shares = []
+    for _ in range(6):
+        p0, t0 = time.process_time(), time.thread_time()
+        got = query(2)
+        calling = time.thread_time() - t0
+        others = time.process_time() - p0 - calling
+        assert same(got, want)
+        shares.append(others / max(calling + others, 1e-9))
+        if max(shares) > 0.2:
+            break
+    assert same(query(0), want)
+    if two_cores():
+        assert max(shares) > 0.2, f"no second thread took part: shares {shares}"
+    return want
 
 
 @pytest.fixture

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import dvh
-from conftest import grid, uv_sphere
+from conftest import PARALLEL_MIN_TRIANGLES, grid, same_on_threads, uv_sphere
 
 TRIANGLE = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
 
@@ -329,15 +329,22 @@ def test_max_impacts_truncates(moving):
     assert not st.truncated and np.array_equal(whole, full)
 
 
-def test_threads_give_the_same_answer(moving):
-    a, b = moving[:2]
-    every = dvh.continuous_collide(a, b)
-    assert np.array_equal(every, dvh.continuous_collide(a, b, threads=1))
-    assert np.array_equal(every, dvh.continuous_collide(a, b, threads=2))
-    s, e, t = folding_sphere()
-    m = dvh.Mesh(s, t)
-    m.refit_motion(s, e)
-    assert np.array_equal(dvh.self_continuous_collide(m), dvh.self_continuous_collide(m, threads=1))
+def test_threads_give_the_same_answer():
+    # A sheet falling through the crests of a waved one, and the two as one mesh: each above
+    # the triangle count below which a query stays on the calling thread.
+    p, t = grid(33)
+    still = p.copy()
+    still[:, 2] = 0.02 * np.sin(20 * p[:, 0])
+    start, end = p + [0.003, 0.002, 0.05], p + [0.003, 0.002, 0.01]
+    a, b = dvh.Mesh(still, t), dvh.Mesh(start, t)
+    b.refit_motion(start, end)
+    assert a.triangle_count + b.triangle_count >= PARALLEL_MIN_TRIANGLES
+    impacts = same_on_threads(lambda k: dvh.continuous_collide(a, b, threads=k))
+    assert len(impacts) > 1000 and {int(k) for k in impacts["kind"]} == {0, 1, 2}
+    m = dvh.Mesh(np.vstack([still, start]), np.vstack([t, t + len(p)]))
+    m.refit_motion(np.vstack([still, start]), np.vstack([still, end]))
+    assert m.triangle_count >= PARALLEL_MIN_TRIANGLES
+    assert len(same_on_threads(lambda k: dvh.self_continuous_collide(m, threads=k))) > 1000
 
 
 def test_queries_from_several_threads_use_their_own_buffers(moving):

@@ -1,6 +1,8 @@
-"""`python -m dvh check` and the built-in mesh readers."""
+"""`python -m dvh check` and its mesh readers: the built-in OFF and OBJ ones, meshio and trimesh."""
 
+import importlib
 import json
+import os
 import re
 import subprocess
 import sys
@@ -10,7 +12,7 @@ import pytest
 
 import dvh
 from dvh.__main__ import main
-from dvh._meshfile import MeshFileError, read_obj, read_off
+from dvh._meshfile import MeshFileError, read_mesh, read_obj, read_off
 from conftest import brute_collide, soup, uv_sphere
 
 
@@ -31,6 +33,76 @@ def write_obj(path, pos, tris):
             f.write("f " + " ".join(f"{i + 1}/{i + 1}" for i in t) + "\n")
 
 
+def write_ply(path, pos, tris):
+    """An ASCII PLY file, each coordinate written as the shortest decimal that reads back exactly."""
+    with open(path, "w") as f:
+        f.write("ply\nformat ascii 1.0\ncomment written by dvh's tests\n")
+        f.write(f"element vertex {len(pos)}\nproperty double x\nproperty double y\nproperty double z\n")
+        f.write(f"element face {len(tris)}\nproperty list uchar int vertex_indices\nend_header\n")
+        for p in pos:
+            f.write(" ".join(repr(float(x)) for x in p) + "\n")
+        for t in tris:
+            f.write("3 " + " ".join(map(str, t)) + "\n")
+
+
+def write_stl(path, pos, tris):
+    """A binary STL file: every triangle's corners as float32, so `pos` must hold float32 values."""
+    assert np.array_equal(pos.astype(np.float32), pos)
+    facets = np.zeros(len(tris), dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
+    facets["v"] = pos[tris]
+    with open(path, "wb") as f:
+        f.write(b"written by dvh's tests".ljust(80, b" "))
+        f.write(np.uint32(len(tris)).tobytes())
+        f.write(facets.tobytes())
+
+
+READERS = ("meshio", "trimesh")
+
+
+@pytest.fixture(params=("built-in",) + READERS)
+def reader(request, monkeypatch):
+    """The reader `read_mesh` is left to: the other readers hidden. Under scripts/python.sh
+    (DVH_REQUIRE_READERS set) a missing meshio or trimesh is a failure, elsewhere a skip."""
+    name = request.param
+    if name != "built-in":
+        if os.environ.get("DVH_REQUIRE_READERS"):
+            try:
+                importlib.import_module(name)
+            except ImportError as e:
+                pytest.fail(f"{name} is required (DVH_REQUIRE_READERS is set): {e}")
+        else:
+            pytest.importorskip(name)
+    for other in READERS:
+        if other != name:
+            # A None entry makes `import other` raise ImportError.
+            monkeypatch.setitem(sys.modules, other, None)
+    return name
+
+
+def spy_on(reader, monkeypatch):
+    """Counts the calls of `reader`'s load function, to show `read_mesh` went through it."""
+    calls = []
+    if reader == "built-in":
+        return calls
+    module = importlib.import_module(reader)
+    name = "read" if reader == "meshio" else "load"
+    real = getattr(module, name)
+
+    def counted(*args, **kwargs):
+        calls.append(args[0])
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(module, name, counted)
+    return calls
+
+
+def check_json(capsys, *paths):
+    status = main(["check", *map(str, paths), "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert status == (1 if out["count"] else 0) and out["count"] == len(out["pairs"])
+    return {tuple(p) for p in out["pairs"]}
+
+
 def test_readers_round_trip(tmp_path):
     pos, tris = uv_sphere(6)
     write_off(tmp_path / "s.off", pos, tris)
@@ -45,13 +117,58 @@ def test_readers_round_trip(tmp_path):
         read_off(str(tmp_path / "bad.off"))
 
 
-def test_check_reports_self_intersections_exactly(tmp_path, capsys):
-    pos, tris = soup(40, seed=11)
-    write_off(tmp_path / "soup.off", pos, tris)
-    assert main(["check", str(tmp_path / "soup.off"), "--json"]) == 1
-    out = json.loads(capsys.readouterr().out)
+def dyadic_soup(count, seed):
+    """A soup whose coordinates float32 holds exactly, so that an STL file keeps them."""
+    pos, tris = soup(count, seed)
+    return np.round(pos * 1024) / 1024, tris
+
+
+def test_check_reports_self_intersections_exactly(tmp_path, capsys, reader, monkeypatch):
+    pos, tris = dyadic_soup(40, seed=11)
     want = {(i, j) for i, j in map(tuple, brute_collide(dvh, pos, tris, pos, tris).tolist()) if i < j}
-    assert {tuple(p) for p in out["pairs"]} == want and out["count"] == len(want)
+    assert want
+    files = [tmp_path / "soup.off", tmp_path / "soup.obj"]
+    write_off(files[0], pos, tris)
+    write_obj(files[1], pos, tris)
+    if reader != "built-in":
+        files += [tmp_path / "soup.ply", tmp_path / "soup.stl"]
+        write_ply(files[2], pos, tris)
+        write_stl(files[3], pos, tris)
+    calls = spy_on(reader, monkeypatch)
+    for f in files:
+        assert check_json(capsys, f) == want, f
+        # Every triangle, corner by corner, whether or not a reader merges repeated vertices.
+        p, t = read_mesh(str(f))
+        assert np.array_equal(p[t], pos[tris]), f
+    assert len(calls) == (0 if reader == "built-in" else 2 * len(files))
+
+
+def test_check_two_meshes_through_every_reader(tmp_path, capsys, reader, monkeypatch):
+    (pa, ta), (pb, tb) = dyadic_soup(40, seed=12), dyadic_soup(40, seed=13)
+    want = {tuple(p) for p in brute_collide(dvh, pa, ta, pb, tb).tolist()}
+    assert want
+    write_off(tmp_path / "a.off", pa, ta)
+    write_off(tmp_path / "b.off", pb, tb)
+    if reader == "built-in":
+        files = [tmp_path / "a.off", tmp_path / "b.off"]
+    else:
+        write_ply(tmp_path / "a.ply", pa, ta)
+        write_stl(tmp_path / "b.stl", pb, tb)
+        files = [tmp_path / "a.ply", tmp_path / "b.stl"]
+    calls = spy_on(reader, monkeypatch)
+    assert check_json(capsys, *files) == want
+    assert len(calls) == (0 if reader == "built-in" else 2)
+    # The other way round: the pairs swap.
+    assert check_json(capsys, *files[::-1]) == {(j, i) for i, j in want}
+
+
+def test_a_format_without_its_reader_is_an_error(tmp_path, capsys, monkeypatch):
+    for name in READERS:
+        monkeypatch.setitem(sys.modules, name, None)
+    pos, tris = uv_sphere(5)
+    write_ply(tmp_path / "s.ply", pos, tris)
+    assert main(["check", str(tmp_path / "s.ply")]) == 2
+    assert "need meshio or trimesh" in capsys.readouterr().err
 
 
 def test_check_two_meshes_and_a_clean_one(tmp_path, capsys):

@@ -9,7 +9,16 @@ import numpy as np
 import pytest
 
 import dvh
-from conftest import exact_pose, grid, posed, uv_sphere
+from conftest import (
+    PARALLEL_MIN_NODE_PAIRS,
+    PARALLEL_MIN_STENCIL_VALUES,
+    PARALLEL_MIN_TRIANGLES,
+    exact_pose,
+    grid,
+    posed,
+    same_on_threads,
+    uv_sphere,
+)
 
 from test_ccd import edges_of
 
@@ -169,10 +178,32 @@ def test_two_meshes_against_ipctk():
             near = dvh.nearest_features(a, b, d, pose_b=pose_b)
             n, c = _check(near, pa, ta, posed(pb, pose_b), tb, d, False)
             found, compared = found + n, compared + c
-            for threads in (1, 2):
-                again = dvh.nearest_features(a, b, d, pose_b=pose_b, threads=threads, mode="depth", max_depth=2)
-                assert same(again, near)
+            again = dvh.nearest_features(a, b, d, pose_b=pose_b, mode="depth", max_depth=2)
+            assert same(again, near)
     assert found > 200 and compared > 100, (found, compared)
+
+
+def test_threads_give_the_same_stencils():
+    # Sizes above the library's cut-offs for sharing work: the triangles of the query, the
+    # leaf pairs given to the primitive tests and the stencils whose values are computed.
+    pa, ta = uv_sphere(48, 0.5)
+    pb, tb = grid(48, 2.0)
+    a, b = dvh.Mesh(pa, ta), dvh.Mesh(pb - [1.0, 1.0, 0.5], tb)
+    assert a.triangle_count + b.triangle_count >= PARALLEL_MIN_TRIANGLES
+    _, st = dvh.nearest_features(a, b, 0.03, stats=True)
+    assert st.leaf_pairs >= PARALLEL_MIN_NODE_PAIRS
+    near = same_on_threads(lambda k: dvh.nearest_features(a, b, 0.03, threads=k), same)
+    assert len(near) >= PARALLEL_MIN_STENCIL_VALUES
+    for mode, extra in [("depth", {"max_depth": 2}), ("leaves", {})]:
+        coarse = same_on_threads(lambda k: dvh.nearest_features(a, b, 0.03, mode=mode, threads=k, **extra), same)
+        assert same(coarse, near)
+    # Two layers of a sheet, a little apart, as one mesh.
+    p, t = grid(32)
+    sheets = dvh.Mesh(np.vstack([p, p + [0.004, 0.003, 0.01]]), np.vstack([t, t + len(p)]))
+    _, st = dvh.self_nearest_features(sheets, 0.012, stats=True)
+    assert st.leaf_pairs >= PARALLEL_MIN_NODE_PAIRS
+    near = same_on_threads(lambda k: dvh.self_nearest_features(sheets, 0.012, threads=k), same)
+    assert len(near) >= PARALLEL_MIN_STENCIL_VALUES
 
 
 def test_one_mesh_against_ipctk():
