@@ -1,19 +1,24 @@
 #!/usr/bin/env bash
 # Fuzzing as ROBUSTNESS.md reports it: explore fast, check under AddressSanitizer, keep a
-# minimised corpus, and judge a plateau by the source lines of `src/` the inputs reach. The
-# corpora live in fuzz/corpus/<target> and are never committed; the repository keeps the seeds
-# (fuzz/seeds/<target>) and every input that once found a fault (fuzz/regressions/<target>).
+# minimised corpus, and judge a plateau by the source lines of `src/` the inputs reach. Each
+# target's minimised corpus is kept in the repository as one archive, fuzz/corpora/<target>.tar.xz,
+# and worked on unpacked in fuzz/corpus/<target> (not committed); the repository also keeps the
+# seeds (fuzz/seeds/<target>) and every input that once found a fault (fuzz/regressions/<target>).
 #
 #   scripts/fuzz.sh run <target> [seconds]     explore for that long (default 3600) with a build
 #                                              without sanitizers on every core (libFuzzer's fork
-#                                              mode), starting from fuzz/corpus/<target> (from
-#                                              the seeds and regressions when there is none);
-#                                              replay every new input under AddressSanitizer;
-#                                              merge the result back into fuzz/corpus/<target>,
-#                                              minimised
-#   scripts/fuzz.sh restore [target...]        unpack the corpora last kept in the repository's
-#                                              history (about 20,000 inputs) into fuzz/corpus;
-#                                              needs no nightly toolchain (seconds)
+#                                              mode), starting from fuzz/corpus/<target> (unpacked
+#                                              from its archive when not there yet; from the seeds
+#                                              and regressions when there is none); replay every
+#                                              new input under AddressSanitizer; merge the result
+#                                              back into fuzz/corpus/<target>, minimised, and pack
+#                                              it into fuzz/corpora/<target>.tar.xz
+#   scripts/fuzz.sh restore [target...]        unpack every target's archive into fuzz/corpus,
+#                                              replacing what is there; fails, naming it, when a
+#                                              target has no archive (seconds; no nightly needed)
+#   scripts/fuzz.sh pack [target...]           pack fuzz/corpus/<target> into its archive
+#                                              (sorted, no times or owners: the same inputs give
+#                                              the same archive)
 #   scripts/fuzz.sh coverage <target> [dir...] source lines of src/ reached by the inputs in the
 #                                              directories (default: the seeds, the corpus and
 #                                              the regressions); the lines, as file:line, go to
@@ -23,30 +28,49 @@
 # Targets: triangle_oracle, c_abi, scene, self_collision, ccd_primitive, ccd_mesh, nearest_mesh. FUZZ_JOBS sets the processes of `run`
 # (default: one per core). `run` and `coverage` need the nightly toolchain; they install
 # cargo-fuzz and nightly's llvm-tools when they are missing. Work files go to fuzz/work/<target>.
-# A corpus is replayed under `cargo test` by `DVH_FUZZ_CORPUS=fuzz/corpus cargo test --test
-# fuzz_replay` (what `scripts/test.sh --full` does).
+# The corpora are replayed under `cargo test` by `DVH_FUZZ_CORPUS=fuzz/corpus cargo test --test
+# fuzz_replay` (what `scripts/test.sh --full` does after `restore`).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 targets=$(ls fuzz/fuzz_targets | sed 's/\.rs$//')
 
-if [ "${1:-}" = "restore" ]; then
+pack() {
+    # Deterministic: sorted names, no times, owners or permissions beyond the defaults.
+    tar --sort=name --mtime=@0 --owner=0 --group=0 --numeric-owner --mode=a=r,u+w \
+        -C fuzz/corpus -cf - "$1" | xz -9 -T1 >"fuzz/corpora/$1.tar.xz.new"
+    mv "fuzz/corpora/$1.tar.xz.new" "fuzz/corpora/$1.tar.xz"
+    echo "fuzz/corpora/$1.tar.xz: $(ls "fuzz/corpus/$1" | wc -l) inputs, $(wc -c <"fuzz/corpora/$1.tar.xz") bytes"
+}
+
+case "${1:-}" in
+restore)
     shift
-    # The last commit whose tree held the corpora: the parent of the one that removed them.
-    removed=$(git rev-list -1 HEAD -- fuzz/corpus 2>/dev/null || true)
-    if [ -z "$removed" ] || ! git cat-file -e "$removed^:fuzz/corpus" 2>/dev/null; then
-        echo "the repository's history holds no fuzz corpus (a shallow clone?): nothing restored" >&2
-        exit 1
-    fi
     for target in ${*:-$targets}; do
-        mkdir -p "fuzz/corpus/$target"
-        # Targets added since have no corpus there: their seeds and regressions stand for it.
-        if git cat-file -e "$removed^:fuzz/corpus/$target" 2>/dev/null; then
-            git archive "$removed^" "fuzz/corpus/$target" | tar -x
-        fi
+        [ -f "fuzz/corpora/$target.tar.xz" ] || {
+            echo "no corpus for fuzz target '$target' (fuzz/corpora/$target.tar.xz): a checkout without" \
+                "it is incomplete; 'scripts/fuzz.sh run $target' builds one" >&2
+            exit 1
+        }
+        rm -rf "fuzz/corpus/$target"
+        mkdir -p fuzz/corpus
+        xz -dc "fuzz/corpora/$target.tar.xz" | tar -x -C fuzz/corpus
         echo "fuzz/corpus/$target: $(ls "fuzz/corpus/$target" | wc -l) inputs"
     done
     exit 0
-fi
+    ;;
+pack)
+    shift
+    mkdir -p fuzz/corpora
+    for target in ${*:-$targets}; do
+        [ -d "fuzz/corpus/$target" ] || {
+            echo "no fuzz/corpus/$target to pack" >&2
+            exit 1
+        }
+        pack "$target"
+    done
+    exit 0
+    ;;
+esac
 
 usage() {
     # The header comment above, whatever its length.
@@ -80,6 +104,10 @@ run)
     fast=fuzz/target/fast/$host/release/$target
     rm -rf "$work"
     mkdir -p "$work/live" "$work/new" "$work/min"
+    if [ ! -d "$corpus" ] && [ -f "fuzz/corpora/$target.tar.xz" ]; then
+        mkdir -p fuzz/corpus
+        xz -dc "fuzz/corpora/$target.tar.xz" | tar -x -C fuzz/corpus
+    fi
     if [ -d "$corpus" ]; then
         cp -r "$corpus/." "$work/live/"
     else
@@ -110,6 +138,8 @@ run)
     rm -f "$corpus"/*
     cp -r "$work/min/." "$corpus/"
     echo "kept $(ls "$corpus" | wc -l) inputs in $corpus"
+    mkdir -p fuzz/corpora
+    pack "$target"
     ;;
 coverage)
     dirs=("$@")

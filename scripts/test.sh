@@ -16,8 +16,8 @@
 #                            knob, its scenes checked against the cross-check's), the cross-check
 #                            on one thread as well as on every core, the criterion benchmarks'
 #                            build, the demo's release build, the Python benchmark script's
-#                            quick run, and the whole fuzz corpus replayed (about 45 minutes;
-#                            what CI runs)
+#                            quick run, and every fuzz target's corpus replayed (about 45
+#                            minutes; what CI runs)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 full=false
@@ -68,13 +68,11 @@ $full && cargo run --release --quiet --example demo -- --frames 4 >/dev/null
 
 if $full; then
     step "fuzz corpus replay"
-    # The corpora scripts/fuzz.sh keeps in fuzz/corpus, or those last kept in the repository's
-    # history when there are none here.
-    [ -d fuzz/corpus ] || scripts/fuzz.sh restore ||
-        echo "no fuzz corpus here or in the history: the seeds and regressions were replayed above"
-    if [ -d fuzz/corpus ]; then
-        DVH_FUZZ_CORPUS=fuzz/corpus cargo test --quiet --test fuzz_replay
-    fi
+    # Every target's minimised corpus, unpacked from its archive in fuzz/corpora (a target
+    # without one fails here), replayed through the drivers; the replay names every target and
+    # how many inputs it ran.
+    scripts/fuzz.sh restore
+    DVH_FUZZ_CORPUS=fuzz/corpus cargo test --quiet --test fuzz_replay -- --nocapture --test-threads 1
 
     step "the runner's tests, the criterion benchmarks' build"
     cargo test -p dvh-runner --quiet
@@ -86,9 +84,21 @@ if $full; then
     step "benchmark runner"
     # The runner's scenes are the cross-check's, coordinate for coordinate.
     scenes="many|medium|large|coplanar|copy|near-1e-12"
-    diff <(runner/run.sh checksums) \
-        <(cross_check/build/cmake/dvh_cross_check --checksums --data "${DVH_CACHE_DIR:-cross_check/build/meshes}" \
-            | grep -E "^($scenes) ")
+    # Each side to a file first: a comparison of two outputs must not pass because both
+    # commands failed and printed nothing.
+    sums=target/checksums
+    mkdir -p "$sums"
+    runner/run.sh checksums >"$sums/runner.txt"
+    cross_check/build/cmake/dvh_cross_check --checksums --data "${DVH_CACHE_DIR:-cross_check/build/meshes}" \
+        >"$sums/cross_check_all.txt"
+    grep -E "^($scenes) " "$sums/cross_check_all.txt" >"$sums/cross_check.txt"
+    for side in runner cross_check; do
+        [ "$(wc -l <"$sums/$side.txt")" -eq 12 ] || {
+            echo "$sums/$side.txt: $(wc -l <"$sums/$side.txt") checksums, not two (first and last frame) for each of the 6 scenes" >&2
+            exit 1
+        }
+    done
+    diff "$sums/runner.txt" "$sums/cross_check.txt"
     # Every method, knob and plot, failing if a dvh method is not exact or a conservative mode
     # misses a pair.
     runner/run.sh all --out target/dvh-runner >/dev/null

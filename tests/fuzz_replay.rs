@@ -11,20 +11,29 @@ mod drivers;
 use std::path::Path;
 
 /// Runs `driver` on every file of the target's kept inputs (and of the full corpus when
-/// `DVH_FUZZ_CORPUS` names one); returns how many.
+/// `DVH_FUZZ_CORPUS` names one, where the target must have a directory); prints what it ran
+/// and returns how many.
 fn replay(target: &str, driver: fn(&[u8])) -> usize {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz");
-    let mut dirs = vec![root.join("regressions"), root.join("seeds")];
+    let mut dirs = vec![
+        ("regressions", root.join("regressions"), false),
+        ("seeds", root.join("seeds"), true),
+    ];
     if let Some(corpus) = std::env::var_os("DVH_FUZZ_CORPUS") {
         let corpus = root.parent().expect("the repository").join(corpus);
-        // A corpus may hold some targets only; a directory that is not there at all is a mistake.
-        assert!(corpus.is_dir(), "no corpus at {}", corpus.display());
-        dirs.push(corpus);
+        dirs.push(("corpus", corpus, true));
     }
-    let mut n = 0;
-    for dir in dirs {
-        let Ok(entries) = std::fs::read_dir(dir.join(target)) else {
-            continue;
+    let mut counts = Vec::new();
+    for (what, dir, required) in dirs {
+        let dir = dir.join(target);
+        let entries = match std::fs::read_dir(&dir) {
+            Ok(entries) => entries,
+            // A target may have no regressions; seeds and a named corpus it must have.
+            Err(_) if !required => {
+                counts.push(format!("0 {what}"));
+                continue;
+            }
+            Err(e) => panic!("{target}: no {what} at {}: {e}", dir.display()),
         };
         let mut files: Vec<_> = entries
             .flatten()
@@ -32,14 +41,28 @@ fn replay(target: &str, driver: fn(&[u8])) -> usize {
             .filter(|p| p.is_file() && p.extension().is_none_or(|e| e != "md"))
             .collect();
         files.sort();
-        for f in files {
-            let data = std::fs::read(&f).expect("readable input");
+        assert!(
+            !required || !files.is_empty(),
+            "{target}: {} is empty",
+            dir.display()
+        );
+        for f in &files {
+            let data = std::fs::read(f).expect("readable input");
             let result = std::panic::catch_unwind(|| driver(&data));
             assert!(result.is_ok(), "{} breaks a promise", f.display());
-            n += 1;
         }
+        counts.push(format!("{} {what}", files.len()));
     }
-    n
+    println!("fuzz target {target}: replayed {}", counts.join(", "));
+    counts
+        .iter()
+        .map(|c| {
+            c.split(' ')
+                .next()
+                .and_then(|n| n.parse::<usize>().ok())
+                .unwrap_or(0)
+        })
+        .sum()
 }
 
 #[test]
