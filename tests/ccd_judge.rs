@@ -112,9 +112,9 @@ fn random_motion(rng: &mut Rng, case: usize, grid: u64) -> (Points, Points) {
         6 => (1..4).for_each(|i| e[i] = s[i]),
         7 => {
             // Everything on one line at the start.
-            for i in 0..4 {
-                s[i][1] = 0.0;
-                s[i][2] = 0.0;
+            for p in &mut s {
+                p[1] = 0.0;
+                p[2] = 0.0;
             }
         }
         _ => {}
@@ -194,7 +194,7 @@ fn constructed_contacts_and_near_misses() {
 /// at all.
 #[test]
 fn general_position_and_every_scale() {
-    let mut rng = Rng::new(0x5ca1_e5);
+    let mut rng = Rng::new(0x005c_a1e5);
     let mut tally = Tally::default();
     for case in 0..600 {
         let (mut s, mut e) = random_motion(&mut rng, case, 8);
