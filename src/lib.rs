@@ -72,6 +72,12 @@ mod threads;
 mod tree;
 mod volume;
 
+/// Hooks for the tests of the threaded paths: not part of the API.
+#[doc(hidden)]
+pub mod testing {
+    pub use crate::threads::{Step, at_least_two_threads, shared_count};
+}
+
 pub use error::{Error, Instant, Result, Side};
 pub use geometry::MAX_POSED_MAGNITUDE;
 pub use geometry::aabb::Aabb;

@@ -1,10 +1,12 @@
 //! Refits and steady-state queries on one thread allocate nothing; on several threads, a few
 //! small jobs per call: counted with a global allocator.
 
-use dvh::fixtures::{Morph, icosphere, torus};
+use dvh::fixtures::{MeshData, Morph, icosphere, torus};
 use dvh::{
-    BuildOptions, Mesh, Pairs, Pose, QueryMode, QueryOptions, RadiusKind, TreeKind, VolumeKind,
-    collide,
+    BuildOptions, CcdMode, CcdOptions, Contacts, Impacts, Mesh, NearPairs, Pairs, Pose, QueryMode,
+    QueryOptions, RadiusKind, Scene, TreeKind, VolumeKind, collide, continuous_collide,
+    nearest_features, proximity, self_collide, self_continuous_collide, self_nearest_features,
+    self_proximity,
 };
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -132,6 +134,7 @@ fn refit_and_steady_state_queries_do_not_allocate() {
 #[test]
 fn threaded_refits_and_queries_allocate_only_their_jobs() {
     let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
+    assert!(dvh::testing::at_least_two_threads() >= 2);
     let s = icosphere(6);
     // The torus's tube runs along the sphere's surface: dense contact.
     let t = torus(1.0, 0.05, 200, 100);
@@ -160,13 +163,24 @@ fn threaded_refits_and_queries_allocate_only_their_jobs() {
     );
     let (mut jobs, mut total, mut steady) = (0usize, 0, 0);
     for f in &frames {
+        let before = jobs_handed();
         let refit = allocations_during(|| {
             a.refit(f).unwrap();
         });
+        // The refit shares out its positions and its subtrees.
+        assert!(
+            jobs_handed() >= before + 2,
+            "the refit ran on the calling thread alone"
+        );
         let held = pairs.memory_bytes();
+        let before = jobs_handed();
         let query = allocations_during(|| {
             collide(&a, None, &b, None, &threaded, &mut pairs).unwrap();
         });
+        assert!(
+            jobs_handed() > before,
+            "the query ran on the calling thread alone"
+        );
         // At most one job per step shared out: two for a refit, two for a query; plus, at most
         // once, the injector's block.
         assert!(refit <= 3, "{refit} allocations in a threaded refit");
@@ -194,4 +208,299 @@ fn threaded_refits_and_queries_allocate_only_their_jobs() {
         "{total} allocations in {} threaded frames: more than {jobs} jobs and {blocks} injector block",
         frames.len()
     );
+}
+
+/// What a frame counts apart: the motion refits, then each query kind beyond `collide`, in
+/// the order [`Frames::run`] runs them.
+const KINDS: [&str; 9] = [
+    "refit_motion",
+    "self_collide",
+    "proximity",
+    "self_proximity",
+    "nearest_features",
+    "self_nearest_features",
+    "continuous_collide",
+    "self_continuous_collide",
+    "scene",
+];
+
+/// A frame's work for every query kind: allocations counted apart, per kind.
+struct Frames {
+    /// Per frame: the positions of `a`, of `b`, and of `ab`.
+    frames: Vec<[Vec<f64>; 3]>,
+    a: Mesh,
+    b: Mesh,
+    /// `a` and `b` in one mesh, for the self queries: they find the pairs between its parts.
+    ab: Mesh,
+    scene: Scene,
+    ids: [u32; 2],
+    pairs: Pairs,
+    near: NearPairs,
+    impacts: Impacts,
+    contacts: Contacts,
+    found: [usize; 9],
+    /// Per kind, in the last frame run: did the result buffers grow?
+    grew: [bool; 9],
+}
+
+impl Frames {
+    fn new() -> Frames {
+        let options = BuildOptions::default().with_refit_threads(1);
+        let sa = icosphere(4);
+        let mut sb = torus(0.6, 0.25, 80, 30);
+        sb.translate([0.8, 0.0, 0.0]);
+        let a = Mesh::new(&sa.positions, &sa.triangles, &options).unwrap();
+        let b = Mesh::new(&sb.positions, &sb.triangles, &options).unwrap();
+        let mut both: MeshData = sa.clone();
+        both.append(&sb);
+        let ab = Mesh::new(&both.positions, &both.triangles, &options).unwrap();
+        let (ma, mb) = (Morph::random(&sa, 3, 0.1, 1), Morph::random(&sb, 3, 0.1, 2));
+        let frames = (0..6)
+            .map(|f| {
+                let t = f as f64 / 12.0;
+                let (pa, pb) = (ma.at(&sa.positions, t), mb.at(&sb.positions, t));
+                let pab = [&pa[..], &pb[..]].concat();
+                [pa, pb, pab]
+            })
+            .collect();
+        let mut scene = Scene::new();
+        let ids = [
+            scene.add_deformable(&a, 1, u32::MAX).unwrap(),
+            scene.add_deformable(&b, 1, u32::MAX).unwrap(),
+        ];
+        Frames {
+            frames,
+            a,
+            b,
+            ab,
+            scene,
+            ids,
+            pairs: Pairs::new(),
+            near: NearPairs::new(),
+            impacts: Impacts::new(),
+            contacts: Contacts::new(),
+            found: [0; 9],
+            grew: [false; 9],
+        }
+    }
+
+    /// Runs frame `f` (a motion from frame `f` to the next, then every query kind) with
+    /// `threads`, and `count` around each kind; returns each kind's count.
+    fn run(
+        &mut self,
+        f: usize,
+        threads: u32,
+        ccd: CcdMode,
+        count: &dyn Fn(&mut dyn FnMut()) -> usize,
+    ) -> [usize; 9] {
+        let q = QueryOptions::default().with_threads(threads);
+        let c = CcdOptions::default().with_mode(ccd).with_threads(threads);
+        let next = (f + 1) % self.frames.len();
+        let (from, to) = (&self.frames[f], &self.frames[next]);
+        let d = 0.02;
+        let mut n = [0; 9];
+        let found = &mut self.found;
+        let (a, b, ab) = (&mut self.a, &mut self.b, &mut self.ab);
+        let (pairs, near, impacts) = (&mut self.pairs, &mut self.near, &mut self.impacts);
+        let grew = &mut self.grew;
+        let held = |p: &Pairs, n: &NearPairs, i: &Impacts| {
+            p.memory_bytes() + n.memory_bytes() + i.memory_bytes()
+        };
+        n[0] = count(&mut || {
+            a.refit_motion(&from[0], &to[0]).unwrap();
+            b.refit_motion(&from[1], &to[1]).unwrap();
+            ab.refit_motion(&from[2], &to[2]).unwrap();
+        });
+        let before = held(pairs, near, impacts);
+        n[1] = count(&mut || {
+            self_collide(ab, &q, pairs).unwrap();
+            found[1] += pairs.len();
+        });
+        grew[1] = held(pairs, near, impacts) > before;
+        let before = held(pairs, near, impacts);
+        n[2] = count(&mut || {
+            proximity(a, None, b, None, d, &q, pairs).unwrap();
+            found[2] += pairs.len();
+        });
+        grew[2] = held(pairs, near, impacts) > before;
+        let before = held(pairs, near, impacts);
+        n[3] = count(&mut || {
+            self_proximity(ab, d, &q, pairs).unwrap();
+            found[3] += pairs.len();
+        });
+        grew[3] = held(pairs, near, impacts) > before;
+        let before = held(pairs, near, impacts);
+        n[4] = count(&mut || {
+            nearest_features(a, None, b, None, d, &q, near).unwrap();
+            found[4] += near.len();
+        });
+        grew[4] = held(pairs, near, impacts) > before;
+        let before = held(pairs, near, impacts);
+        n[5] = count(&mut || {
+            self_nearest_features(ab, d, &q, near).unwrap();
+            found[5] += near.len();
+        });
+        grew[5] = held(pairs, near, impacts) > before;
+        let before = held(pairs, near, impacts);
+        n[6] = count(&mut || {
+            continuous_collide(a, b, &c, impacts).unwrap();
+            found[6] += impacts.len();
+        });
+        grew[6] = held(pairs, near, impacts) > before;
+        let before = held(pairs, near, impacts);
+        n[7] = count(&mut || {
+            self_continuous_collide(ab, &c, impacts).unwrap();
+            found[7] += impacts.len();
+        });
+        grew[7] = held(pairs, near, impacts) > before;
+        let (scene, ids, contacts) = (&mut self.scene, self.ids, &mut self.contacts);
+        n[8] = count(&mut || {
+            scene.set_positions(ids[0], &to[0]).unwrap();
+            scene.set_positions(ids[1], &to[1]).unwrap();
+            scene.collide(&q, contacts).unwrap();
+            found[8] += contacts.len();
+        });
+        n
+    }
+}
+
+/// A scene query allocates a few small vectors a call (the objects it needs, their shares of
+/// the refit, their lazy views), however large the meshes and however many the contacts.
+const SCENE_ALLOCATIONS: usize = 12;
+
+/// Every query kind beyond `collide`, in steady state on one thread: frames of deforming meshes
+/// (a motion over each step for the continuous queries), every kind warmed up over them, then
+/// counted frame by frame. The continuous queries in `CcdMode::Conservative`: in
+/// `CcdMode::Exact`, the time of each impact strictly inside the step is rounded in big-integer
+/// arithmetic, which allocates; without such impacts the exact mode allocates nothing either.
+#[test]
+fn every_query_kind_in_steady_state_allocates_nothing() {
+    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let mut frames = Frames::new();
+    let plain = |f: &mut dyn FnMut()| {
+        f();
+        0
+    };
+    let counted = |f: &mut dyn FnMut()| allocations_during(f);
+    let count = frames.frames.len();
+    for f in 0..count {
+        frames.run(f, 1, CcdMode::Conservative, &plain);
+    }
+    for f in 0..count {
+        let n = frames.run(f, 1, CcdMode::Conservative, &counted);
+        for (kind, n) in KINDS.iter().zip(n) {
+            if *kind == "scene" {
+                assert!(
+                    n <= SCENE_ALLOCATIONS,
+                    "frame {f}: {n} allocations in {kind}"
+                );
+            } else {
+                assert_eq!(n, 0, "frame {f}: {n} allocations in {kind}");
+            }
+        }
+    }
+    for (kind, found) in KINDS.iter().zip(frames.found) {
+        assert!(found > 0 || *kind == "refit_motion", "{kind} found nothing");
+    }
+
+    // The exact mode where no impact falls strictly inside the step: one part deforming
+    // without touching itself (its neighbouring triangles tested all the same).
+    let mut impacts = Impacts::new();
+    let exact = CcdOptions::default().with_threads(1);
+    let mut tested = 0;
+    for f in 0..2 * count {
+        let (from, to) = (&frames.frames[f % count], &frames.frames[(f + 1) % count]);
+        let n = allocations_during(|| {
+            frames.a.refit_motion(&from[0], &to[0]).unwrap();
+            let stats = self_continuous_collide(&frames.a, &exact, &mut impacts).unwrap();
+            tested += stats.primitive_tests;
+        });
+        assert!(impacts.is_empty(), "the part does not touch itself");
+        assert!(
+            f < count || n == 0,
+            "frame {f}: {n} allocations in the exact mode"
+        );
+    }
+    assert!(tested > 0);
+}
+
+/// Jobs handed to the pool so far by the calling thread: one per step shared out on two
+/// threads.
+fn jobs_handed() -> u64 {
+    use dvh::testing::{Step, shared_count};
+    [
+        Step::Traversal,
+        Step::Pairs,
+        Step::Sort,
+        Step::PairSort,
+        Step::Values,
+        Step::Refit,
+        Step::Store,
+        Step::SceneRefit,
+        Step::ScenePairs,
+    ]
+    .map(shared_count)
+    .iter()
+    .sum()
+}
+
+/// Every query kind beyond `collide` in steady state on two threads allocates only the jobs it
+/// hands the pool (one per step shared out), and rayon's injector block once every 63 jobs, as
+/// `threaded_refits_and_queries_allocate_only_their_jobs` counts them. A query whose buffers
+/// grew (a thread kept from its core left the other a larger share than in any warm-up round)
+/// is not counted. The scene allocates its few vectors as on one thread.
+#[test]
+fn every_query_kind_threaded_allocates_only_its_jobs() {
+    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
+    assert!(dvh::testing::at_least_two_threads() >= 2);
+    let mut frames = Frames::new();
+    let plain = |f: &mut dyn FnMut()| {
+        f();
+        0
+    };
+    let count = frames.frames.len();
+    for _ in 0..3 {
+        for f in 0..count {
+            frames.run(f, 2, CcdMode::Conservative, &plain);
+        }
+    }
+    let (mut total, mut total_jobs, mut calls) = (0, 0, 0);
+    for f in 0..count {
+        let handed = std::cell::RefCell::new(Vec::new());
+        let n = frames.run(f, 2, CcdMode::Conservative, &|g: &mut dyn FnMut()| {
+            let before = jobs_handed();
+            let n = allocations_during(g);
+            handed.borrow_mut().push(jobs_handed() - before);
+            n
+        });
+        let handed = handed.into_inner();
+        for (k, ((kind, n), jobs)) in KINDS.iter().zip(n).zip(handed).enumerate() {
+            let jobs = jobs as usize;
+            if *kind == "scene" {
+                assert!(
+                    n <= SCENE_ALLOCATIONS + jobs + 4,
+                    "frame {f}: {n} allocations in {kind}, {jobs} jobs"
+                );
+                continue;
+            }
+            if *kind != "refit_motion" {
+                assert!(jobs > 0, "frame {f}: {kind} shared nothing out");
+            }
+            if frames.grew[k] {
+                continue;
+            }
+            assert!(
+                n <= jobs + 1,
+                "frame {f}: {n} allocations in {kind}, {jobs} jobs"
+            );
+            total += n;
+            total_jobs += jobs;
+            calls += 1;
+        }
+    }
+    assert!(
+        total <= total_jobs + total_jobs.div_ceil(63),
+        "{total} allocations in {calls} threaded calls: more than their {total_jobs} jobs and the injector's blocks"
+    );
+    assert!(calls > 0, "every measured query grew its buffers");
 }

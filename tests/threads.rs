@@ -1,11 +1,32 @@
 //! Threads: a mesh queried from several threads at once, each with its own result buffer; one
 //! query or refit shared out over several threads gives the single-threaded answer.
 
-use dvh::fixtures::{Morph, Rng, icosphere, torus};
+use dvh::fixtures::{MeshData, Morph, Rng, grid, icosphere, torus};
+use dvh::testing::{Step, at_least_two_threads, shared_count};
 use dvh::{
-    BuildOptions, Mesh, Pairs, Pose, QueryMode, QueryOptions, RadiusKind, TreeKind, VolumeKind,
-    collide,
+    BuildOptions, CcdMode, CcdOptions, Impacts, Mesh, NearPairs, Pairs, Pose, QueryMode,
+    QueryOptions, RadiusKind, TreeKind, VolumeKind, collide, continuous_collide, nearest_features,
+    proximity, self_continuous_collide, self_nearest_features, self_proximity,
 };
+
+/// Runs `f` on the calling thread, asserting that it shared each of `steps` out among several
+/// workers: a threaded answer compared with the single-threaded one says nothing about threads
+/// if the query stayed below its cut-offs.
+fn sharing<R>(steps: &[Step], what: &str, f: impl FnOnce() -> R) -> R {
+    assert!(
+        at_least_two_threads() >= 2,
+        "rayon's pool has one thread: nothing can be shared out"
+    );
+    let before: Vec<u64> = steps.iter().map(|&s| shared_count(s)).collect();
+    let r = f();
+    for (&step, before) in steps.iter().zip(before) {
+        assert!(
+            shared_count(step) > before,
+            "{what}: {step:?} ran on the calling thread alone"
+        );
+    }
+    r
+}
 
 #[test]
 fn shared_meshes_queried_concurrently_give_the_single_threaded_answer() {
@@ -68,7 +89,7 @@ fn all_modes(limit: usize) -> Vec<QueryOptions> {
         QueryMode::Triangles,
         QueryMode::FirstHit,
         QueryMode::Leaves,
-        QueryMode::Depth(3),
+        QueryMode::Depth(5),
         QueryMode::Budget(500),
     ] {
         for max_pairs in [None, Some(1), Some(limit)] {
@@ -123,8 +144,16 @@ fn threaded_queries_equal_single_threaded_ones_on_random_scenes() {
                 }
                 for threads in [2, 3, 0] {
                     let options = options.with_threads(threads);
-                    let many = collide(&a, None, &b, pose_b, &options, &mut threaded).unwrap();
                     let what = format!("scene {scene}, posed {}, {options:?}", pose_b.is_some());
+                    // A budget is spent in the single-threaded traversal's order: it never
+                    // shares out.
+                    let steps: &[Step] = match options.mode {
+                        QueryMode::Budget(_) => &[],
+                        _ => &[Step::Traversal],
+                    };
+                    let many = sharing(steps, &what, || {
+                        collide(&a, None, &b, pose_b, &options, &mut threaded).unwrap()
+                    });
                     assert_eq!(threaded.as_slice(), single.as_slice(), "{what}");
                     assert_eq!(threaded.kind(), single.kind(), "{what}");
                     assert_eq!(many.pairs, one.pairs, "{what}");
@@ -169,7 +198,10 @@ fn threaded_refits_equal_single_threaded_ones() {
                 let mut many = Mesh::new(&s.positions, &s.triangles, &options(threads)).unwrap();
                 for frame in &frames {
                     let stats_one = one.refit(frame).unwrap();
-                    let stats_many = many.refit(frame).unwrap();
+                    let what = format!("{volume:?} {radius:?} {tree:?} {threads}");
+                    let stats_many = sharing(&[Step::Store, Step::Refit], &what, || {
+                        many.refit(frame).unwrap()
+                    });
                     assert_eq!(
                         stats_one, stats_many,
                         "{volume:?} {radius:?} {tree:?} {threads}"
@@ -180,5 +212,125 @@ fn threaded_refits_equal_single_threaded_ones() {
                 }
             }
         }
+    }
+}
+
+/// Two sheets of `n × n` cells a unit on a side, the second turned a little about the vertical
+/// and lifted by `lift` (its vertices jittered too, so no edges of the two are parallel).
+fn two_sheets(n: usize, lift: f64, seed: u64) -> (MeshData, MeshData) {
+    let a = grid(n, 1.0);
+    let mut b = grid(n, 1.0);
+    b.translate([-0.5, -0.5, 0.0]);
+    let (c, s) = (0.3f64.cos(), 0.3f64.sin());
+    let mut rng = Rng::new(seed);
+    for v in b.positions.chunks_exact_mut(3) {
+        let (x, y) = (v[0], v[1]);
+        let jitter = 0.05 / n as f64;
+        v[0] = 0.5 + c * x - s * y + rng.range(-jitter, jitter);
+        v[1] = 0.5 + s * x + c * y + rng.range(-jitter, jitter);
+        v[2] = lift + rng.range(-jitter, jitter);
+    }
+    (a, b)
+}
+
+/// Two meshes (sheets of `n × n` cells a quarter cell apart, as [`two_sheets`]) and one mesh
+/// made of both, the distance between them, and their data.
+fn sheets(n: usize) -> (Mesh, Mesh, Mesh, f64, [MeshData; 3]) {
+    let cell = 1.0 / n as f64;
+    let (sa, sb) = two_sheets(n, 0.25 * cell, 5);
+    let mut both = sa.clone();
+    both.append(&sb);
+    let build = |m: &MeshData| Mesh::new(&m.positions, &m.triangles, &BuildOptions::default());
+    let (a, b, ab) = (
+        build(&sa).unwrap(),
+        build(&sb).unwrap(),
+        build(&both).unwrap(),
+    );
+    (a, b, ab, 0.25 * cell, [sa, sb, both])
+}
+
+/// Proximity and nearest features, between two meshes and of one, on meshes and contact large
+/// enough that every step they may share out is shared out: 2 and all threads give the calling
+/// thread's answer. (Within each sheet, triangles that share no corner are farther apart than
+/// the distance: the self queries find the pairs between the sheets.)
+#[test]
+fn threaded_distance_queries_equal_single_threaded_ones() {
+    let (a, b, ab, lift, _) = sheets(40);
+    let d = 2.0 * lift;
+    let one = QueryOptions::default().with_threads(1);
+    let (mut single, mut threaded) = (Pairs::new(), Pairs::new());
+    let (mut near_one, mut near_many) = (NearPairs::new(), NearPairs::new());
+    let near_steps = [Step::Traversal, Step::Pairs, Step::Sort, Step::Values];
+    for threads in [2, 0] {
+        let many = one.with_threads(threads);
+        let what = format!("{threads} threads");
+        let s1 = proximity(&a, None, &b, None, d, &one, &mut single).unwrap();
+        let s2 = sharing(&[Step::Traversal], &what, || {
+            proximity(&a, None, &b, None, d, &many, &mut threaded).unwrap()
+        });
+        assert_eq!(threaded.as_slice(), single.as_slice(), "proximity, {what}");
+        assert_eq!(s1, s2, "proximity, {what}");
+        self_proximity(&ab, d, &one, &mut single).unwrap();
+        assert!(single.len() > 1000, "{} near pairs", single.len());
+        sharing(&[Step::Traversal], &what, || {
+            self_proximity(&ab, d, &many, &mut threaded).unwrap()
+        });
+        assert_eq!(threaded.as_slice(), single.as_slice(), "self, {what}");
+
+        let s1 = nearest_features(&a, None, &b, None, d, &one, &mut near_one).unwrap();
+        let s2 = sharing(&near_steps, &what, || {
+            nearest_features(&a, None, &b, None, d, &many, &mut near_many).unwrap()
+        });
+        assert_eq!(
+            near_many.as_slice(),
+            near_one.as_slice(),
+            "stencils, {what}"
+        );
+        assert_eq!(s1, s2, "stencils, {what}");
+        self_nearest_features(&ab, d, &one, &mut near_one).unwrap();
+        sharing(&near_steps, &what, || {
+            self_nearest_features(&ab, d, &many, &mut near_many).unwrap()
+        });
+        let what = format!("self stencils, {what}");
+        assert_eq!(near_many.as_slice(), near_one.as_slice(), "{what}");
+    }
+}
+
+/// Continuous collision, between two meshes and of one, on meshes and contact large enough that
+/// every step it may share out is shared out (one sheet falls through the other): 2 and all
+/// threads give the calling thread's answer.
+#[test]
+fn threaded_continuous_queries_equal_single_threaded_ones() {
+    let (mut a, mut b, mut ab, lift, [sa, sb, both]) = sheets(46);
+    let fall = |p: &[f64]| -> Vec<f64> {
+        p.chunks_exact(3)
+            .flat_map(|v| [v[0], v[1], v[2] - 2.0 * lift])
+            .collect()
+    };
+    a.refit_motion(&sa.positions, &sa.positions).unwrap();
+    b.refit_motion(&sb.positions, &fall(&sb.positions)).unwrap();
+    let mut both_fallen = both.positions.clone();
+    both_fallen.truncate(sa.positions.len());
+    both_fallen.extend(fall(&sb.positions));
+    ab.refit_motion(&both.positions, &both_fallen).unwrap();
+    let (mut single, mut threaded) = (Impacts::new(), Impacts::new());
+    let steps = [Step::Traversal, Step::Pairs, Step::Sort];
+    // Each mode on one thread count beyond one: the exact mode costs the more.
+    for (mode, threads) in [(CcdMode::Exact, 2), (CcdMode::Conservative, 0)] {
+        let one = CcdOptions::default().with_mode(mode).with_threads(1);
+        let many = one.with_threads(threads);
+        let what = format!("{mode:?}, {threads} threads");
+        let s1 = continuous_collide(&a, &b, &one, &mut single).unwrap();
+        let s2 = sharing(&steps, &what, || {
+            continuous_collide(&a, &b, &many, &mut threaded).unwrap()
+        });
+        assert_eq!(threaded.as_slice(), single.as_slice(), "{what}");
+        assert_eq!(s1, s2, "{what}");
+        self_continuous_collide(&ab, &one, &mut single).unwrap();
+        assert!(single.len() > 1000, "{} impacts", single.len());
+        sharing(&steps, &what, || {
+            self_continuous_collide(&ab, &many, &mut threaded).unwrap()
+        });
+        assert_eq!(threaded.as_slice(), single.as_slice(), "self, {what}");
     }
 }

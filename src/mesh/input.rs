@@ -168,6 +168,7 @@ fn scan_store(input: &[f64], out: &mut [Point], threads: usize) -> Scan {
     let (in_lo, in_hi) = input.split_at(3 * mid);
     let (out_lo, out_hi) = out.split_at_mut(mid);
     let (left, right) = crate::threads::join(
+        crate::threads::Step::Store,
         || scan_store(in_lo, out_lo, threads / 2),
         || scan_store(in_hi, out_hi, threads - threads / 2),
     );

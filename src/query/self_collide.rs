@@ -128,6 +128,7 @@ mod tests {
     use crate::fixtures::oracle::self_collide_brute_force;
     use crate::fixtures::{Rng, grid, icosphere, torus};
     use crate::query::testing::{map_vertices, nodes_cover};
+    use crate::threads::{Step, sharing};
     use crate::{BuildOptions, Pair, PairKind, QueryMode, VolumeKind};
 
     /// Self-collision of the mesh equals brute force for every volume kind, on 1 and 2 threads;
@@ -142,44 +143,45 @@ mod tests {
             };
             let mesh = Mesh::new(positions, triangles, &options).unwrap();
             let expected = self_collide_brute_force(&mesh);
-            for threads in [1, 2] {
-                let q = |mode| QueryOptions {
-                    mode,
-                    threads,
-                    ..QueryOptions::default()
+            // Meshes this small are queried on the calling thread whatever the thread count: threads
+            // are compared on larger ones (`threads_share_a_large_fold`).
+            let threads = 1;
+            let q = |mode| QueryOptions {
+                mode,
+                threads,
+                ..QueryOptions::default()
+            };
+            let stats = self_collide(&mesh, &q(QueryMode::Triangles), &mut pairs).unwrap();
+            assert_eq!(pairs.as_slice(), &expected[..], "{what}, {volume:?}");
+            assert_eq!(stats.pairs, expected.len() as u64);
+            assert_eq!(pairs.kind(), PairKind::Triangles);
+            let first = self_collide(&mesh, &q(QueryMode::FirstHit), &mut pairs).unwrap();
+            assert_eq!(pairs.len(), expected.len().min(1), "{what}, {volume:?}");
+            assert!(pairs.iter().all(|p| expected.contains(p)));
+            assert!(!first.truncated);
+            if expected.len() > 2 {
+                let cut = QueryOptions {
+                    max_pairs: Some(2),
+                    ..q(QueryMode::Triangles)
                 };
-                let stats = self_collide(&mesh, &q(QueryMode::Triangles), &mut pairs).unwrap();
-                assert_eq!(pairs.as_slice(), &expected[..], "{what}, {volume:?}");
-                assert_eq!(stats.pairs, expected.len() as u64);
-                assert_eq!(pairs.kind(), PairKind::Triangles);
-                let first = self_collide(&mesh, &q(QueryMode::FirstHit), &mut pairs).unwrap();
-                assert_eq!(pairs.len(), expected.len().min(1), "{what}, {volume:?}");
+                let stats = self_collide(&mesh, &cut, &mut pairs).unwrap();
+                assert!(stats.truncated && pairs.len() == 2);
                 assert!(pairs.iter().all(|p| expected.contains(p)));
-                assert!(!first.truncated);
-                if expected.len() > 2 {
-                    let cut = QueryOptions {
-                        max_pairs: Some(2),
-                        ..q(QueryMode::Triangles)
-                    };
-                    let stats = self_collide(&mesh, &cut, &mut pairs).unwrap();
-                    assert!(stats.truncated && pairs.len() == 2);
-                    assert!(pairs.iter().all(|p| expected.contains(p)));
-                }
-                for mode in [
-                    QueryMode::Leaves,
-                    QueryMode::Depth(2),
-                    QueryMode::Budget(40),
-                    QueryMode::Budget(1 << 40),
-                ] {
-                    self_collide(&mesh, &q(mode), &mut pairs).unwrap();
-                    assert_eq!(pairs.kind(), PairKind::Nodes);
-                    assert!(pairs.iter().all(|p| p.a <= p.b), "{mode:?}");
-                    nodes_cover(&mesh, &mesh, true, pairs.as_slice(), &expected);
-                    if mode == QueryMode::Budget(1 << 40) {
-                        let leaves = pairs.as_slice().to_vec();
-                        self_collide(&mesh, &q(QueryMode::Leaves), &mut pairs).unwrap();
-                        assert_eq!(leaves, pairs.as_slice(), "a budget that finishes");
-                    }
+            }
+            for mode in [
+                QueryMode::Leaves,
+                QueryMode::Depth(2),
+                QueryMode::Budget(40),
+                QueryMode::Budget(1 << 40),
+            ] {
+                self_collide(&mesh, &q(mode), &mut pairs).unwrap();
+                assert_eq!(pairs.kind(), PairKind::Nodes);
+                assert!(pairs.iter().all(|p| p.a <= p.b), "{mode:?}");
+                nodes_cover(&mesh, &mesh, true, pairs.as_slice(), &expected);
+                if mode == QueryMode::Budget(1 << 40) {
+                    let leaves = pairs.as_slice().to_vec();
+                    self_collide(&mesh, &q(QueryMode::Leaves), &mut pairs).unwrap();
+                    assert_eq!(leaves, pairs.as_slice(), "a budget that finishes");
                 }
             }
             assert!(matches!(
@@ -215,13 +217,23 @@ mod tests {
                 threads,
                 ..QueryOptions::default()
             };
-            self_collide(&mesh, &options, &mut pairs).unwrap();
-            assert_eq!(pairs.as_slice(), &expected[..], "{threads} threads");
+            let steps: &[Step] = if threads == 1 {
+                &[]
+            } else {
+                &[Step::Traversal]
+            };
+            let what = format!("{threads} threads");
+            sharing(steps, &what, || {
+                self_collide(&mesh, &options, &mut pairs).unwrap()
+            });
+            assert_eq!(pairs.as_slice(), &expected[..], "{what}");
             let cut = QueryOptions {
                 max_pairs: Some(50),
                 ..options
             };
-            self_collide(&mesh, &cut, &mut pairs).unwrap();
+            sharing(steps, &what, || {
+                self_collide(&mesh, &cut, &mut pairs).unwrap()
+            });
             let first_50: Vec<Pair> = pairs.as_slice().to_vec();
             self_collide(&mesh, &QueryOptions { threads: 1, ..cut }, &mut pairs).unwrap();
             assert_eq!(

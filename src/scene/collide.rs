@@ -311,19 +311,23 @@ impl Scene {
             share.vertices += o.mesh.vertex_count();
             share.objects.push(o);
         }
-        threads::on_each(&mut shares, &|share: &mut Share, _| {
-            for o in &mut share.objects {
-                let Motion::Deformable { fresh } = &mut o.motion else {
-                    unreachable!("only deformable objects are refit");
-                };
-                let mesh = Arc::make_mut(&mut o.mesh);
-                if !(lazy && mesh.refit_top(fresh)) {
-                    let s = mesh.refit_volumes();
-                    fresh.refit();
-                    share.nodes += s.nodes_refit;
+        threads::on_each(
+            threads::Step::SceneRefit,
+            &mut shares,
+            &|share: &mut Share, _| {
+                for o in &mut share.objects {
+                    let Motion::Deformable { fresh } = &mut o.motion else {
+                        unreachable!("only deformable objects are refit");
+                    };
+                    let mesh = Arc::make_mut(&mut o.mesh);
+                    if !(lazy && mesh.refit_top(fresh)) {
+                        let s = mesh.refit_volumes();
+                        fresh.refit();
+                        share.nodes += s.nodes_refit;
+                    }
                 }
-            }
-        });
+            },
+        );
         shares.iter().map(|s| s.nodes).sum()
     }
 
@@ -410,17 +414,21 @@ impl Scene {
         } else {
             // Pairs are handed out one at a time: their costs differ by orders of magnitude.
             let next = AtomicUsize::new(0);
-            threads::on_each(&mut out.workers[..threads], &|w: &mut Worker, index| {
-                loop {
-                    let k = next.fetch_add(1, Ordering::Relaxed);
-                    let Some(&pair) = candidates.get(k) else {
-                        break;
-                    };
-                    let mut span = w.query(objects, lazy, pair, &opts);
-                    span.worker = index as u32;
-                    w.taken.push((k, span));
-                }
-            });
+            threads::on_each(
+                threads::Step::ScenePairs,
+                &mut out.workers[..threads],
+                &|w: &mut Worker, index| {
+                    loop {
+                        let k = next.fetch_add(1, Ordering::Relaxed);
+                        let Some(&pair) = candidates.get(k) else {
+                            break;
+                        };
+                        let mut span = w.query(objects, lazy, pair, &opts);
+                        span.worker = index as u32;
+                        w.taken.push((k, span));
+                    }
+                },
+            );
             for w in &out.workers[..threads] {
                 for &(k, span) in &w.taken {
                     out.spans[k] = span;

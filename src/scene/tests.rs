@@ -1,5 +1,6 @@
 use super::*;
 use crate::fixtures::{Morph, Rng, icosphere, torus};
+use crate::threads::{Step, shared_count, sharing};
 use crate::{BuildOptions, Pairs, QueryMode, QueryOptions, VolumeKind, collide};
 use nalgebra::{Isometry3, Vector3};
 use std::sync::Arc;
@@ -94,6 +95,7 @@ fn scene_equals_pairwise_queries() {
             )
         })
         .collect();
+    let mut shared_frames = 0;
     for seed in 0..4 {
         let mut rng = Rng::new(100 + seed);
         let mut scene = Scene::new();
@@ -192,18 +194,22 @@ fn scene_equals_pairwise_queries() {
                 QueryMode::Budget(40),
             ] {
                 let expected = pairwise(&models, &excluded, &QueryOptions::with_mode(mode));
-                for threads in [1, 0] {
+                // All threads first: the objects moved since the last frame are refit by it.
+                for threads in [0, 1] {
                     let opts = QueryOptions {
                         mode,
                         threads,
                         ..QueryOptions::default()
                     };
+                    let before = shared_count(Step::ScenePairs);
                     let stats = scene.collide(&opts, &mut contacts).unwrap();
-                    assert_eq!(
-                        contacts.as_slice(),
-                        &expected[..],
-                        "seed {seed} frame {frame} {mode:?} threads {threads}"
-                    );
+                    let what = format!("seed {seed} frame {frame} {mode:?} threads {threads}");
+                    assert_eq!(contacts.as_slice(), &expected[..], "{what}");
+                    // Several object pairs are shared among the threads.
+                    if threads == 0 && stats.object_pairs_tested > 1 {
+                        assert!(shared_count(Step::ScenePairs) > before, "{what}");
+                        shared_frames += 1;
+                    }
                     assert_eq!(stats.contacts, expected.len() as u64);
                     assert_eq!(stats.objects, live.len() as u64);
                     assert!(!stats.truncated);
@@ -219,6 +225,56 @@ fn scene_equals_pairwise_queries() {
                 assert!(sources.iter().any(|s| s.0.shares_shape_with(&object.mesh)));
             }
         }
+    }
+    assert!(shared_frames > 0, "no query shared its object pairs out");
+}
+
+/// Deformable objects moved since the last query are refit on several threads, and their pairs
+/// queried on several, with the answer of one thread.
+#[test]
+fn threads_share_the_refits_and_the_pairs() {
+    let s = icosphere(3);
+    let mesh = Mesh::new(&s.positions, &s.triangles, &BuildOptions::default()).unwrap();
+    let morph = Morph::random(&s, 3, 0.1, 9);
+    let place = |i: usize, t: f64| -> Vec<f64> {
+        let mut p = morph.at(&s.positions, t);
+        for v in p.chunks_exact_mut(3) {
+            v[0] += 1.8 * i as f64;
+        }
+        p
+    };
+    let (mut one, mut many) = (Scene::new(), Scene::new());
+    for scene in [&mut one, &mut many] {
+        // Eager refits: each moved object is refit whole before the query.
+        scene.set_lazy_refit(false);
+        for i in 0..6 {
+            let id = scene.add_deformable(&mesh, 1, u32::MAX).unwrap();
+            scene.set_positions(id, &place(i, 0.0)).unwrap();
+        }
+    }
+    let (mut c1, mut c2) = (Contacts::new(), Contacts::new());
+    for frame in 1..4 {
+        let t = frame as f64 / 4.0;
+        for scene in [&mut one, &mut many] {
+            for i in 0..6 {
+                scene.set_positions(i as u32, &place(i, t)).unwrap();
+            }
+        }
+        let q = |threads| QueryOptions {
+            threads,
+            ..QueryOptions::default()
+        };
+        let s1 = one.collide(&q(1), &mut c1).unwrap();
+        let what = format!("frame {frame}");
+        let s2 = sharing(&[Step::SceneRefit, Step::ScenePairs], &what, || {
+            many.collide(&q(0), &mut c2).unwrap()
+        });
+        assert!(
+            s1.object_pairs_colliding >= 5,
+            "{what}: the neighbours touch"
+        );
+        assert_eq!(c1.as_slice(), c2.as_slice(), "{what}");
+        assert_eq!(s1, s2, "{what}");
     }
 }
 

@@ -191,6 +191,7 @@ fn fit_subtrees<F: Fit>(
     let (sub_l, sub_r) = subtrees.split_at(mid);
     let (w_l, w_r) = w.split_at(sub_r[0].nodes.start as usize);
     let (a, b) = crate::threads::join(
+        crate::threads::Step::Refit,
         || fit_subtrees(fit, w_l, input, sub_l, stacks_l),
         || fit_subtrees(fit, w_r, input, sub_r, stacks_r),
     );

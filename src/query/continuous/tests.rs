@@ -2,6 +2,7 @@ use super::*;
 use crate::fixtures::oracle::continuous_brute_force;
 use crate::fixtures::{Rng, grid, icosphere, torus};
 use crate::query::testing::{build, moved};
+use crate::threads::{Step, sharing};
 use crate::{CcdMode, Error, Instant, Mesh, VolumeKind};
 
 fn run(a: &Mesh, b: Option<&Mesh>, options: &CcdOptions, out: &mut Impacts) -> CcdStats {
@@ -18,30 +19,31 @@ fn check(a: &Mesh, b: Option<&Mesh>, what: &str) -> usize {
     let mut expected_by_mode = Vec::new();
     for mode in [CcdMode::Exact, CcdMode::Conservative] {
         let expected = continuous_brute_force(a, b, mode);
-        for threads in [1, 2] {
-            let options = CcdOptions::default().with_mode(mode).with_threads(threads);
-            let stats = run(a, b, &options, &mut out);
-            assert_eq!(
-                out.as_slice(),
-                &expected[..],
-                "{what}: {mode:?}, {threads} threads"
-            );
-            assert!(!stats.truncated);
-            assert_eq!(stats.impacts, expected.len() as u64);
-            let earliest = expected.iter().map(|i| i.toi).fold(f64::INFINITY, f64::min);
-            assert_eq!(stats.earliest_toi, earliest);
-            // The earliest alone: the first of the earliest in the result's order.
-            let first = expected
-                .iter()
-                .min_by(|x, y| (x.toi, x.key()).partial_cmp(&(y.toi, y.key())).unwrap());
-            run(a, b, &options.with_earliest_only(true), &mut out);
-            assert_eq!(out.as_slice().first(), first, "{what}: earliest only");
-            assert!(out.len() <= 1);
-            if expected.len() > 3 {
-                let stats = run(a, b, &options.with_max_impacts(Some(3)), &mut out);
-                assert!(stats.truncated && out.len() == 3, "{what}");
-                assert!(out.iter().all(|i| expected.contains(i)));
-            }
+        // Meshes this small are queried on the calling thread whatever the thread count: threads
+        // are compared on larger ones.
+        let threads = 1;
+        let options = CcdOptions::default().with_mode(mode).with_threads(threads);
+        let stats = run(a, b, &options, &mut out);
+        assert_eq!(
+            out.as_slice(),
+            &expected[..],
+            "{what}: {mode:?}, {threads} threads"
+        );
+        assert!(!stats.truncated);
+        assert_eq!(stats.impacts, expected.len() as u64);
+        let earliest = expected.iter().map(|i| i.toi).fold(f64::INFINITY, f64::min);
+        assert_eq!(stats.earliest_toi, earliest);
+        // The earliest alone: the first of the earliest in the result's order.
+        let first = expected
+            .iter()
+            .min_by(|x, y| (x.toi, x.key()).partial_cmp(&(y.toi, y.key())).unwrap());
+        run(a, b, &options.with_earliest_only(true), &mut out);
+        assert_eq!(out.as_slice().first(), first, "{what}: earliest only");
+        assert!(out.len() <= 1);
+        if expected.len() > 3 {
+            let stats = run(a, b, &options.with_max_impacts(Some(3)), &mut out);
+            assert!(stats.truncated && out.len() == 3, "{what}");
+            assert!(out.iter().all(|i| expected.contains(i)));
         }
         expected_by_mode.push(expected);
     }
@@ -157,7 +159,13 @@ fn threads_and_limits_give_one_answer_on_larger_meshes() {
         base.with_mode(CcdMode::Conservative),
     ] {
         let s1 = run(&a, Some(&b), &options.with_threads(1), &mut one);
-        let s2 = run(&a, Some(&b), &options.with_threads(2), &mut two);
+        // Every option shares the traversal and the narrow phase out: the limits cut only
+        // the joined results.
+        let what = format!("{options:?}");
+        let steps = [Step::Traversal, Step::Pairs];
+        let s2 = sharing(&steps, &what, || {
+            run(&a, Some(&b), &options.with_threads(2), &mut two)
+        });
         assert_eq!(one.as_slice(), two.as_slice(), "{options:?}");
         assert_eq!(s1.truncated, s2.truncated);
         assert!(!one.is_empty());
@@ -167,7 +175,9 @@ fn threads_and_limits_give_one_answer_on_larger_meshes() {
     let mut self_one = Impacts::new();
     let mut self_two = Impacts::new();
     run(&b, None, &base.with_threads(1), &mut self_one);
-    run(&b, None, &base.with_threads(2), &mut self_two);
+    sharing(&[Step::Traversal, Step::Pairs], "self", || {
+        run(&b, None, &base.with_threads(2), &mut self_two)
+    });
     assert_eq!(self_one.as_slice(), self_two.as_slice());
 }
 

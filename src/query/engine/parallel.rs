@@ -183,52 +183,56 @@ where
         // pairs into buckets, then the buckets are shared out.
         let buckets = sort::buckets_for(a_count);
         let bucketed = limit == usize::MAX;
-        threads::on_each(workers, &|w: &mut Worker, index| {
-            w.out.clear();
-            w.done.clear();
-            w.stop = None;
-            if index != 0 {
-                w.stop = self.begin(&mut w.a, &mut w.b);
-                if w.stop.is_some() {
-                    halt.store(true, Ordering::Relaxed);
-                    return;
+        threads::on_each(
+            threads::Step::Traversal,
+            workers,
+            &|w: &mut Worker, index| {
+                w.out.clear();
+                w.done.clear();
+                w.stop = None;
+                if index != 0 {
+                    w.stop = self.begin(&mut w.a, &mut w.b);
+                    if w.stop.is_some() {
+                        halt.store(true, Ordering::Relaxed);
+                        return;
+                    }
                 }
-            }
-            while !halt.load(Ordering::Relaxed) {
-                let i = next.fetch_add(1, Ordering::Relaxed);
-                if i >= count {
-                    break;
+                while !halt.load(Ordering::Relaxed) {
+                    let i = next.fetch_add(1, Ordering::Relaxed);
+                    if i >= count {
+                        break;
+                    }
+                    let mut out = std::mem::take(&mut w.out);
+                    let start = out.len();
+                    let mut sink = Sink {
+                        out: &mut out,
+                        limit: start.saturating_add(limit),
+                        stop: None,
+                    };
+                    self.traverse(w, Some(items[i]), &mut sink);
+                    let stop = sink.stop;
+                    w.out = out;
+                    if let Some(Stop::OutOfMemory { .. }) = stop {
+                        w.stop = stop;
+                        halt.store(true, Ordering::Relaxed);
+                        break;
+                    }
+                    let end = w.out.len();
+                    w.done.push((i, start, end));
+                    if settled.finish(i, end - start) {
+                        halt.store(true, Ordering::Relaxed);
+                    }
                 }
-                let mut out = std::mem::take(&mut w.out);
-                let start = out.len();
-                let mut sink = Sink {
-                    out: &mut out,
-                    limit: start.saturating_add(limit),
-                    stop: None,
-                };
-                self.traverse(w, Some(items[i]), &mut sink);
-                let stop = sink.stop;
-                w.out = out;
-                if let Some(Stop::OutOfMemory { .. }) = stop {
-                    w.stop = stop;
-                    halt.store(true, Ordering::Relaxed);
-                    break;
+                if bucketed
+                    && w.stop.is_none()
+                    && !sort::bucket_part(&w.out, &mut w.bucketed, &mut w.bucket_starts, buckets)
+                {
+                    w.stop = Some(Stop::OutOfMemory {
+                        bytes: w.out.len() * std::mem::size_of::<Pair>(),
+                    });
                 }
-                let end = w.out.len();
-                w.done.push((i, start, end));
-                if settled.finish(i, end - start) {
-                    halt.store(true, Ordering::Relaxed);
-                }
-            }
-            if bucketed
-                && w.stop.is_none()
-                && !sort::bucket_part(&w.out, &mut w.bucketed, &mut w.bucket_starts, buckets)
-            {
-                w.stop = Some(Stop::OutOfMemory {
-                    bytes: w.out.len() * std::mem::size_of::<Pair>(),
-                });
-            }
-        });
+            },
+        );
         for w in workers.iter() {
             if let Some(stop) = w.stop {
                 return (Some(stop), false);

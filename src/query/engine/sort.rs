@@ -134,6 +134,7 @@ fn sort_buckets_from<G: Fn(usize, &mut [Pair]) + Sync>(
     let half = threads / 2;
     let (lo, hi) = (&starts[..=k], &starts[k..]);
     crate::threads::join(
+        crate::threads::Step::PairSort,
         || sort_buckets_from(v_lo, s_lo, lo, first, base, half, plan, gather),
         || {
             let rest = threads - half;

@@ -145,7 +145,7 @@ impl Stencils<'_> {
             .chunks(size)
             .zip(out.spare_capacity_mut()[..n].chunks_mut(size))
             .collect();
-        threads::in_turns(threads, shares, &|(from, to)| {
+        threads::in_turns(threads::Step::Values, threads, shares, &|(from, to)| {
             for (s, slot) in from.iter().zip(to.iter_mut()) {
                 slot.write(self.near_pair(s));
             }

@@ -3,6 +3,7 @@ use crate::exact::Feature;
 use crate::fixtures::oracle::nearest_brute_force;
 use crate::fixtures::{Rng, grid, icosphere, torus};
 use crate::query::testing::{build, moved};
+use crate::threads::{Step, sharing};
 use crate::{
     BuildOptions, Error, ImpactKind, Mesh, Pose, QueryMode, QueryOptions, QueryStats, VolumeKind,
 };
@@ -28,38 +29,39 @@ fn run(
 fn check(a: &Mesh, pose_a: Option<&Pose>, b: Side, d: f64, what: &str) -> usize {
     let expected = nearest_brute_force(a, pose_a, b, d);
     let mut out = NearPairs::new();
-    for threads in [1, 2] {
-        for mode in [
-            QueryMode::Triangles,
-            QueryMode::Leaves,
-            QueryMode::Depth(2),
-            QueryMode::Budget(7),
-        ] {
-            let options = QueryOptions::with_mode(mode).with_threads(threads);
-            let stats = run(a, pose_a, b, d, &options, &mut out);
-            assert_eq!(
-                out.as_slice(),
-                &expected[..],
-                "{what}: d {d}, {mode:?}, {threads} threads"
-            );
-            assert!(!stats.truncated);
-            assert_eq!(stats.pairs, expected.len() as u64);
-            assert!(stats.triangle_tests >= stats.pairs);
-        }
-        let options = QueryOptions::with_mode(QueryMode::FirstHit).with_threads(threads);
+    // Meshes this small are queried on the calling thread whatever the thread count: threads
+    // are compared on larger ones.
+    let threads = 1;
+    for mode in [
+        QueryMode::Triangles,
+        QueryMode::Leaves,
+        QueryMode::Depth(2),
+        QueryMode::Budget(7),
+    ] {
+        let options = QueryOptions::with_mode(mode).with_threads(threads);
         let stats = run(a, pose_a, b, d, &options, &mut out);
-        assert_eq!(out.len(), expected.len().min(1), "{what}: first hit");
-        assert!(out.iter().all(|p| expected.contains(p)));
+        assert_eq!(
+            out.as_slice(),
+            &expected[..],
+            "{what}: d {d}, {mode:?}, {threads} threads"
+        );
         assert!(!stats.truncated);
-        if expected.len() > 3 {
-            let options = QueryOptions::default()
-                .with_max_pairs(Some(3))
-                .with_threads(threads);
-            let stats = run(a, pose_a, b, d, &options, &mut out);
-            assert!(stats.truncated && out.len() == 3, "{what}");
-            assert!(out.iter().all(|p| expected.contains(p)));
-            assert!(out.as_slice().is_sorted_by_key(NearPair::key));
-        }
+        assert_eq!(stats.pairs, expected.len() as u64);
+        assert!(stats.triangle_tests >= stats.pairs);
+    }
+    let options = QueryOptions::with_mode(QueryMode::FirstHit).with_threads(threads);
+    let stats = run(a, pose_a, b, d, &options, &mut out);
+    assert_eq!(out.len(), expected.len().min(1), "{what}: first hit");
+    assert!(out.iter().all(|p| expected.contains(p)));
+    assert!(!stats.truncated);
+    if expected.len() > 3 {
+        let options = QueryOptions::default()
+            .with_max_pairs(Some(3))
+            .with_threads(threads);
+        let stats = run(a, pose_a, b, d, &options, &mut out);
+        assert!(stats.truncated && out.len() == 3, "{what}");
+        assert!(out.iter().all(|p| expected.contains(p)));
+        assert!(out.as_slice().is_sorted_by_key(NearPair::key));
     }
     for p in &expected {
         check_stencil(p, a, pose_a, b, what);
@@ -245,14 +247,15 @@ fn threads_and_limits_give_one_answer_on_larger_meshes() {
             &options.with_threads(1),
             &mut one,
         );
-        let s2 = run(
-            &a,
-            None,
-            Some((&b, None)),
-            0.05,
-            &options.with_threads(2),
-            &mut two,
-        );
+        // A depth limit stops the traversal before its node pairs are many enough to share out.
+        let steps: &[Step] = match options.mode {
+            QueryMode::Depth(_) => &[],
+            _ => &[Step::Traversal, Step::Pairs],
+        };
+        let many = options.with_threads(2);
+        let s2 = sharing(steps, &format!("{options:?}"), || {
+            run(&a, None, Some((&b, None)), 0.05, &many, &mut two)
+        });
         assert_eq!(one.as_slice(), two.as_slice(), "{options:?}");
         assert_eq!(s1.truncated, s2.truncated);
         assert!(!one.is_empty());
@@ -260,7 +263,10 @@ fn threads_and_limits_give_one_answer_on_larger_meshes() {
     run(&a, None, Some((&b, None)), 0.05, &base, &mut one);
     assert!(one.len() > 50, "{}", one.len());
     run(&b, None, None, 0.06, &base.with_threads(1), &mut one);
-    run(&b, None, None, 0.06, &base.with_threads(2), &mut two);
+    let steps = [Step::Traversal, Step::Pairs, Step::Values];
+    sharing(&steps, "self", || {
+        run(&b, None, None, 0.06, &base.with_threads(2), &mut two)
+    });
     assert_eq!(one.as_slice(), two.as_slice());
     assert!(one.len() > 1000, "{}", one.len());
     assert!(one.memory_bytes() >= one.len() * std::mem::size_of::<NearPair>());

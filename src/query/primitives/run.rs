@@ -56,12 +56,16 @@ pub(crate) struct Joined {
     pub truncated: bool,
 }
 
-/// The scratch space of [`run`], kept between queries: each thread's, and the boxes of the
-/// primitives of each side.
+/// The scratch space of [`run`], kept between queries: each thread's, the boxes of the
+/// primitives of each side, and the chunks' results in order.
 #[derive(Debug)]
 pub(crate) struct Workspace<F> {
     pub workers: Vec<Worker<F>>,
     boxes: [OwnedBoxes; 2],
+    /// Per chunk finished: (chunk, worker, start, end) of its results in the worker's.
+    chunks: Vec<(usize, usize, usize, usize)>,
+    /// Per chunk, on several threads: its results once finished.
+    chunk_counts: Vec<AtomicUsize>,
 }
 
 impl<F> Default for Workspace<F> {
@@ -69,6 +73,8 @@ impl<F> Default for Workspace<F> {
         Workspace {
             workers: Vec::new(),
             boxes: Default::default(),
+            chunks: Vec::new(),
+            chunk_counts: Vec::new(),
         }
     }
 }
@@ -98,7 +104,12 @@ pub(crate) fn run<T: PrimitiveTest>(
     out: &mut Vec<T::Found>,
     key: impl Fn(&T::Found) -> Key + Sync,
 ) -> Result<Joined> {
-    let Workspace { workers, boxes } = space;
+    let Workspace {
+        workers,
+        boxes,
+        chunks: finished,
+        chunk_counts,
+    } = space;
     let tables = if narrow.test.fixed_boxes() {
         let [box_a, box_b] = boxes;
         let (a, b) = (&narrow.a, &narrow.b);
@@ -131,7 +142,10 @@ pub(crate) fn run<T: PrimitiveTest>(
     } else {
         pairs.len().min(threads * CHUNKS_PER_THREAD)
     };
-    in_chunks(narrow, tables, pairs, chunks, limit, workers);
+    if threads > 1 && chunk_counts.len() < chunks {
+        chunk_counts.resize_with(chunks, || AtomicUsize::new(usize::MAX));
+    }
+    in_chunks(narrow, tables, pairs, chunks, limit, workers, chunk_counts);
     let mut joined = Joined {
         primitive_tests: 0,
         truncated: false,
@@ -149,9 +163,9 @@ pub(crate) fn run<T: PrimitiveTest>(
         .map(|w| w.done.iter().map(|d| d.2 - d.1).sum::<usize>())
         .sum();
     let wanted = total.min(limit);
-    let mut chunks: Vec<(usize, usize, usize, usize)> = Vec::new();
+    finished.clear();
     if out.try_reserve(wanted).is_err()
-        || chunks
+        || finished
             .try_reserve(workers.iter().map(|w| w.done.len()).sum())
             .is_err()
     {
@@ -160,29 +174,28 @@ pub(crate) fn run<T: PrimitiveTest>(
         });
     }
     for (wi, w) in workers.iter().enumerate() {
-        chunks.extend(w.done.iter().map(|&(c, s, e)| (c, wi, s, e)));
+        finished.extend(w.done.iter().map(|&(c, s, e)| (c, wi, s, e)));
     }
-    chunks.sort_unstable();
+    finished.sort_unstable();
     let mut counts = std::mem::take(&mut workers[0].counts);
     // The results taken, in order: the chunks' up to the limit.
     let mut left = wanted;
-    let taken: Vec<&[T::Found]> = chunks
-        .iter()
-        .filter_map(|&(_, wi, s, e)| {
-            let take = (e - s).min(left);
-            left -= take;
-            (take > 0).then(|| &workers[wi].out[s..s + take])
-        })
-        .collect();
+    finished.retain_mut(|(_, _, s, e)| {
+        let take = (*e - *s).min(left);
+        left -= take;
+        *e = *s + take;
+        take > 0
+    });
+    let taken = finished.iter().map(|&(_, wi, s, e)| &workers[wi].out[s..e]);
     let buckets = Buckets::of(narrow);
     counts.clear();
     let bucketed = wanted >= BUCKETS_MIN_RESULTS
         && buckets.count() <= wanted.saturating_mul(BUCKETS_PER_RESULT)
         && counts.try_reserve(buckets.count() + 1).is_ok();
     if bucketed {
-        buckets.sort(&taken, &key, &mut counts, sort_threads, out);
+        buckets.sort(taken, &key, &mut counts, sort_threads, out);
     } else {
-        for part in &taken {
+        for part in taken {
             out.extend_from_slice(part);
         }
         // Few results for the meshes' size: sorted as they are, on the whole pool when the
@@ -190,19 +203,20 @@ pub(crate) fn run<T: PrimitiveTest>(
         let pool = rayon::current_num_threads();
         if pool > 1 && sort_threads == pool && out.len() >= PARALLEL_SORT_MIN {
             use rayon::slice::ParallelSliceMut;
+            threads::shared_out(threads::Step::Sort);
             out.par_sort_unstable_by_key(|f| packed(key(f)));
         } else {
             out.sort_unstable_by_key(|f| packed(key(f)));
         }
     }
-    drop(taken);
     workers[0].counts = counts;
     // As the discrete queries: the limit reached stops the query.
     joined.truncated = limit != usize::MAX && out.len() >= limit;
     Ok(joined)
 }
 
-/// The narrow phase over `pairs`, cut into `chunks` chunks taken in order by the workers.
+/// The narrow phase over `pairs`, cut into `chunks` chunks taken in order by the workers
+/// (`counts`, on several workers: room for each chunk's count, at least `chunks`).
 fn in_chunks<T: PrimitiveTest>(
     narrow: &Narrow<T>,
     tables: Option<Tables>,
@@ -210,6 +224,7 @@ fn in_chunks<T: PrimitiveTest>(
     chunks: usize,
     limit: usize,
     workers: &mut [Worker<T::Found>],
+    counts: &[AtomicUsize],
 ) {
     let chunk = |c: usize| &pairs[c * pairs.len() / chunks..(c + 1) * pairs.len() / chunks];
     // The whole of one chunk, its results appended to `w.out` up to `limit` of its own; returns
@@ -238,26 +253,29 @@ fn in_chunks<T: PrimitiveTest>(
     }
     let next = AtomicUsize::new(0);
     let halt = AtomicBool::new(false);
-    let counts: Vec<AtomicUsize> = (0..chunks).map(|_| AtomicUsize::new(usize::MAX)).collect();
-    let settled = threads::Settled::new(&counts, limit);
-    threads::on_each(workers, &|w: &mut Worker<T::Found>, _| {
-        w.begin();
-        while !halt.load(Ordering::Relaxed) {
-            let c = next.fetch_add(1, Ordering::Relaxed);
-            if c >= chunks {
-                break;
+    let settled = threads::Settled::new(&counts[..chunks], limit);
+    threads::on_each(
+        threads::Step::Pairs,
+        workers,
+        &|w: &mut Worker<T::Found>, _| {
+            w.begin();
+            while !halt.load(Ordering::Relaxed) {
+                let c = next.fetch_add(1, Ordering::Relaxed);
+                if c >= chunks {
+                    break;
+                }
+                let before = w.out.len();
+                run_chunk(w, c);
+                if w.out_of_memory.is_some() {
+                    halt.store(true, Ordering::Relaxed);
+                    break;
+                }
+                if settled.finish(c, w.out.len() - before) {
+                    halt.store(true, Ordering::Relaxed);
+                }
             }
-            let before = w.out.len();
-            run_chunk(w, c);
-            if w.out_of_memory.is_some() {
-                halt.store(true, Ordering::Relaxed);
-                break;
-            }
-            if settled.finish(c, w.out.len() - before) {
-                halt.store(true, Ordering::Relaxed);
-            }
-        }
-    });
+        },
+    );
 }
 
 /// Results in buckets by the first two parts of their key, `(kind, a0)`: a bucket for each
@@ -296,19 +314,19 @@ impl Buckets {
     /// The results `taken` appended to `out` (empty, with room for them all) in the order of
     /// `key`, with `counts` (room for [`Buckets::count`] + 1) as scratch space, on up to
     /// `threads` threads.
-    fn sort<F: Copy + Send>(
+    fn sort<'f, F: Copy + Send + 'f>(
         &self,
-        taken: &[&[F]],
+        taken: impl Iterator<Item = &'f [F]> + Clone,
         key: &(impl Fn(&F) -> Key + Sync),
         counts: &mut Vec<usize>,
         threads: usize,
         out: &mut Vec<F>,
     ) {
-        let n: usize = taken.iter().map(|p| p.len()).sum();
+        let n: usize = taken.clone().map(|p| p.len()).sum();
         debug_assert!(out.is_empty() && out.capacity() >= n);
         counts.clear();
         counts.resize(self.count() + 1, 0);
-        for f in taken.iter().flat_map(|p| p.iter()) {
+        for f in taken.clone().flatten() {
             counts[self.of_key(key(f)) + 1] += 1;
         }
         // `counts[b]`: where bucket `b` starts; moved along to where it ends as it is filled.
@@ -316,7 +334,7 @@ impl Buckets {
             counts[b] += counts[b - 1];
         }
         let room = &mut out.spare_capacity_mut()[..n];
-        for f in taken.iter().flat_map(|p| p.iter()) {
+        for f in taken.flatten() {
             let b = self.of_key(key(f));
             room[counts[b]].write(*f);
             counts[b] += 1;
@@ -350,7 +368,11 @@ impl Buckets {
                 (rest, start, first) = (tail, end, b + 1);
             }
         }
-        threads::in_turns(threads, shares, &|(part, start, ends)| {
+        threads::in_turns(threads::Step::Sort, threads, shares, &|(
+            part,
+            start,
+            ends,
+        )| {
             sort(part, start, ends)
         });
     }
