@@ -8,15 +8,15 @@
 #                            UndefinedBehaviorSanitizer, the header as C and C++, the C++
 #                            layer's tests, the install, the Python package in a fresh virtual
 #                            environment (and Python through ctypes), a short cross-check
-#                            against FCL judged by CGAL, and the demo (about 12 minutes from
-#                            a clean build on 2 cores, plus the package installs on a new
-#                            machine; about 5 once built)
+#                            against FCL judged by CGAL, and the demo (about 17 minutes on 2
+#                            cores with the Rust dependencies built; more from a clean build
+#                            and the package installs on a new machine)
 #   scripts/test.sh --full   all of that and the long runs: the C tests under valgrind, the
 #                            soak, the benchmark runner's tests and short runs (every method and
 #                            knob, its scenes checked against the cross-check's), the cross-check
 #                            on one thread as well as on every core, the criterion benchmarks'
 #                            build, the demo's release build, the Python benchmark script's
-#                            quick run, and every fuzz target's corpus replayed (about 45
+#                            quick run, and every fuzz target's corpus replayed (about 50
 #                            minutes; what CI runs)
 set -euo pipefail
 cd "$(dirname "$0")/.."
