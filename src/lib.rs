@@ -75,7 +75,7 @@ mod volume;
 /// Hooks for the tests of the threaded paths: not part of the API.
 #[doc(hidden)]
 pub mod testing {
-    pub use crate::threads::{Step, at_least_two_threads, shared_count};
+    pub use crate::threads::{Step, at_least_two_threads, shared_count, sharing};
 }
 
 pub use error::{Error, Instant, Result, Side};

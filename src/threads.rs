@@ -191,9 +191,9 @@ impl<'c> Settled<'c> {
 
 /// Runs `f` on the calling thread, asserting that it shared each of `steps` out among several
 /// workers: a threaded answer compared with the single-threaded one says nothing about threads
-/// if the query stayed below its cut-offs.
-#[cfg(test)]
-pub(crate) fn sharing<R>(steps: &[Step], what: &str, f: impl FnOnce() -> R) -> R {
+/// if the query stayed below its cut-offs. For tests: panics when a step was not shared.
+#[doc(hidden)]
+pub fn sharing<R>(steps: &[Step], what: &str, f: impl FnOnce() -> R) -> R {
     assert!(
         at_least_two_threads() >= 2,
         "rayon's pool has one thread: nothing can be shared out"

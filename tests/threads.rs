@@ -2,31 +2,12 @@
 //! query or refit shared out over several threads gives the single-threaded answer.
 
 use dvh::fixtures::{MeshData, Morph, Rng, grid, icosphere, torus};
-use dvh::testing::{Step, at_least_two_threads, shared_count};
+use dvh::testing::{Step, sharing};
 use dvh::{
     BuildOptions, CcdMode, CcdOptions, Impacts, Mesh, NearPairs, Pairs, Pose, QueryMode,
     QueryOptions, RadiusKind, TreeKind, VolumeKind, collide, continuous_collide, nearest_features,
     proximity, self_continuous_collide, self_nearest_features, self_proximity,
 };
-
-/// Runs `f` on the calling thread, asserting that it shared each of `steps` out among several
-/// workers: a threaded answer compared with the single-threaded one says nothing about threads
-/// if the query stayed below its cut-offs.
-fn sharing<R>(steps: &[Step], what: &str, f: impl FnOnce() -> R) -> R {
-    assert!(
-        at_least_two_threads() >= 2,
-        "rayon's pool has one thread: nothing can be shared out"
-    );
-    let before: Vec<u64> = steps.iter().map(|&s| shared_count(s)).collect();
-    let r = f();
-    for (&step, before) in steps.iter().zip(before) {
-        assert!(
-            shared_count(step) > before,
-            "{what}: {step:?} ran on the calling thread alone"
-        );
-    }
-    r
-}
 
 #[test]
 fn shared_meshes_queried_concurrently_give_the_single_threaded_answer() {
