@@ -16,7 +16,7 @@
 #                            knob, its scenes checked against the cross-check's), the cross-check
 #                            on one thread as well as on every core, the criterion benchmarks'
 #                            build, the demo's release build, the Python benchmark script's
-#                            quick run, and every fuzz target's corpus replayed (about 50
+#                            quick run, and every fuzz target's corpus replayed (about 55
 #                            minutes; what CI runs)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -76,8 +76,8 @@ if $full; then
 
     step "the runner's tests, the criterion benchmarks' build"
     cargo test -p dvh-runner --quiet
-    # In the test profile, which reuses the library the tests built: the release profile's
-    # single codegen unit and LTO took 8 minutes for three binaries that only need to build.
+    # In the test profile, which reuses the library the tests built: in the release profile (one
+    # codegen unit, LTO) three binaries that only need to build cost about 8 minutes.
     cargo test --benches --no-run --quiet
 
     step "soak"
