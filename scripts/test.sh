@@ -74,11 +74,12 @@ if $full; then
     scripts/fuzz.sh restore
     DVH_FUZZ_CORPUS=fuzz/corpus cargo test --quiet --test fuzz_replay -- --nocapture --test-threads 2
 
-    step "the runner's tests, the criterion benchmarks' build"
-    cargo test -p dvh-runner --quiet
-    # In the test profile, which reuses the library the tests built: in the release profile (one
-    # codegen unit, LTO) three binaries that only need to build cost about 8 minutes.
+    step "the criterion benchmarks' build, the runner's tests"
+    # In the test profile, which reuses the library the tests built (before the runner's build,
+    # with its other features, replaces it): in the release profile (one codegen unit, LTO) three
+    # binaries that only need to build cost about 8 minutes.
     cargo test --benches --no-run --quiet
+    cargo test -p dvh-runner --quiet
 
     step "soak"
     scripts/soak.sh --short
