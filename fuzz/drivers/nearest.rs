@@ -46,6 +46,10 @@ pub fn nearest_mesh(data: &[u8]) {
     options.volume = u32::from(kind / 8 % 3);
     let mesh = c_mesh(&p, &triangles, &options);
     let out = dvh_near_pairs_new();
+    if !d.is_finite() {
+        refused(mesh, d, out);
+        return;
+    }
     let (tris, edges, used) = primitives(&triangles);
     let at = |q: &[[f64; 3]], v: u32| q[v as usize];
     let own: Vec<[f64; 3]> = p.chunks(3).map(|q| [q[0], q[1], q[2]]).collect();
@@ -218,6 +222,50 @@ pub fn nearest_mesh(data: &[u8]) {
     }
     // SAFETY: live handles, each freed once.
     unsafe {
+        dvh_near_pairs_free(out);
+        dvh_mesh_free(mesh);
+    }
+}
+
+/// A NaN or infinite distance: the primitive functions and both queries refuse it, the queries
+/// with INVALID_ARGUMENT and the output left as it was (empty). Frees `mesh` and `out`.
+fn refused(mesh: *mut DvhMesh, d: f64, out: *mut DvhNearPairs) {
+    let q = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    for e in [
+        vertex_face_nearest(&q, d).unwrap_err(),
+        edge_edge_nearest(&q, d).unwrap_err(),
+    ] {
+        assert!(
+            matches!(e, dvh::Error::InvalidDistance { distance } if distance.to_bits() == d.to_bits()),
+            "{e}"
+        );
+    }
+    let o = dvh_query_options_default();
+    // SAFETY: live handles, one thread; a null pose is the identity; each freed once.
+    unsafe {
+        assert_eq!(
+            dvh_self_nearest_features(mesh, d, &o, out, std::ptr::null_mut()),
+            DVH_STATUS_INVALID_ARGUMENT
+        );
+        assert_eq!(
+            dvh_nearest_features(
+                mesh,
+                std::ptr::null(),
+                mesh,
+                std::ptr::null(),
+                d,
+                &o,
+                out,
+                std::ptr::null_mut(),
+            ),
+            DVH_STATUS_INVALID_ARGUMENT
+        );
+        assert_eq!(dvh_near_pairs_len(out), 0);
         dvh_near_pairs_free(out);
         dvh_mesh_free(mesh);
     }
