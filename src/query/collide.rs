@@ -1,6 +1,6 @@
 //! Intersection of two meshes: the entry point and its pair test.
 
-use super::engine::{NodeVolumes, OneMesh, PairTest, Prepared, QueryMesh, query};
+use super::engine::{NodeVolumes, OneMesh, Prepared, QueryMesh, Reach, TriangleTest, query_lazy};
 use super::options::QueryOptions;
 use super::pairs::{Pairs, QueryStats};
 use crate::error::Result;
@@ -48,16 +48,15 @@ pub(crate) fn collide_lazy<'m>(
     options: &QueryOptions,
     out: &mut Pairs,
 ) -> Result<QueryStats> {
-    query(a, b, Intersect, options, out)
+    query_lazy(a, b, Intersect, options, out)
 }
 
 /// Which triangles of two meshes intersect.
 #[derive(Clone, Copy)]
 struct Intersect;
 
-impl<'m> PairTest<'m> for Intersect {
+impl<'m> Reach<'m> for Intersect {
     type SideA<K: NodeVolumes<'m>> = K;
-    const CHECKS_DOMAIN: bool = true;
 
     fn side_a<K: NodeVolumes<'m>>(&self, kind: K) -> K {
         kind
@@ -67,6 +66,10 @@ impl<'m> PairTest<'m> for Intersect {
     fn own(&self) -> Option<OneMesh<'m>> {
         None
     }
+}
+
+impl<'m> TriangleTest<'m> for Intersect {
+    const CHECKS_DOMAIN: bool = true;
 
     #[inline]
     fn test(&self, _mesh: &Mesh, ta: &Prepared, tb: &Prepared) -> bool {

@@ -5,7 +5,9 @@
 //! `d` is dropped: [`Widened`]), hands leaf pairs to the leaf narrow phase, which filters by ring
 //! and triangle boxes widened by `d` before the exact test ([`Near`]).
 
-use super::engine::{NodeVolumes, OneMesh, PairTest, Prepared, Widened, query, query_one};
+use super::engine::{
+    NodeVolumes, OneMesh, Prepared, Reach, TriangleTest, Widened, query, query_one,
+};
 use super::options::QueryOptions;
 use super::pairs::{Pairs, QueryStats};
 use crate::error::{Error, Result};
@@ -93,10 +95,8 @@ pub(crate) struct Near {
     pub one_mesh: bool,
 }
 
-impl<'m> PairTest<'m> for Near {
+impl<'m> Reach<'m> for Near {
     type SideA<K: NodeVolumes<'m>> = Widened<K>;
-    // The exact distance test works for any finite coordinates.
-    const CHECKS_DOMAIN: bool = false;
 
     fn side_a<K: NodeVolumes<'m>>(&self, kind: K) -> Widened<K> {
         Widened { kind, d: self.d }
@@ -111,6 +111,11 @@ impl<'m> PairTest<'m> for Near {
     fn widen(&self, b: &Aabb) -> Aabb {
         b.widened(self.d)
     }
+}
+
+impl<'m> TriangleTest<'m> for Near {
+    // The exact distance test works for any finite coordinates.
+    const CHECKS_DOMAIN: bool = false;
 
     #[inline]
     fn skips(&self, mesh: &Mesh, ta: &Prepared, tb: &Prepared) -> bool {

@@ -7,7 +7,7 @@
 //! their rings' triangles once (rings partition the triangles), with [`SelfIntersect`]:
 //! [`crate::geometry::adjacent`] for triangles that share vertices.
 
-use super::engine::{NodeVolumes, OneMesh, PairTest, Prepared, query_one};
+use super::engine::{NodeVolumes, OneMesh, Prepared, Reach, TriangleTest, query_one};
 use super::options::QueryOptions;
 use super::pairs::{Pairs, QueryStats};
 use crate::error::Result;
@@ -54,9 +54,8 @@ struct SelfIntersect<'m> {
     patches: Option<&'m Patches>,
 }
 
-impl<'m> PairTest<'m> for SelfIntersect<'m> {
+impl<'m> Reach<'m> for SelfIntersect<'m> {
     type SideA<K: NodeVolumes<'m>> = K;
-    const CHECKS_DOMAIN: bool = true;
 
     fn side_a<K: NodeVolumes<'m>>(&self, kind: K) -> K {
         kind
@@ -68,6 +67,10 @@ impl<'m> PairTest<'m> for SelfIntersect<'m> {
             patches: self.patches,
         })
     }
+}
+
+impl<'m> TriangleTest<'m> for SelfIntersect<'m> {
+    const CHECKS_DOMAIN: bool = true;
 
     #[inline]
     fn test(&self, mesh: &Mesh, ta: &Prepared, tb: &Prepared) -> bool {

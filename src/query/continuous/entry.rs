@@ -7,8 +7,7 @@ use super::impacts::{CcdOptions, CcdStats, Impact, Impacts};
 use super::narrow::{Motion, Sweeps};
 use crate::error::Result;
 use crate::mesh::Mesh;
-use crate::query::engine::{NodeVolumes, OneMesh, PairTest, Prepared, query, query_one};
-use crate::query::options::{QueryMode, QueryOptions};
+use crate::query::engine::{NodeVolumes, OneMesh, Reach, leaf_pairs};
 use crate::query::primitives::{self, Narrow, Owners};
 use std::sync::atomic::AtomicU64;
 
@@ -49,16 +48,14 @@ pub fn self_continuous_collide(
 }
 
 /// The traversal over the motion: leaf pairs whose volumes overlap (the volumes of a moving
-/// mesh hold its whole motion). Only the coarse mode is run, so the triangle test is never
-/// asked.
+/// mesh hold its whole motion).
 #[derive(Clone, Copy)]
 struct Motions {
     one_mesh: bool,
 }
 
-impl<'m> PairTest<'m> for Motions {
+impl<'m> Reach<'m> for Motions {
     type SideA<K: NodeVolumes<'m>> = K;
-    const CHECKS_DOMAIN: bool = false;
 
     fn side_a<K: NodeVolumes<'m>>(&self, kind: K) -> K {
         kind
@@ -69,28 +66,19 @@ impl<'m> PairTest<'m> for Motions {
         // itself during the step.
         self.one_mesh.then_some(OneMesh { patches: None })
     }
-
-    fn test(&self, _mesh: &Mesh, _ta: &Prepared, _tb: &Prepared) -> bool {
-        unreachable!("the traversal over the motion reports leaf pairs only")
-    }
 }
 
 fn run(a: &Mesh, b: Option<&Mesh>, options: &CcdOptions, out: &mut Impacts) -> Result<CcdStats> {
     let one_mesh = b.is_none();
     let b = b.unwrap_or(a);
-    let broad_options = QueryOptions::with_mode(QueryMode::Leaves).with_threads(options.threads);
     let test = Motions { one_mesh };
-    let broad = if one_mesh {
-        query_one(a, test, &broad_options, &mut out.leaves)?
-    } else {
-        query(
-            (a, None, None),
-            (b, None, None),
-            test,
-            &broad_options,
-            &mut out.leaves,
-        )?
-    };
+    let broad = leaf_pairs(
+        a,
+        (!one_mesh).then_some(b),
+        test,
+        options.threads,
+        &mut out.leaves,
+    )?;
     let mut stats = CcdStats {
         bv_tests: broad.bv_tests,
         ..CcdStats::default()

@@ -11,8 +11,8 @@ mod sort;
 mod traverse;
 mod workspace;
 
-pub(crate) use narrow::PairTest;
-pub(crate) use run::{QueryMesh, query, query_one};
+pub(crate) use narrow::{Reach, TriangleTest};
+pub(crate) use run::{QueryMesh, leaf_pairs, node_pairs, query, query_lazy, query_one};
 pub(crate) use side::{NodeVolumes, Widened};
 pub(crate) use traverse::OneMesh;
 pub(crate) use workspace::{Prepared, Stamped, Workspace};

@@ -1,10 +1,10 @@
 //! What becomes of the terminal node pairs of a traversal: reported as they are (the coarse
 //! modes), or their rings' triangles tested exactly (the exact modes) by the one leaf narrow
-//! phase, [`LeafPairs`], which asks a [`PairTest`] only what differs between queries.
+//! phase, [`LeafPairs`], which asks a [`TriangleTest`] only what differs between queries.
 
 use super::side::{NodeVolumes, QuerySide};
 use super::sink::Sink;
-use super::traverse::{NarrowPhase, OneMesh};
+use super::traverse::{NarrowPhase, OneMesh, Walk, depth_first};
 use super::workspace::{Prepared, RingCache};
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::is_safe_point;
@@ -13,16 +13,13 @@ use crate::mesh::Mesh;
 use crate::query::pairs::{Pair, QueryStats};
 use std::ops::Range;
 
-/// What a query asks of the triangle pairs its traversal brings together (intersection,
-/// nearness; of two meshes or of one), and how its traversal reads side `a`'s volumes. A new
-/// query is a new pair test and an entry point: the traversal, the threads and the leaf narrow
-/// phase are shared. The coarse modes report node pairs whatever the test.
-pub(crate) trait PairTest<'m>: Copy + Send + Sync {
+/// How a query's traversal meets its two sides: side `a`'s volumes (grown by the query's
+/// margin, if it has one), whether both sides are one mesh, and the margin by which the leaf
+/// narrow phase grows boxes. Queries that only want leaf pairs (continuous collision, the
+/// closest-point stencils) say this much; those that test triangles add a [`TriangleTest`].
+pub(crate) trait Reach<'m>: Copy + Send + Sync {
     /// Side `a`'s volume kind, given the mesh's own (grown by the margin, if there is one).
     type SideA<K: NodeVolumes<'m>>: NodeVolumes<'m>;
-    /// Does the test read [`Prepared::in_fast_range`]? Then each triangle checks, when the query's
-    /// coordinates may leave that range, whether they suit the fast predicates.
-    const CHECKS_DOMAIN: bool;
 
     /// Side `a`'s volume kind, given the mesh's own.
     fn side_a<K: NodeVolumes<'m>>(&self, kind: K) -> Self::SideA<K>;
@@ -35,6 +32,16 @@ pub(crate) trait PairTest<'m>: Copy + Send + Sync {
     fn widen(&self, b: &Aabb) -> Aabb {
         *b
     }
+}
+
+/// What a query asks of the triangle pairs its traversal brings together (intersection,
+/// nearness; of two meshes or of one). A new query of this kind is a new test and an entry
+/// point: the traversal, the threads and the leaf narrow phase are shared.
+pub(crate) trait TriangleTest<'m>: Reach<'m> {
+    /// Does the test read [`Prepared::in_fast_range`]? Then each triangle checks, when the query's
+    /// coordinates may leave that range, whether they suit the fast predicates.
+    const CHECKS_DOMAIN: bool;
+
     /// Is the pair of no interest to the test, and not counted as tested (say, two triangles
     /// of one mesh that share a vertex, for nearness)?
     #[inline(always)]
@@ -44,6 +51,93 @@ pub(crate) trait PairTest<'m>: Copy + Send + Sync {
     /// The exact test of two triangles whose boxes come within the margin; `mesh` is side
     /// `a`'s (for tests of one mesh, both sides').
     fn test(&self, mesh: &Mesh, ta: &Prepared, tb: &Prepared) -> bool;
+}
+
+/// What a query does with the terminal node pairs of its traversal: reports them
+/// ([`Coarse`]), or tests their rings' triangles ([`Exact`]). Chosen before the sides are
+/// typed, so that each is compiled only for the queries that use it, and the coarse traversal
+/// once for all queries whose sides have the same types.
+pub(crate) trait Terminal<'m>: Copy + Sync {
+    /// Are triangles prepared (so that each thread's caches must hold rings)?
+    const TRIANGLES: bool;
+
+    /// Every terminal pair of the traversal `walk` from the roots (`None`) or below `start`,
+    /// handled; the pairs found go to `sink`. Returns whether the traversal stopped early.
+    #[allow(clippy::too_many_arguments)]
+    fn descend<A: QuerySide<'m>, B: QuerySide<'m>>(
+        &self,
+        a: &mut A,
+        b: &mut B,
+        start: Option<(u32, u32)>,
+        walk: &Walk<'m>,
+        worker: Scratch<'_>,
+        stats: &mut QueryStats,
+        sink: &mut Sink,
+    ) -> bool;
+}
+
+/// What of a thread's scratch space a traversal uses besides the sides' views.
+pub(crate) struct Scratch<'w> {
+    pub stack: &'w mut Vec<(u32, u32)>,
+    pub rings_a: &'w mut RingCache,
+    pub rings_b: &'w mut RingCache,
+}
+
+/// The coarse modes: every terminal node pair is reported.
+#[derive(Clone, Copy)]
+pub(crate) struct Coarse;
+
+impl<'m> Terminal<'m> for Coarse {
+    const TRIANGLES: bool = false;
+
+    fn descend<A: QuerySide<'m>, B: QuerySide<'m>>(
+        &self,
+        a: &mut A,
+        b: &mut B,
+        start: Option<(u32, u32)>,
+        walk: &Walk<'m>,
+        worker: Scratch<'_>,
+        stats: &mut QueryStats,
+        sink: &mut Sink,
+    ) -> bool {
+        let mut narrow = NodePairs {
+            sink,
+            one_mesh: walk.own.is_some(),
+        };
+        depth_first(a, b, start, walk, worker.stack, stats, &mut narrow)
+    }
+}
+
+/// The exact modes: the triangles of each terminal leaf pair's rings are tested with `test`.
+#[derive(Clone, Copy)]
+pub(crate) struct Exact<T> {
+    pub test: T,
+    /// May the query's coordinates leave the range of the fast predicates?
+    pub check_domain: bool,
+}
+
+impl<'m, T: TriangleTest<'m>> Terminal<'m> for Exact<T> {
+    const TRIANGLES: bool = true;
+
+    fn descend<A: QuerySide<'m>, B: QuerySide<'m>>(
+        &self,
+        a: &mut A,
+        b: &mut B,
+        start: Option<(u32, u32)>,
+        walk: &Walk<'m>,
+        worker: Scratch<'_>,
+        stats: &mut QueryStats,
+        sink: &mut Sink,
+    ) -> bool {
+        let mut narrow = LeafPairs {
+            test: self.test,
+            sink,
+            rings_a: worker.rings_a,
+            rings_b: worker.rings_b,
+            check_domain: self.check_domain,
+        };
+        depth_first(a, b, start, walk, worker.stack, stats, &mut narrow)
+    }
 }
 
 /// Reports every terminal node pair; of one mesh, as `(lower, higher)`.
@@ -85,7 +179,7 @@ pub(crate) struct LeafPairs<'s, 'w, T> {
     pub check_domain: bool,
 }
 
-impl<'m, T: PairTest<'m>> LeafPairs<'_, '_, T> {
+impl<'m, T: TriangleTest<'m>> LeafPairs<'_, '_, T> {
     /// Must each prepared triangle check its coordinates?
     #[inline(always)]
     fn check_domain(&self) -> bool {
@@ -115,7 +209,7 @@ impl<'m, T: PairTest<'m>> LeafPairs<'_, '_, T> {
 /// Tests `ta` against `tb` (`grown`: `ta`'s box grown by the margin) and reports the pair if
 /// the test accepts it; returns whether the traversal must stop.
 #[inline(always)]
-fn try_pair<'m, T: PairTest<'m>>(
+fn try_pair<'m, T: TriangleTest<'m>>(
     test: &T,
     sink: &mut Sink,
     mesh: &Mesh,
@@ -131,7 +225,7 @@ fn try_pair<'m, T: PairTest<'m>>(
     test.test(mesh, ta, tb) && sink.report(ordered(test.own().is_some(), ta.index, tb.index))
 }
 
-impl<'m, T: PairTest<'m>> NarrowPhase<'m> for LeafPairs<'_, '_, T> {
+impl<'m, T: TriangleTest<'m>> NarrowPhase<'m> for LeafPairs<'_, '_, T> {
     fn visit<A: QuerySide<'m>, B: QuerySide<'m>>(
         &mut self,
         a: &mut A,

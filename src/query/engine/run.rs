@@ -2,12 +2,15 @@
 //! both sides by placement and volume kind, runs the traversal with the narrow phase the mode
 //! asks for (on the calling thread or shared out), and sorts the result.
 
-use super::narrow::{NodePairs, PairTest};
-use super::parallel::{Finish, Job};
-use super::side::{LazyBoxVolumes, Local, NodeVolumes, Placement, Posed, View, with_node_volumes};
+use super::narrow::{Coarse, Exact, NodePairs, Reach, Terminal, TriangleTest};
+use super::parallel::{Finish, Job, share_out};
+use super::side::{
+    LazyBoxVolumes, Local, MeshVolumes, MixedVolumes, NodeVolumes, Placement, Posed,
+    with_node_volumes,
+};
 use super::sink::{Sink, Stop};
 use super::sort::sort_pairs;
-use super::traverse::best_first;
+use super::traverse::{Walk, best_first};
 use super::workspace::{Worker, Workspace};
 use crate::error::{Error, Result, Side};
 use crate::geometry::MAX_POSED_MAGNITUDE;
@@ -22,34 +25,176 @@ use crate::volume::LazyBoxes;
 /// own volumes are not read, and there is no pose: only deformable scene objects are lazy).
 pub(crate) type QueryMesh<'m> = (&'m Mesh, Option<&'m Pose>, Option<&'m LazyBoxes<'m>>);
 
-/// A query of two meshes: `test` asks what of their triangle pairs (intersection, nearness).
-pub(crate) fn query<'m, T: PairTest<'m>>(
+/// A query of two meshes, each in place or posed, in any mode: `test` asks what of their
+/// triangle pairs (intersection, nearness).
+pub(crate) fn query<'m, T: TriangleTest<'m>>(
     a: QueryMesh<'m>,
     b: QueryMesh<'m>,
     test: T,
     options: &QueryOptions,
     out: &mut Pairs,
 ) -> Result<QueryStats> {
-    run_query(a, Some(b), test, options, out)
+    debug_assert!(a.2.is_none() && b.2.is_none());
+    run_query(a, Some(b), AnyMode::<T, false>(test), options, out)
 }
 
-/// A query of one mesh against itself (no pose, boxes refit): `test` asks what of its
-/// triangle pairs.
-pub(crate) fn query_one<'m, T: PairTest<'m>>(
+/// [`query`] where either mesh may have boxes refit lazily (deformable scene objects).
+pub(crate) fn query_lazy<'m, T: TriangleTest<'m>>(
+    a: QueryMesh<'m>,
+    b: QueryMesh<'m>,
+    test: T,
+    options: &QueryOptions,
+    out: &mut Pairs,
+) -> Result<QueryStats> {
+    run_query(a, Some(b), AnyMode::<T, true>(test), options, out)
+}
+
+/// A query of one mesh against itself (no pose, boxes refit), in any mode: `test` asks what of
+/// its triangle pairs.
+pub(crate) fn query_one<'m, T: TriangleTest<'m>>(
     mesh: &'m Mesh,
     test: T,
     options: &QueryOptions,
     out: &mut Pairs,
 ) -> Result<QueryStats> {
     debug_assert!(test.own().is_some());
-    run_query((mesh, None, None), None, test, options, out)
+    run_query(
+        (mesh, None, None),
+        None,
+        AnyMode::<T, false>(test),
+        options,
+        out,
+    )
+}
+
+/// The node pairs of a coarse mode ([`QueryMode::reports_nodes`]) whose volumes, as `reach`
+/// sees them, overlap: of meshes `a` and `b`, each in place or posed, or of `a` against itself
+/// (`b` is `None`; then `reach` says so). What a query on primitive pairs starts from.
+pub(crate) fn node_pairs<'m, R: Reach<'m>>(
+    a: QueryMesh<'m>,
+    b: Option<QueryMesh<'m>>,
+    reach: R,
+    options: &QueryOptions,
+    out: &mut Pairs,
+) -> Result<QueryStats> {
+    debug_assert_eq!(b.is_none(), reach.own().is_some());
+    debug_assert!(a.2.is_none() && b.is_none_or(|b| b.2.is_none()));
+    run_query(a, b, NodesOf::<R, true>(reach), options, out)
+}
+
+/// The leaf pairs ([`QueryMode::Leaves`]) of meshes `a` and `b` in place (or of `a` against
+/// itself) whose volumes, as `reach` sees them, overlap; `threads` as
+/// [`QueryOptions::threads`].
+pub(crate) fn leaf_pairs<'m, R: Reach<'m>>(
+    a: &'m Mesh,
+    b: Option<&'m Mesh>,
+    reach: R,
+    threads: u32,
+    out: &mut Pairs,
+) -> Result<QueryStats> {
+    debug_assert_eq!(b.is_none(), reach.own().is_some());
+    let options = QueryOptions::with_mode(QueryMode::Leaves).with_threads(threads);
+    let (a, b) = ((a, None, None), b.map(|b| (b, None, None)));
+    run_query(a, b, NodesOf::<R, false>(reach), &options, out)
+}
+
+/// What a query runs once its sides are typed, and which sides it can have: a side that cannot
+/// be posed or lazy is never typed so, and no traversal is compiled for it.
+trait Work<'m>: Copy {
+    type Reach: Reach<'m>;
+    /// May a side be posed?
+    const POSED: bool;
+    /// May a side have boxes refit lazily?
+    const LAZY: bool;
+
+    fn reach(&self) -> Self::Reach;
+    /// Runs the query on the typed sides.
+    fn run<PA, KA, PB, KB>(
+        self,
+        run: Run<'_, 'm>,
+        a: (PA, KA),
+        b: (PB, KB),
+    ) -> (Option<Stop>, bool)
+    where
+        PA: Placement<'m>,
+        KA: NodeVolumes<'m>,
+        PB: Placement<'m>,
+        KB: NodeVolumes<'m>;
+}
+
+/// A query with a triangle test, in the mode its options ask for.
+#[derive(Clone, Copy)]
+struct AnyMode<T, const LAZY: bool>(T);
+
+impl<'m, T: TriangleTest<'m>, const LAZY: bool> Work<'m> for AnyMode<T, LAZY> {
+    type Reach = T;
+    const POSED: bool = true;
+    const LAZY: bool = LAZY;
+
+    fn reach(&self) -> T {
+        self.0
+    }
+
+    fn run<PA, KA, PB, KB>(self, run: Run<'_, 'm>, a: (PA, KA), b: (PB, KB)) -> (Option<Stop>, bool)
+    where
+        PA: Placement<'m>,
+        KA: NodeVolumes<'m>,
+        PB: Placement<'m>,
+        KB: NodeVolumes<'m>,
+    {
+        match run.mode {
+            QueryMode::Budget(budget) => run.best_first(a, b, budget),
+            mode if mode.reports_nodes() => run.run(a, b, Coarse),
+            _ => {
+                let check_domain = run.check_domain;
+                run.run(
+                    a,
+                    b,
+                    Exact {
+                        test: self.0,
+                        check_domain,
+                    },
+                )
+            }
+        }
+    }
+}
+
+/// A query of node pairs only, of meshes that may be posed, or are in place.
+#[derive(Clone, Copy)]
+struct NodesOf<R, const POSED: bool>(R);
+
+impl<'m, R: Reach<'m>, const POSED: bool> Work<'m> for NodesOf<R, POSED> {
+    type Reach = R;
+    const POSED: bool = POSED;
+    const LAZY: bool = false;
+
+    fn reach(&self) -> R {
+        self.0
+    }
+
+    fn run<PA, KA, PB, KB>(self, run: Run<'_, 'm>, a: (PA, KA), b: (PB, KB)) -> (Option<Stop>, bool)
+    where
+        PA: Placement<'m>,
+        KA: NodeVolumes<'m>,
+        PB: Placement<'m>,
+        KB: NodeVolumes<'m>,
+    {
+        match run.mode {
+            QueryMode::Budget(budget) => run.best_first(a, b, budget),
+            mode => {
+                debug_assert!(mode.reports_nodes());
+                run.run(a, b, Coarse)
+            }
+        }
+    }
 }
 
 /// A query of `a` and `b`, or of `a` against itself (`b` is `None`).
-fn run_query<'m, T: PairTest<'m>>(
+fn run_query<'m, W: Work<'m>>(
     (a, pose_a, lazy_a): QueryMesh<'m>,
     b_side: Option<QueryMesh<'m>>,
-    test: T,
+    work: W,
     options: &QueryOptions,
     out: &mut Pairs,
 ) -> Result<QueryStats> {
@@ -57,6 +202,8 @@ fn run_query<'m, T: PairTest<'m>>(
     let (b, pose_b, lazy_b) = b_side.unwrap_or((a, None, None));
     debug_assert!(lazy_a.is_none() || pose_a.is_none());
     debug_assert!(lazy_b.is_none() || pose_b.is_none());
+    debug_assert!(W::LAZY || (lazy_a.is_none() && lazy_b.is_none()));
+    debug_assert!(W::POSED || (pose_a.is_none() && pose_b.is_none()));
     if options.mode == QueryMode::Budget(0) {
         return Err(Error::ZeroBudget);
     }
@@ -95,7 +242,10 @@ fn run_query<'m, T: PairTest<'m>>(
     } else {
         let run = Run {
             mode: options.mode,
-            test,
+            walk: Walk {
+                max_depth: options.mode.max_depth(),
+                own: work.reach().own(),
+            },
             check_domain: !(a.in_fast_range() && b.in_fast_range())
                 || pose_a.is_some()
                 || pose_b.is_some(),
@@ -112,20 +262,29 @@ fn run_query<'m, T: PairTest<'m>>(
             mesh: b,
             pose: pose_b.zip(place_b),
             lazy: lazy_b,
+            mixed: lazy_b.is_none() && a.volumes().kind() != b.volumes().kind(),
             run,
+            work,
         };
+        let side_a = |kind| work.reach().side_a(kind);
         match (pose_a.zip(place_a), lazy_a) {
             // One mesh: both sides are it, in place, with its own volumes.
-            _ if one_mesh => with_node_volumes!(a, |kind| b_side.run.run(
-                (Local { mesh: a }, test.side_a(kind)),
-                (Local { mesh: a }, kind)
-            )),
-            (None, Some(boxes)) => with_placement_b(
-                (Local { mesh: a }, test.side_a(LazyBoxVolumes { boxes })),
-                b_side,
+            _ if one_mesh => {
+                let SideB { run, work, .. } = b_side;
+                with_node_volumes!(a, |kind| work.run(
+                    run,
+                    (Local { mesh: a }, work.reach().side_a(kind)),
+                    (Local { mesh: a }, kind)
+                ))
+            }
+            (None, Some(boxes)) if W::LAZY => with_any_b(
+                (Local { mesh: a }, side_a(LazyBoxVolumes { boxes })),
+                SideB {
+                    mixed: false,
+                    ..b_side
+                },
             ),
-            (None, None) => with_volumes_a(Local { mesh: a }, b_side),
-            (Some((pose, (stretch, pad))), _) => with_volumes_a(
+            (Some((pose, (stretch, pad))), _) if W::POSED => with_volumes_a(
                 Posed {
                     mesh: a,
                     pose,
@@ -134,6 +293,7 @@ fn run_query<'m, T: PairTest<'m>>(
                 },
                 b_side,
             ),
+            _ => with_volumes_a(Local { mesh: a }, b_side),
         }
     };
     match stop {
@@ -183,9 +343,9 @@ fn widening(pose: &Pose, mesh: &Mesh, side: Side) -> Result<(f64, f64)> {
 
 /// The query once both sides are typed: the traversal and narrow phase the mode asks for, on
 /// the calling thread or shared out.
-struct Run<'q, T> {
+struct Run<'q, 'm> {
     mode: QueryMode,
-    test: T,
+    walk: Walk<'m>,
     check_domain: bool,
     /// Pairs to find before stopping.
     limit: usize,
@@ -205,22 +365,22 @@ struct Run<'q, T> {
 /// handing work out costs more than it saves.
 const PARALLEL_MIN_TRIANGLES: usize = 4096;
 
-impl<'m, T: PairTest<'m>> Run<'_, T> {
-    /// Runs the query; returns why it stopped early, if it did, and whether the pairs are
-    /// sorted already.
-    fn run<PA, KA, PB, KB>(self, a: (PA, KA), b: (PB, KB)) -> (Option<Stop>, bool)
+impl<'m> Run<'_, 'm> {
+    /// Runs the query, handing terminal pairs to `terminal`; returns why it stopped early, if it
+    /// did, and whether the pairs are sorted already.
+    fn run<PA, KA, PB, KB, N>(self, a: (PA, KA), b: (PB, KB), terminal: N) -> (Option<Stop>, bool)
     where
         PA: Placement<'m>,
         KA: NodeVolumes<'m>,
         PB: Placement<'m>,
         KB: NodeVolumes<'m>,
+        N: Terminal<'m>,
     {
         let job = Job {
             a,
             b,
-            mode: self.mode,
-            test: self.test,
-            check_domain: self.check_domain,
+            walk: self.walk,
+            terminal,
             limit: self.limit,
         };
         let threads = self.threads;
@@ -235,7 +395,7 @@ impl<'m, T: PairTest<'m>> Run<'_, T> {
                 a_count: self.a_count,
                 b_count: self.b_count,
             };
-            return job.share_out(ws, threads, finish, self.stats);
+            return share_out(&job, ws, threads, finish, self.stats);
         }
         let w = &mut ws.workers[0];
         self.out.clear();
@@ -247,67 +407,122 @@ impl<'m, T: PairTest<'m>> Run<'_, T> {
         if let Some(stop) = job.begin(&mut w.a, &mut w.b) {
             return (Some(stop), false);
         }
-        if let QueryMode::Budget(budget) = self.mode {
-            let mut va = View::new(job.a, &mut w.a.world, &mut w.a.ring_boxes);
-            let mut vb = View::new(job.b, &mut w.b.world, &mut w.b.ring_boxes);
-            let own = job.test.own();
-            let mut narrow = NodePairs {
-                sink: &mut sink,
-                one_mesh: own.is_some(),
-            };
-            best_first(
-                &mut va,
-                &mut vb,
-                budget,
-                own,
-                &mut ws.queue,
-                self.stats,
-                &mut narrow,
-            );
-        } else {
-            w.stats = QueryStats::default();
-            job.traverse(w, None, &mut sink);
-            self.stats.add(&w.stats);
+        w.stats = QueryStats::default();
+        job.traverse(w, None, &mut sink);
+        self.stats.add(&w.stats);
+        (sink.stop, false)
+    }
+
+    /// Runs the query under a budget of volume tests ([`QueryMode::Budget`]), on the calling
+    /// thread, reporting node pairs.
+    fn best_first<PA, KA, PB, KB>(
+        self,
+        a: (PA, KA),
+        b: (PB, KB),
+        budget: u64,
+    ) -> (Option<Stop>, bool)
+    where
+        PA: Placement<'m>,
+        KA: NodeVolumes<'m>,
+        PB: Placement<'m>,
+        KB: NodeVolumes<'m>,
+    {
+        let job = Job {
+            a,
+            b,
+            walk: self.walk,
+            terminal: Coarse,
+            limit: self.limit,
+        };
+        let ws = self.workspace;
+        if ws.workers.is_empty() {
+            ws.workers.push(Worker::default());
         }
+        let w = &mut ws.workers[0];
+        self.out.clear();
+        let mut sink = Sink {
+            out: self.out,
+            limit: self.limit,
+            stop: None,
+        };
+        if let Some(stop) = job.begin(&mut w.a, &mut w.b) {
+            return (Some(stop), false);
+        }
+        let (mut va, mut vb) = job.views(&mut w.a, &mut w.b);
+        let own = self.walk.own;
+        let mut narrow = NodePairs {
+            sink: &mut sink,
+            one_mesh: own.is_some(),
+        };
+        best_first(
+            &mut va,
+            &mut vb,
+            budget,
+            own,
+            &mut ws.queue,
+            self.stats,
+            &mut narrow,
+        );
         (sink.stop, false)
     }
 }
 
 /// Mesh `b` of the query, not yet typed, and the query to run once it is.
-struct SideB<'m, 'q, T> {
+struct SideB<'m, 'q, W> {
     mesh: &'m Mesh,
     pose: Option<(&'m Pose, (f64, f64))>,
     lazy: Option<&'m LazyBoxes<'m>>,
-    run: Run<'q, T>,
+    /// Are the volumes of `a` and `b` (not lazy) of different kinds?
+    mixed: bool,
+    run: Run<'q, 'm>,
+    work: W,
 }
 
-/// Types side `a` by its volume kind (as the pair test reads it), then side `b`.
-fn with_volumes_a<'m, P: Placement<'m>, T: PairTest<'m>>(
+/// Types side `a` by its volume kind (as the query reads it: [`MixedVolumes`] when `b`'s kind
+/// differs), then side `b`.
+fn with_volumes_a<'m, P: Placement<'m>, W: Work<'m>>(
     place: P,
-    b: SideB<'m, '_, T>,
+    b: SideB<'m, '_, W>,
 ) -> (Option<Stop>, bool) {
-    let test = b.run.test;
-    with_node_volumes!(place.mesh(), |kind| with_placement_b(
-        (place, test.side_a(kind)),
-        b
+    let reach = b.work.reach();
+    let mesh = place.mesh();
+    if b.mixed {
+        let kind = MixedVolumes::of(mesh).expect("every kind is mixed");
+        return with_placement_b((place, reach.side_a(kind)), b, kind);
+    }
+    with_node_volumes!(mesh, |kind| with_placement_b(
+        (place, reach.side_a(kind)),
+        b,
+        kind
     ))
 }
 
-/// Types side `b` by its placement.
-fn with_placement_b<'m, PA: Placement<'m>, KA: NodeVolumes<'m>, T: PairTest<'m>>(
+/// Types side `b` by its placement; its volumes are of kind `K`, as side `a`'s, unless they are
+/// refit lazily.
+fn with_placement_b<'m, PA, KA, K, W>(
     a: (PA, KA),
-    b: SideB<'m, '_, T>,
-) -> (Option<Stop>, bool) {
+    b: SideB<'m, '_, W>,
+    _: K,
+) -> (Option<Stop>, bool)
+where
+    PA: Placement<'m>,
+    KA: NodeVolumes<'m>,
+    K: MeshVolumes<'m>,
+    W: Work<'m>,
+{
     let SideB {
         mesh,
         pose,
         lazy,
         run,
+        work,
+        ..
     } = b;
     match (pose, lazy) {
-        (None, Some(boxes)) => run.run(a, (Local { mesh }, LazyBoxVolumes { boxes })),
-        (None, None) => with_volumes_b(a, Local { mesh }, run),
-        (Some((pose, (stretch, pad))), _) => with_volumes_b(
+        (None, Some(boxes)) if W::LAZY => {
+            work.run(run, a, (Local { mesh }, LazyBoxVolumes { boxes }))
+        }
+        (Some((pose, (stretch, pad))), _) if W::POSED => with_volumes_b::<_, _, _, K, _>(
             a,
             Posed {
                 mesh,
@@ -316,15 +531,36 @@ fn with_placement_b<'m, PA: Placement<'m>, KA: NodeVolumes<'m>, T: PairTest<'m>>
                 pad,
             },
             run,
+            work,
         ),
+        _ => with_volumes_b::<_, _, _, K, _>(a, Local { mesh }, run, work),
     }
 }
 
-/// Types side `b` by its volume kind and runs the query.
-fn with_volumes_b<'m, PA: Placement<'m>, KA: NodeVolumes<'m>, P: Placement<'m>, T: PairTest<'m>>(
+/// Types side `b` by its volume kind, `K`, and runs the query.
+fn with_volumes_b<'m, PA, KA, P, K, W>(
     a: (PA, KA),
     place: P,
-    run: Run<'_, T>,
+    run: Run<'_, 'm>,
+    work: W,
+) -> (Option<Stop>, bool)
+where
+    PA: Placement<'m>,
+    KA: NodeVolumes<'m>,
+    P: Placement<'m>,
+    K: MeshVolumes<'m>,
+    W: Work<'m>,
+{
+    let kind = K::of(place.mesh()).expect("side b's volumes are of side a's kind");
+    work.run(run, a, (place, kind))
+}
+
+/// Types side `b` of a query whose side `a` is refit lazily: by its placement, then its volume
+/// kind, whichever it is.
+fn with_any_b<'m, PA: Placement<'m>, KA: NodeVolumes<'m>, W: Work<'m>>(
+    a: (PA, KA),
+    b: SideB<'m, '_, W>,
 ) -> (Option<Stop>, bool) {
-    with_node_volumes!(place.mesh(), |kind| run.run(a, (place, kind)))
+    let mesh = b.mesh;
+    with_node_volumes!(mesh, |kind| with_placement_b(a, b, kind))
 }

@@ -3,7 +3,10 @@
 //!
 //! A side is a placement (the mesh's own coordinates, or moved by a pose) times a volume kind
 //! (vertex-centred spheres, free spheres, boxes). Both are static types, so the traversal is
-//! compiled once per combination with every volume test inlined.
+//! compiled once per combination with every volume test inlined. Two meshes of different kinds
+//! meet through [`MixedVolumes`], which decides the kind per volume at run time: such queries
+//! are rare, and typing them too would compile the traversal for six more pairs of kinds per
+//! pair of placements (most of the library's build time).
 
 use super::workspace::Stamped;
 use crate::geometry::aabb::Aabb;
@@ -12,7 +15,7 @@ use crate::geometry::predicates::Point;
 use crate::geometry::sphere::Sphere;
 use crate::mesh::Mesh;
 use crate::tree::Node;
-use crate::volume::LazyBoxes;
+use crate::volume::{LazyBoxes, Volumes};
 
 /// A bounding volume in the query frame: what the traversal tests and compares.
 pub(crate) trait Volume: Copy {
@@ -325,6 +328,134 @@ impl<'m, K: NodeVolumes<'m>> NodeVolumes<'m> for Widened<K> {
     #[inline(always)]
     fn volume<P: Placement<'m>>(&self, place: &P, world: &mut Stamped<Point>, n: u32) -> K::Volume {
         self.kind.volume(place, world, n).widened(self.d)
+    }
+}
+
+/// A volume kind that the volumes of a mesh may have, typed.
+pub(crate) trait MeshVolumes<'m>: NodeVolumes<'m> {
+    /// `mesh`'s volumes, when they are of this kind.
+    fn of(mesh: &'m Mesh) -> Option<Self>;
+}
+
+impl<'m> MeshVolumes<'m> for VertexSpheres<'m> {
+    fn of(mesh: &'m Mesh) -> Option<Self> {
+        match mesh.volumes() {
+            Volumes::Dvh {
+                centre_vertex,
+                spheres,
+            } => Some(VertexSpheres {
+                centre_vertex,
+                spheres,
+            }),
+            _ => None,
+        }
+    }
+}
+
+impl<'m> MeshVolumes<'m> for FreeSpheres<'m> {
+    fn of(mesh: &'m Mesh) -> Option<Self> {
+        match mesh.volumes() {
+            Volumes::Sbv { spheres, .. } => Some(FreeSpheres { spheres }),
+            _ => None,
+        }
+    }
+}
+
+impl<'m> MeshVolumes<'m> for Boxes<'m> {
+    fn of(mesh: &'m Mesh) -> Option<Self> {
+        match mesh.volumes() {
+            Volumes::Aabb { boxes } => Some(Boxes { boxes }),
+            _ => None,
+        }
+    }
+}
+
+/// The volumes of either mesh of a query whose two meshes have volumes of different kinds: the
+/// kind is decided per volume at run time (a predictable branch), so that one traversal serves
+/// every such pair of kinds.
+#[derive(Clone, Copy)]
+pub(crate) enum MixedVolumes<'m> {
+    Vertex(VertexSpheres<'m>),
+    Free(FreeSpheres<'m>),
+    Boxes(Boxes<'m>),
+}
+
+/// A volume of [`MixedVolumes`].
+#[derive(Clone, Copy)]
+pub(crate) enum MixedVolume {
+    Sphere(Sphere),
+    Box(Aabb),
+}
+
+impl Volume for MixedVolume {
+    #[inline(always)]
+    fn size_squared(&self) -> f64 {
+        match self {
+            MixedVolume::Sphere(s) => s.size_squared(),
+            MixedVolume::Box(b) => b.size_squared(),
+        }
+    }
+
+    #[inline(always)]
+    fn meets_sphere(&self, s: &Sphere) -> bool {
+        match self {
+            MixedVolume::Sphere(x) => x.meets_sphere(s),
+            MixedVolume::Box(b) => b.meets_sphere(s),
+        }
+    }
+
+    #[inline(always)]
+    fn meets_box(&self, other: &Aabb) -> bool {
+        match self {
+            MixedVolume::Sphere(s) => s.meets_box(other),
+            MixedVolume::Box(b) => b.meets_box(other),
+        }
+    }
+
+    #[inline(always)]
+    fn overlaps<V: Volume>(&self, other: &V) -> bool {
+        match self {
+            MixedVolume::Sphere(s) => s.overlaps(other),
+            MixedVolume::Box(b) => b.overlaps(other),
+        }
+    }
+
+    #[inline(always)]
+    fn widened(&self, d: f64) -> MixedVolume {
+        match self {
+            MixedVolume::Sphere(s) => MixedVolume::Sphere(s.widened(d)),
+            MixedVolume::Box(b) => MixedVolume::Box(Volume::widened(b, d)),
+        }
+    }
+}
+
+impl<'m> NodeVolumes<'m> for MixedVolumes<'m> {
+    type Volume = MixedVolume;
+    // A ring's box is computed from its vertices even where the leaf's box is it: the same box.
+    const LEAF_IS_RING_BOX: bool = false;
+
+    #[inline(always)]
+    fn volume<P: Placement<'m>>(
+        &self,
+        place: &P,
+        world: &mut Stamped<Point>,
+        n: u32,
+    ) -> MixedVolume {
+        match self {
+            MixedVolumes::Vertex(k) => MixedVolume::Sphere(k.volume(place, world, n)),
+            MixedVolumes::Free(k) => MixedVolume::Sphere(k.volume(place, world, n)),
+            MixedVolumes::Boxes(k) => MixedVolume::Box(k.volume(place, world, n)),
+        }
+    }
+}
+
+impl<'m> MeshVolumes<'m> for MixedVolumes<'m> {
+    fn of(mesh: &'m Mesh) -> Option<Self> {
+        Some(match mesh.volumes() {
+            Volumes::Dvh { .. } => MixedVolumes::Vertex(VertexSpheres::of(mesh)?),
+            Volumes::Sbv { .. } => MixedVolumes::Free(FreeSpheres::of(mesh)?),
+            Volumes::Aabb { .. } => MixedVolumes::Boxes(Boxes::of(mesh)?),
+        })
     }
 }
 

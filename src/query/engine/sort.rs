@@ -85,21 +85,21 @@ fn bucket_sort(
 /// last the end; offsets counted from `base`) into `v`, sharing them among `threads` threads.
 /// `gather(k, into)`, when given, first fills bucket `k`'s run of `scratch` (numbered from the
 /// first of `starts`) with its pairs.
-fn sort_buckets<G: Fn(usize, &mut [Pair]) + Sync>(
+fn sort_buckets(
     v: &mut [Pair],
     scratch: &mut [Pair],
     starts: &[u32],
     base: usize,
     threads: usize,
     plan: Plan,
-    gather: &G,
+    gather: &Gather,
 ) {
     sort_buckets_from(v, scratch, starts, 0, base, threads, plan, gather)
 }
 
 /// [`sort_buckets`] for the buckets numbered from `first`.
 #[allow(clippy::too_many_arguments)]
-fn sort_buckets_from<G: Fn(usize, &mut [Pair]) + Sync>(
+fn sort_buckets_from(
     v: &mut [Pair],
     scratch: &mut [Pair],
     starts: &[u32],
@@ -107,7 +107,7 @@ fn sort_buckets_from<G: Fn(usize, &mut [Pair]) + Sync>(
     base: usize,
     threads: usize,
     plan: Plan,
-    gather: &G,
+    gather: &Gather,
 ) {
     let buckets = starts.len() - 1;
     if threads < 2 || buckets < 2 {
@@ -142,6 +142,14 @@ fn sort_buckets_from<G: Fn(usize, &mut [Pair]) + Sync>(
         },
     );
 }
+
+/// Fills bucket `k`'s run of the scratch space with its pairs. Behind a reference to a trait
+/// object, as [`Part`] is, so that the sort is compiled once rather than for each query type
+/// whose threads call it; it is called once per bucket.
+type Gather<'g> = dyn Fn(usize, &mut [Pair]) + Sync + 'g;
+
+/// Thread `w`'s bucketed pairs and where each bucket starts.
+pub(crate) type Part<'p> = dyn Fn(usize) -> (&'p [Pair], &'p [u32]) + Sync + 'p;
 
 /// Makes `v` `n` long for overwriting every entry: what it holds is left (filling it would be
 /// a pass over memory for nothing).
@@ -200,19 +208,16 @@ pub(crate) fn bucket_part(
 /// bucket gathered from every part, then sorted in cache. `scratch` and `starts` are reused.
 /// `out`'s contents are replaced. Fallible: false when memory ran out.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn sort_parts<'p, P>(
+pub(crate) fn sort_parts<'p>(
     parts: usize,
-    part: &P,
+    part: &Part<'p>,
     buckets: usize,
     b_count: u64,
     out: &mut Vec<Pair>,
     scratch: &mut Vec<Pair>,
     starts: &mut Vec<u32>,
     threads: usize,
-) -> bool
-where
-    P: Fn(usize) -> (&'p [Pair], &'p [u32]) + Sync,
-{
+) -> bool {
     let total: usize = (0..parts).map(|w| part(w).0.len()).sum();
     if out.try_reserve(total.saturating_sub(out.len())).is_err()
         || scratch

@@ -11,7 +11,7 @@ use crate::geometry::nearest::{decide_within, values};
 use crate::geometry::pose::Pose;
 use crate::geometry::predicates::Point;
 use crate::mesh::Mesh;
-use crate::query::engine::{query, query_one};
+use crate::query::engine::node_pairs;
 use crate::query::options::{QueryMode, QueryOptions};
 use crate::query::pairs::QueryStats;
 use crate::query::primitives::{self, ImpactKind, Key, Narrow, Owners, PrimitiveTest, Side};
@@ -227,17 +227,14 @@ fn run(
         d: distance,
         one_mesh,
     };
-    let broad = if one_mesh {
-        query_one(a, near, &broad_options, &mut out.nodes)?
-    } else {
-        query(
-            (a, pose_a, None),
-            (b, pose_b, None),
-            near,
-            &broad_options,
-            &mut out.nodes,
-        )?
-    };
+    let other = (!one_mesh).then_some((b, pose_b, None));
+    let broad = node_pairs(
+        (a, pose_a, None),
+        other,
+        near,
+        &broad_options,
+        &mut out.nodes,
+    )?;
     let mut limit = options.max_pairs.unwrap_or(usize::MAX);
     if options.mode == QueryMode::FirstHit {
         limit = limit.min(1);
