@@ -34,7 +34,7 @@
 //! assert_eq!(orient3d(&floor[0], &floor[1], &floor[2], &[0.2, 0.2, -1.0]), 1);
 //! ```
 
-use crate::geometry::ccd::exact::Primitive;
+use crate::geometry::Primitive;
 use crate::geometry::ccd::{CcdMode, time_of_impact};
 use crate::geometry::nearest;
 use crate::geometry::{distance, predicates, tri_tri};

@@ -2,7 +2,7 @@
 //! objects among them are refit, and the pairs are queried on the threads allowed, their
 //! contacts merged in order.
 
-use super::{Apart, Motion, Object, Scene, volume_box};
+use super::{Apart, Body, Object, Scene, volume_box};
 use crate::error::{Error, Result};
 use crate::geometry::aabb::Aabb;
 use crate::mesh::Mesh;
@@ -250,7 +250,7 @@ impl Scene {
             let result = self.query_pairs(&candidates, &lazy, options, out, &mut stats);
             drop(lazy);
             for o in self.objects.iter_mut().flatten() {
-                if let Motion::Deformable { fresh } = &mut o.motion {
+                if let Body::Deformable { fresh } = &mut o.body {
                     stats.nodes_refit += fresh.take_nodes();
                     fresh.settle();
                 }
@@ -295,9 +295,9 @@ impl Scene {
             .iter_mut()
             .enumerate()
             .filter_map(|(id, o)| o.as_mut().filter(|_| needed(id)))
-            .filter(|o| match &o.motion {
-                Motion::Deformable { fresh } => !(fresh.is_current() || lazy && fresh.is_partial()),
-                Motion::Rigid { .. } => false,
+            .filter(|o| match &o.body {
+                Body::Deformable { fresh } => !(fresh.is_current() || lazy && fresh.is_partial()),
+                Body::Rigid { .. } => false,
             })
             .collect();
         let workers = threads::resolve(threads).min(stale.len()).max(1);
@@ -316,7 +316,7 @@ impl Scene {
             &mut shares,
             &|share: &mut Share, _| {
                 for o in &mut share.objects {
-                    let Motion::Deformable { fresh } = &mut o.motion else {
+                    let Body::Deformable { fresh } = &mut o.body else {
                         unreachable!("only deformable objects are refit");
                     };
                     let mesh = Arc::make_mut(&mut o.mesh);
@@ -339,8 +339,8 @@ impl Scene {
             .zip(needed)
             .map(|(o, &needed)| {
                 let o = o.as_mut().filter(|_| needed)?;
-                match &o.motion {
-                    Motion::Deformable { fresh } if fresh.is_partial() => {}
+                match &o.body {
+                    Body::Deformable { fresh } if fresh.is_partial() => {}
                     _ => return None,
                 }
                 Arc::make_mut(&mut o.mesh)
@@ -363,7 +363,7 @@ impl Scene {
             .zip(boxes)
             .map(|(o, &b)| {
                 let (o, b) = (o.as_ref()?, b?);
-                let Motion::Deformable { fresh } = &o.motion else {
+                let Body::Deformable { fresh } = &o.body else {
                     return None;
                 };
                 let mesh: &Mesh = &o.mesh;

@@ -23,9 +23,10 @@ use broad::SweepAndPrune;
 use std::collections::{HashMap, HashSet};
 use std::sync::{Arc, Weak};
 
-/// How an object moves.
+/// What an object is: a rigid body placed by a pose, or a deformable one with positions of its
+/// own.
 #[derive(Clone, Debug)]
-enum Motion {
+enum Body {
     /// Its mesh's positions at the time it was added, as local coordinates, placed by a pose;
     /// never refit. `local` bounds those positions.
     Rigid { pose: Pose, local: LocalBounds },
@@ -39,7 +40,7 @@ enum Motion {
 struct Object {
     /// Shared by the rigid objects made from one state of one mesh; a deformable object's own.
     mesh: Arc<Mesh>,
-    motion: Motion,
+    body: Body,
     group: u32,
     mask: u32,
     /// Changes whenever the object's geometry or pose does (drawn from [`Scene::stamps`], so an
@@ -50,9 +51,9 @@ struct Object {
 impl Object {
     /// The pose to query the object with (`None` for world coordinates).
     fn pose(&self) -> Option<&Pose> {
-        match &self.motion {
-            Motion::Rigid { pose, .. } => Some(pose),
-            Motion::Deformable { .. } => None,
+        match &self.body {
+            Body::Rigid { pose, .. } => Some(pose),
+            Body::Deformable { .. } => None,
         }
     }
 }
@@ -172,7 +173,7 @@ impl Scene {
         Ok(self.insert(
             Object {
                 mesh,
-                motion: Motion::Rigid { pose, local },
+                body: Body::Rigid { pose, local },
                 group,
                 mask,
                 stamp: 0,
@@ -193,7 +194,7 @@ impl Scene {
         Ok(self.insert(
             Object {
                 mesh: Arc::new(mesh.clone()),
-                motion: Motion::Deformable {
+                body: Body::Deformable {
                     fresh: Freshness::current(),
                 },
                 group,
@@ -270,7 +271,7 @@ impl Scene {
     pub fn is_rigid(&self, id: u32) -> Option<bool> {
         self.object(id)
             .ok()
-            .map(|o| matches!(o.motion, Motion::Rigid { .. }))
+            .map(|o| matches!(o.body, Body::Rigid { .. }))
     }
 
     /// Places rigid object `id` by `pose` (`None`: the identity).
@@ -282,7 +283,7 @@ impl Scene {
         let stamp = self.stamps + 1;
         let object = self.object_mut(id)?;
         let max_abs = object.mesh.max_abs_coordinate();
-        let Motion::Rigid { pose, local } = &mut object.motion else {
+        let Body::Rigid { pose, local } = &mut object.body else {
             return Err(Error::WrongObjectKind {
                 object: id,
                 rigid: false,
@@ -328,7 +329,7 @@ impl Scene {
     ) -> Result<()> {
         let stamp = self.stamps + 1;
         let object = self.object_mut(id)?;
-        let Motion::Deformable { fresh } = &mut object.motion else {
+        let Body::Deformable { fresh } = &mut object.body else {
             return Err(Error::WrongObjectKind {
                 object: id,
                 rigid: true,

@@ -596,7 +596,7 @@ fn rigid_objects_share_their_copy() {
 /// `eager` computes; returns how many there are.
 fn check_current_boxes(scene: &Scene, id: u32, eager: &Mesh) -> usize {
     let o = scene.objects[id as usize].as_ref().unwrap();
-    let Motion::Deformable { fresh } = &o.motion else {
+    let Body::Deformable { fresh } = &o.body else {
         panic!("object {id} is rigid");
     };
     let (Volumes::Aabb { boxes }, Volumes::Aabb { boxes: want }) =

@@ -9,7 +9,7 @@ use super::condition::{
     GROUPS, Moving, Ring, Signs, Tri, build_group, coplanarity, group_holds, group_range, moving,
     projection_normals,
 };
-use super::exact::Primitive;
+use crate::geometry::Primitive;
 use crate::geometry::interval::Interval;
 use crate::geometry::predicates::Point;
 
@@ -223,7 +223,7 @@ impl Lazy {
     }
 }
 
-/// The floating-point path of [`super::exact::time_of_impact`]. Time spans that start after
+/// The floating-point path of [`super::filtered::time_of_impact`]. Time spans that start after
 /// `until` are not searched: what it answers about a contact after `until` is only that none
 /// comes earlier.
 pub(crate) fn time_of_impact(

@@ -1,11 +1,12 @@
 //! Continuous collision of linearly moving points, triangles and segments, decided exactly.
 
 pub(crate) mod condition;
-pub(crate) mod exact;
+pub(crate) mod filtered;
 pub(crate) mod interval;
 #[cfg(test)]
 pub(crate) mod oracle;
 pub(crate) mod poly;
+pub(crate) mod rational;
 pub(crate) mod scaled;
 
 /// How a continuous test decides: exactly, or in floating point only.
@@ -28,14 +29,14 @@ pub enum CcdMode {
 /// when it is at most `until`; `None` otherwise. Times after `until` are not searched, so a
 /// caller that wants only the earliest contact of many tests passes the earliest found so far.
 pub(crate) fn time_of_impact(
-    kind: exact::Primitive,
+    kind: crate::geometry::Primitive,
     start: &[crate::geometry::predicates::Point; 4],
     end: &[crate::geometry::predicates::Point; 4],
     mode: CcdMode,
     until: f64,
 ) -> Option<f64> {
     match mode {
-        CcdMode::Exact => exact::time_of_impact(kind, start, end, until),
-        CcdMode::Conservative => exact::conservative_time_of_impact(kind, start, end, until),
+        CcdMode::Exact => filtered::time_of_impact(kind, start, end, until),
+        CcdMode::Conservative => filtered::conservative_time_of_impact(kind, start, end, until),
     }
 }

@@ -6,10 +6,10 @@
 //! root of one of them. Every such candidate is tried, in increasing order.
 
 use super::condition::{Moving, edge_edge, moving, vertex_face};
-use super::exact::earliest_of_every_candidate;
 use super::poly::Poly;
 #[cfg(test)]
 use super::poly::floor_f64;
+use super::rational::earliest_of_every_candidate;
 #[cfg(test)]
 use num_rational::BigRational;
 

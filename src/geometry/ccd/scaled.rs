@@ -3,7 +3,7 @@
 //! and the determinant are integers (no fractions to reduce, unlike rationals). Used to round
 //! a contact time that the interval path has enclosed to a few doubles.
 
-use super::exact::Primitive;
+use crate::geometry::Primitive;
 use crate::geometry::predicates::Point;
 use num_bigint::BigInt;
 use num_traits::Signed;

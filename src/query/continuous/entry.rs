@@ -4,7 +4,7 @@
 //! thread count).
 
 use super::impacts::{CcdOptions, CcdStats, Impact, Impacts};
-use super::narrow::{Motion, Sweeps};
+use super::sweeps::{Sweeps, VertexPaths};
 use crate::error::Result;
 use crate::mesh::Mesh;
 use crate::query::engine::{NodeVolumes, OneMesh, Reach, leaf_pairs};
@@ -32,7 +32,7 @@ pub fn continuous_collide(
     options: &CcdOptions,
     out: &mut Impacts,
 ) -> Result<CcdStats> {
-    run(a, Some(b), options, out)
+    impacts(a, Some(b), options, out)
 }
 
 /// Every pair of one mesh's primitives that meets during its last motion, with the earliest
@@ -44,17 +44,17 @@ pub fn self_continuous_collide(
     options: &CcdOptions,
     out: &mut Impacts,
 ) -> Result<CcdStats> {
-    run(mesh, None, options, out)
+    impacts(mesh, None, options, out)
 }
 
 /// The traversal over the motion: leaf pairs whose volumes overlap (the volumes of a moving
 /// mesh hold its whole motion).
 #[derive(Clone, Copy)]
-struct Motions {
+struct SweptVolumes {
     one_mesh: bool,
 }
 
-impl<'m> Reach<'m> for Motions {
+impl<'m> Reach<'m> for SweptVolumes {
     type SideA<K: NodeVolumes<'m>> = K;
 
     fn side_a<K: NodeVolumes<'m>>(&self, kind: K) -> K {
@@ -68,10 +68,16 @@ impl<'m> Reach<'m> for Motions {
     }
 }
 
-fn run(a: &Mesh, b: Option<&Mesh>, options: &CcdOptions, out: &mut Impacts) -> Result<CcdStats> {
+/// [`continuous_collide`] of `a` and `b`, or [`self_continuous_collide`] of `a` (`b` is `None`).
+fn impacts(
+    a: &Mesh,
+    b: Option<&Mesh>,
+    options: &CcdOptions,
+    out: &mut Impacts,
+) -> Result<CcdStats> {
     let one_mesh = b.is_none();
     let b = b.unwrap_or(a);
-    let test = Motions { one_mesh };
+    let test = SweptVolumes { one_mesh };
     let broad = leaf_pairs(
         a,
         (!one_mesh).then_some(b),
@@ -107,14 +113,14 @@ fn run(a: &Mesh, b: Option<&Mesh>, options: &CcdOptions, out: &mut Impacts) -> R
         b: Owners::new(b),
         one_mesh,
         test: Sweeps {
-            a: Motion::new(a),
-            b: Motion::new(b),
+            a: VertexPaths::new(a),
+            b: VertexPaths::new(b),
             mode: options.mode,
             earliest_only: options.earliest_only,
             best: &best,
         },
     };
-    let joined = primitives::run(
+    let joined = primitives::test_leaf_pairs(
         &narrow,
         leaves,
         options.threads,

@@ -3,7 +3,7 @@
 
 mod entry;
 mod impacts;
-mod narrow;
+mod sweeps;
 
 pub use entry::{continuous_collide, self_continuous_collide};
 pub use impacts::{CcdOptions, CcdStats, Impact, ImpactKind, Impacts};

@@ -5,10 +5,10 @@
 //! single-threaded traversal reports, in its order, so a pair limit cuts them at the same pair
 //! and the sorted answer is identical.
 
-use super::narrow::{Scratch, Terminal};
 use super::side::{NodeVolumes, Placement, View};
 use super::sink::{Sink, Stop};
 use super::sort;
+use super::terminal::{Scratch, Terminal};
 use super::traverse::{Walk, split};
 use super::workspace::{SideSpace, Worker, Workspace};
 use crate::query::pairs::{Pair, QueryStats};

@@ -58,7 +58,7 @@ pub fn nearest_features(
     options: &QueryOptions,
     out: &mut NearPairs,
 ) -> Result<QueryStats> {
-    run(a, pose_a, Some((b, pose_b)), distance, options, out)
+    stencils(a, pose_a, Some((b, pose_b)), distance, options, out)
 }
 
 /// The stencils of one mesh with itself: every vertex against every triangle that does not
@@ -71,7 +71,7 @@ pub fn self_nearest_features(
     options: &QueryOptions,
     out: &mut NearPairs,
 ) -> Result<QueryStats> {
-    run(mesh, None, None, distance, options, out)
+    stencils(mesh, None, None, distance, options, out)
 }
 
 /// Below this many stencils, their values are computed on the calling thread.
@@ -206,7 +206,8 @@ fn placed<'p>(mesh: &'p Mesh, pose: Option<&Pose>, buf: &'p mut Vec<Point>) -> &
     }
 }
 
-fn run(
+/// [`nearest_features`] of `a` and `b`, or [`self_nearest_features`] of `a` (`b` is `None`).
+fn stencils(
     a: &Mesh,
     pose_a: Option<&Pose>,
     b: Option<(&Mesh, Option<&Pose>)>,
@@ -279,7 +280,7 @@ fn run(
         },
     };
     found.clear();
-    let joined = primitives::run(
+    let joined = primitives::test_leaf_pairs(
         &narrow,
         nodes.as_slice(),
         options.threads,

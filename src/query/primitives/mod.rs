@@ -7,9 +7,12 @@
 
 mod boxes;
 mod kind;
-mod narrow;
-mod run;
+mod leaf_pairs;
+mod node_pair;
+mod primitive_test;
+mod subsets;
 
 pub use kind::ImpactKind;
-pub(crate) use narrow::{Key, Narrow, Owners, PrimitiveTest, Side, Worker};
-pub(crate) use run::{Workspace, run};
+pub(crate) use leaf_pairs::{Workspace, test_leaf_pairs};
+pub(crate) use node_pair::Narrow;
+pub(crate) use primitive_test::{Key, Owners, PrimitiveTest, Side, Worker};

@@ -19,17 +19,15 @@
 //!    increasing order against the whole [`Condition`]; when the motion is coplanar throughout,
 //!    every root of every polynomial of the condition is a candidate (as the oracle does).
 
-use super::condition::{
-    Condition, GROUPS, Moving, Signs, Tri, edge_edge, group_holds, group_range, vertex_face,
-};
+use super::condition::{Moving, edge_edge, vertex_face};
 use super::interval::{self, Answer};
-use super::poly::{self, Poly, Root, one};
+use super::poly::Poly;
+use super::rational::earliest;
 use super::scaled;
-pub(crate) use crate::geometry::Primitive;
+use crate::geometry::Primitive;
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::{Point, orient3d};
 use crate::geometry::tri_tri::triangles_intersect;
-use num_rational::BigRational;
 
 /// The earliest time in [0, 1] at which the primitives meet, rounded down to a double, or
 /// `None`. `start` and `end` hold the four points: the vertex and the triangle's corners, or
@@ -232,72 +230,6 @@ fn coplanar_times(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> Copl
         return Coplanar::OnlyAtEnd;
     }
     Coplanar::Maybe
-}
-
-/// The earliest time at or after `from` (before which there is no contact) at which the
-/// condition holds, trying the coplanarity polynomial's roots (or, when it vanishes
-/// identically, every polynomial's) in increasing order.
-fn earliest(c: &Condition<Poly>, from: f64) -> Option<f64> {
-    let f = &c.polys[0];
-    let from = poly::rational(from);
-    if f.is_zero() {
-        return earliest_of_every_candidate(c, &from);
-    }
-    first_holding(c, f.roots_in(&from, &one()))
-}
-
-/// The earliest time at or after `from` at which the condition holds, trying `from` and every
-/// root of every polynomial: the contact times form a closed set whose truth changes only at
-/// such roots. (With `from` = 0, the oracle.)
-pub(crate) fn earliest_of_every_candidate(c: &Condition<Poly>, from: &BigRational) -> Option<f64> {
-    let at_from: Vec<Signs> = c
-        .polys
-        .iter()
-        .map(|p| Signs::exact(p.sign_at(from)))
-        .collect();
-    if c.holds(&at_from) == Tri::Yes {
-        return Some(poly::floor_f64(from));
-    }
-    let one = one();
-    let candidates = c
-        .polys
-        .iter()
-        .filter(|p| !p.is_zero())
-        .flat_map(|p| p.roots_in(from, &one))
-        .collect();
-    first_holding(c, candidates)
-}
-
-/// The earliest of the candidate times at which the condition holds, rounded down. Signs are
-/// found one polynomial at a time, group by group in the order of [`GROUPS`], the others left
-/// open, and a candidate is dropped as soon as the signs known rule contact out.
-pub(crate) fn first_holding(c: &Condition<Poly>, mut candidates: Vec<Root>) -> Option<f64> {
-    candidates.sort_by(|a, b| a.cmp(b));
-    let open = Signs {
-        neg: true,
-        zero: true,
-        pos: true,
-    };
-    'roots: for mut r in candidates {
-        let mut signs = vec![open; c.polys.len()];
-        signs[0] = Signs::exact(r.sign_of(&c.polys[0]));
-        if signs[0] != Signs::exact(std::cmp::Ordering::Equal) {
-            continue;
-        }
-        for g in 0..GROUPS {
-            let range = group_range(c.edges, g);
-            for i in range.clone() {
-                signs[i] = Signs::exact(r.sign_of(&c.polys[i]));
-                if group_holds(c.edges, g, &signs[range.clone()]) == Tri::No {
-                    continue 'roots;
-                }
-            }
-        }
-        if c.holds(&signs) == Tri::Yes {
-            return Some(r.floor_f64());
-        }
-    }
-    None
 }
 
 #[cfg(test)]

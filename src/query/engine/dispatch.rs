@@ -2,7 +2,7 @@
 //! both sides by placement and volume kind, runs the traversal with the narrow phase the mode
 //! asks for (on the calling thread or shared out), and sorts the result.
 
-use super::narrow::{Coarse, Exact, NodePairs, Reach, Terminal, TriangleTest};
+use super::pair_test::{Reach, TriangleTest};
 use super::parallel::{Finish, Job, share_out};
 use super::side::{
     LazyBoxVolumes, Local, MeshVolumes, MixedVolumes, NodeVolumes, Placement, Posed,
@@ -10,6 +10,7 @@ use super::side::{
 };
 use super::sink::{Sink, Stop};
 use super::sort::sort_pairs;
+use super::terminal::{Coarse, Exact, NodePairs, Terminal};
 use super::traverse::{Walk, best_first};
 use super::workspace::{Worker, Workspace};
 use crate::error::{Error, Result, Side};

@@ -3,7 +3,8 @@
 
 use super::ImpactKind;
 use super::boxes::OwnedBoxes;
-use super::narrow::{Key, Narrow, PrimitiveTest, Side, Tables, Worker};
+use super::node_pair::{Narrow, Tables};
+use super::primitive_test::{Key, PrimitiveTest, Side, Worker};
 use crate::error::{Error, Result};
 use crate::query::pairs::Pair;
 use crate::threads;
@@ -95,7 +96,7 @@ impl<F> Workspace<F> {
 /// sorted by `key` (unique per result).
 ///
 /// Errors: [`Error::OutOfMemory`] when a result cannot grow.
-pub(crate) fn run<T: PrimitiveTest>(
+pub(crate) fn test_leaf_pairs<T: PrimitiveTest>(
     narrow: &Narrow<T>,
     pairs: &[Pair],
     threads: u32,

@@ -10,16 +10,16 @@ use crate::mesh::Mesh;
 use crate::query::primitives::{Key, PrimitiveTest, Side, Worker};
 use std::sync::atomic::{AtomicU64, Ordering};
 
-/// One mesh's motion: where each vertex starts and ends.
+/// Where each vertex of a moving mesh starts and ends.
 #[derive(Clone, Copy)]
-pub(crate) struct Motion<'m> {
+pub(crate) struct VertexPaths<'m> {
     pub start: &'m [Point],
     pub end: &'m [Point],
 }
 
-impl<'m> Motion<'m> {
-    pub fn new(mesh: &'m Mesh) -> Motion<'m> {
-        Motion {
+impl<'m> VertexPaths<'m> {
+    pub fn new(mesh: &'m Mesh) -> VertexPaths<'m> {
+        VertexPaths {
             start: mesh.start_positions(),
             end: mesh.positions(),
         }
@@ -28,8 +28,8 @@ impl<'m> Motion<'m> {
 
 /// The continuous test, as every thread of a query shares it.
 pub(crate) struct Sweeps<'m, 'q> {
-    pub a: Motion<'m>,
-    pub b: Motion<'m>,
+    pub a: VertexPaths<'m>,
+    pub b: VertexPaths<'m>,
     pub mode: CcdMode,
     /// Keep only the earliest impact, and skip what cannot come before it.
     pub earliest_only: bool,
@@ -39,7 +39,7 @@ pub(crate) struct Sweeps<'m, 'q> {
 }
 
 impl Sweeps<'_, '_> {
-    fn side(&self, side: Side) -> &Motion<'_> {
+    fn side(&self, side: Side) -> &VertexPaths<'_> {
         match side {
             Side::A => &self.a,
             Side::B => &self.b,
