@@ -7,9 +7,10 @@ import time
 import numpy as np
 import pytest
 
-# The library's cut-offs below which work stays on the calling thread (src/query/engine/run.rs,
-# src/query/primitives/run.rs, src/query/nearest/entry.rs, src/query/engine/sort.rs,
-# src/volume/fit.rs): a comparison of thread counts tests threads only above them.
+# The library's cut-offs below which work stays on the calling thread
+# (src/query/engine/dispatch.rs, src/query/primitives/leaf_pairs.rs, src/query/nearest/entry.rs,
+# src/query/engine/sort.rs, src/volume/fit.rs): a comparison of thread counts tests threads only
+# above them.
 PARALLEL_MIN_TRIANGLES = 4096  # both meshes together
 PARALLEL_MIN_NODE_PAIRS = 256  # leaf pairs handed to the primitive tests
 PARALLEL_MIN_STENCIL_VALUES = 4096
