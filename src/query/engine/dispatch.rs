@@ -3,7 +3,7 @@
 //! asks for (on the calling thread or shared out), and sorts the result.
 
 use super::pair_test::{Reach, TriangleTest};
-use super::parallel::{Finish, Job, share_out};
+use super::parallel::{Descend, Finish, Job, share_out};
 use super::side::{
     LazyBoxVolumes, Local, MeshVolumes, MixedVolumes, NodeVolumes, Placement, Posed,
     with_node_volumes,
@@ -144,8 +144,7 @@ impl<'m, T: TriangleTest<'m>, const LAZY: bool> Work<'m> for AnyMode<T, LAZY> {
         KB: NodeVolumes<'m>,
     {
         match run.mode {
-            QueryMode::Budget(budget) => run.best_first(a, b, budget),
-            mode if mode.reports_nodes() => run.run(a, b, Coarse),
+            mode if mode.reports_nodes() => run.node_pairs(a, b),
             _ => {
                 let check_domain = run.check_domain;
                 run.run(
@@ -181,13 +180,8 @@ impl<'m, R: Reach<'m>, const POSED: bool> Work<'m> for NodesOf<R, POSED> {
         PB: Placement<'m>,
         KB: NodeVolumes<'m>,
     {
-        match run.mode {
-            QueryMode::Budget(budget) => run.best_first(a, b, budget),
-            mode => {
-                debug_assert!(mode.reports_nodes());
-                run.run(a, b, Coarse)
-            }
-        }
+        debug_assert!(run.mode.reports_nodes());
+        run.node_pairs(a, b)
     }
 }
 
@@ -412,6 +406,20 @@ impl<'m> Run<'_, 'm> {
         job.traverse(w, None, &mut sink);
         self.stats.add(&w.stats);
         (sink.stop, false)
+    }
+
+    /// Runs a query of a coarse mode: under its budget of volume tests, or to the end.
+    fn node_pairs<PA, KA, PB, KB>(self, a: (PA, KA), b: (PB, KB)) -> (Option<Stop>, bool)
+    where
+        PA: Placement<'m>,
+        KA: NodeVolumes<'m>,
+        PB: Placement<'m>,
+        KB: NodeVolumes<'m>,
+    {
+        match self.mode {
+            QueryMode::Budget(budget) => self.best_first(a, b, budget),
+            _ => self.run(a, b, Coarse),
+        }
     }
 
     /// Runs the query under a budget of volume tests ([`QueryMode::Budget`]), on the calling

@@ -38,16 +38,6 @@ where
     KB: NodeVolumes<'m>,
     N: Terminal<'m>,
 {
-    /// Starts a thread's caches on this query; out of memory if they cannot grow as needed.
-    pub fn begin(&self, a: &mut SideSpace, b: &mut SideSpace) -> Option<Stop> {
-        let (ma, mb) = (self.a.0.mesh(), self.b.0.mesh());
-        let longest = |m: &crate::Mesh| N::TRIANGLES.then_some(m.rings().longest);
-        a.begin(ma.vertex_count(), ma.ring_count(), longest(ma), !PA::LOCAL)
-            .and_then(|()| b.begin(mb.vertex_count(), mb.ring_count(), longest(mb), !PB::LOCAL))
-            .err()
-            .map(|bytes| Stop::OutOfMemory { bytes })
-    }
-
     /// Both sides seen through a thread's caches.
     pub fn views<'w>(
         &self,
@@ -58,26 +48,6 @@ where
             View::new(self.a, &mut a.world, &mut a.ring_boxes),
             View::new(self.b, &mut b.world, &mut b.ring_boxes),
         )
-    }
-
-    /// Every terminal pair from the roots (`None`) or below item `start`, to `sink`, counted in
-    /// the worker's counters. Not for [`crate::QueryMode::Budget`], which has a traversal of its
-    /// own.
-    pub fn traverse(&self, worker: &mut Worker, start: Option<(u32, u32)>, sink: &mut Sink) {
-        let Worker {
-            stack, a, b, stats, ..
-        } = worker;
-        let (mut va, mut vb) = (
-            View::new(self.a, &mut a.world, &mut a.ring_boxes),
-            View::new(self.b, &mut b.world, &mut b.ring_boxes),
-        );
-        let scratch = Scratch {
-            stack,
-            rings_a: &mut a.rings,
-            rings_b: &mut b.rings,
-        };
-        self.terminal
-            .descend(&mut va, &mut vb, start, &self.walk, scratch, stats, sink);
     }
 }
 
@@ -94,7 +64,12 @@ where
     }
 
     fn begin(&self, a: &mut SideSpace, b: &mut SideSpace) -> Option<Stop> {
-        Job::begin(self, a, b)
+        let (ma, mb) = (self.a.0.mesh(), self.b.0.mesh());
+        let longest = |m: &crate::Mesh| N::TRIANGLES.then_some(m.rings().longest);
+        a.begin(ma.vertex_count(), ma.ring_count(), longest(ma), !PA::LOCAL)
+            .and_then(|()| b.begin(mb.vertex_count(), mb.ring_count(), longest(mb), !PB::LOCAL))
+            .err()
+            .map(|bytes| Stop::OutOfMemory { bytes })
     }
 
     fn split(
@@ -112,7 +87,20 @@ where
     }
 
     fn traverse(&self, worker: &mut Worker, start: Option<(u32, u32)>, sink: &mut Sink) {
-        Job::traverse(self, worker, start, sink)
+        let Worker {
+            stack, a, b, stats, ..
+        } = worker;
+        let (mut va, mut vb) = (
+            View::new(self.a, &mut a.world, &mut a.ring_boxes),
+            View::new(self.b, &mut b.world, &mut b.ring_boxes),
+        );
+        let scratch = Scratch {
+            stack,
+            rings_a: &mut a.rings,
+            rings_b: &mut b.rings,
+        };
+        self.terminal
+            .descend(&mut va, &mut vb, start, &self.walk, scratch, stats, sink);
     }
 }
 
