@@ -1,10 +1,10 @@
 //! Continuous collision through the C ABI: the primitive tests, the motion refit, the queries
 //! of two meshes and of one, and their result buffer.
 
-use super::access::{read, write};
 use super::boundary::{
     Failure, choice, guard, guard_value, slice_from, times_three, write_unless_null,
 };
+use super::calls::{CallOptions, one_mesh, two_meshes};
 use super::mesh::refit_guarded;
 use super::results;
 use super::types::*;
@@ -26,31 +26,31 @@ pub extern "C" fn dvh_ccd_options_default() -> DvhCcdOptions {
     guard_value(DEFAULT, || DEFAULT)
 }
 
-/// The options behind `o`, or the defaults for NULL.
-///
-/// # Safety
-/// `o` is NULL or readable.
-unsafe fn ccd_options(o: *const DvhCcdOptions) -> Result<CcdOptions, Failure> {
-    // SAFETY: NULL or readable (contract).
-    let Some(o) = (unsafe { o.as_ref() }) else {
-        return Ok(CcdOptions::default());
-    };
-    let mode = choice(
-        "mode",
-        "DVH_CCD_MODE",
-        o.mode,
-        &[
-            (DVH_CCD_MODE_EXACT, CcdMode::Exact),
-            (DVH_CCD_MODE_CONSERVATIVE, CcdMode::Conservative),
-        ],
-    )?;
-    let max_impacts =
-        (o.max_impacts != 0).then(|| usize::try_from(o.max_impacts).unwrap_or(usize::MAX));
-    Ok(CcdOptions::default()
-        .with_mode(mode)
-        .with_threads(o.threads)
-        .with_max_impacts(max_impacts)
-        .with_earliest_only(o.earliest_only))
+impl CallOptions for DvhCcdOptions {
+    type Options = CcdOptions;
+
+    unsafe fn read_or_default(o: *const DvhCcdOptions) -> Result<CcdOptions, Failure> {
+        // SAFETY: NULL or readable (contract).
+        let Some(o) = (unsafe { o.as_ref() }) else {
+            return Ok(CcdOptions::default());
+        };
+        let mode = choice(
+            "mode",
+            "DVH_CCD_MODE",
+            o.mode,
+            &[
+                (DVH_CCD_MODE_EXACT, CcdMode::Exact),
+                (DVH_CCD_MODE_CONSERVATIVE, CcdMode::Conservative),
+            ],
+        )?;
+        let max_impacts =
+            (o.max_impacts != 0).then(|| usize::try_from(o.max_impacts).unwrap_or(usize::MAX));
+        Ok(CcdOptions::default()
+            .with_mode(mode)
+            .with_threads(o.threads)
+            .with_max_impacts(max_impacts)
+            .with_earliest_only(o.earliest_only))
+    }
 }
 
 /// A continuous primitive test of the Rust API.
@@ -83,7 +83,7 @@ unsafe fn primitive(
             }
         }
         // SAFETY: NULL or readable (contract).
-        let mode = unsafe { ccd_options(options) }?.mode;
+        let mode = unsafe { DvhCcdOptions::read_or_default(options) }?.mode;
         let points = |v: &[f64]| [0, 1, 2, 3].map(|i| [v[3 * i], v[3 * i + 1], v[3 * i + 2]]);
         let toi = test(&points(s), &points(e), mode)?;
         // SAFETY: non-NULL (checked) and writable (contract).
@@ -216,19 +216,19 @@ pub unsafe extern "C" fn dvh_continuous_collide(
     impacts_out: *mut DvhImpacts,
     stats_out: *mut DvhCcdStats,
 ) -> DvhStatus {
-    const CALL: &str = "dvh_continuous_collide";
-    guard(|| {
-        // SAFETY: NULL or live, read-only during the call (contract).
-        let (ma, mb) = unsafe { (read(a, "a", CALL)?, read(b, "b", CALL)?) };
-        // SAFETY: NULL or a live buffer used by this thread only (contract).
-        let mut out = unsafe { write(impacts_out, "impacts_out", CALL)? };
-        // SAFETY: NULL or readable (contract).
-        let o = unsafe { ccd_options(options) }?;
-        let s = continuous_collide(&ma, &mb, &o, &mut out)?;
-        // SAFETY: NULL or writable (contract).
-        unsafe { write_unless_null(stats_out, DvhCcdStats::from(&s)) };
-        Ok(())
-    })
+    // SAFETY: the caller's contract is this function's (no poses: NULL is the identity).
+    unsafe {
+        two_meshes(
+            (a, std::ptr::null()),
+            (b, std::ptr::null()),
+            options,
+            impacts_out,
+            "impacts_out",
+            stats_out,
+            "dvh_continuous_collide",
+            |ma, _, mb, _, o, out| continuous_collide(ma, mb, o, out),
+        )
+    }
 }
 
 /// Every pair of one mesh's primitives that meets during its last motion, with the earliest
@@ -251,19 +251,18 @@ pub unsafe extern "C" fn dvh_self_continuous_collide(
     impacts_out: *mut DvhImpacts,
     stats_out: *mut DvhCcdStats,
 ) -> DvhStatus {
-    const CALL: &str = "dvh_self_continuous_collide";
-    guard(|| {
-        // SAFETY: NULL or live, read-only during the call (contract).
-        let m = unsafe { read(mesh, "mesh", CALL) }?;
-        // SAFETY: NULL or a live buffer used by this thread only (contract).
-        let mut out = unsafe { write(impacts_out, "impacts_out", CALL)? };
-        // SAFETY: NULL or readable (contract).
-        let o = unsafe { ccd_options(options) }?;
-        let s = self_continuous_collide(&m, &o, &mut out)?;
-        // SAFETY: NULL or writable (contract).
-        unsafe { write_unless_null(stats_out, DvhCcdStats::from(&s)) };
-        Ok(())
-    })
+    // SAFETY: the caller's contract is this function's.
+    unsafe {
+        one_mesh(
+            mesh,
+            options,
+            impacts_out,
+            "impacts_out",
+            stats_out,
+            "dvh_self_continuous_collide",
+            self_continuous_collide,
+        )
+    }
 }
 
 /// A new, empty impact buffer, or NULL when memory ran out. Owned by the caller, released with

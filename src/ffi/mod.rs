@@ -10,6 +10,7 @@
 
 mod access;
 mod boundary;
+mod calls;
 mod ccd;
 mod mesh;
 mod nearest;

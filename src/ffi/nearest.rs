@@ -1,7 +1,7 @@
 //! Closest-point stencils through the C ABI: the queries of two meshes and of one, and their
 //! result buffer.
 
-use super::query::{one_mesh, two_meshes};
+use super::calls::{one_mesh, two_meshes};
 use super::results;
 use super::types::*;
 use crate::{nearest_features, self_nearest_features};

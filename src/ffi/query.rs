@@ -1,15 +1,12 @@
 //! Queries through the C ABI: result buffers, collide, self-collision, proximity, the exact
 //! triangle test.
 
-use super::access::{Handle, read, write};
-use super::boundary::{Failure, choice, guard, guard_value, slice_from, write_unless_null};
+use super::boundary::{Failure, choice, guard, guard_value, slice_from};
+use super::calls::{CallOptions, one_mesh, two_meshes};
 use super::results;
 use super::types::*;
 use crate::exact::triangles_intersect;
-use crate::{
-    Mesh, Pose, QueryMode, QueryOptions, QueryStats, collide, proximity, self_collide,
-    self_proximity,
-};
+use crate::{Pose, QueryMode, QueryOptions, collide, proximity, self_collide, self_proximity};
 
 /// The default query options: every intersecting triangle pair, no pair limit, every core (all
 /// fields zero).
@@ -173,88 +170,14 @@ pub unsafe extern "C" fn dvh_collide(
     }
 }
 
-/// The options behind `o`, or the defaults for NULL.
-///
-/// # Safety
-/// `o` is NULL or readable.
-pub(super) unsafe fn options_or_default(
-    o: *const DvhQueryOptions,
-) -> Result<QueryOptions, Failure> {
-    // SAFETY: NULL or readable (contract).
-    let o = unsafe { o.as_ref() };
-    Ok(o.map(query_options).transpose()?.unwrap_or_default())
-}
+impl CallOptions for DvhQueryOptions {
+    type Options = QueryOptions;
 
-/// A mesh and its pose, as the C arguments give them.
-pub(super) type Placed = (*const DvhMesh, *const DvhPose);
-
-/// A query between two meshes from C (entry point `call`): the meshes, poses and options read
-/// and checked, `query` run into `out` (argument `out_name`), its counters written to
-/// `stats_out` unless NULL.
-///
-/// # Safety
-/// As `dvh_collide`'s.
-#[allow(clippy::too_many_arguments)]
-pub(super) unsafe fn two_meshes<H: Handle>(
-    (a, pose_a): Placed,
-    (b, pose_b): Placed,
-    options: *const DvhQueryOptions,
-    out: *mut H,
-    out_name: &str,
-    stats_out: *mut DvhQueryStats,
-    call: &str,
-    query: impl FnOnce(
-        &Mesh,
-        Option<&Pose>,
-        &Mesh,
-        Option<&Pose>,
-        &QueryOptions,
-        &mut H::Inner,
-    ) -> crate::Result<QueryStats>,
-) -> DvhStatus {
-    guard(|| {
-        // SAFETY: NULL or live, read-only during the call (contract).
-        let (ma, mb) = unsafe { (read(a, "a", call)?, read(b, "b", call)?) };
-        // SAFETY: NULL or a live buffer used by this thread only (contract).
-        let mut out = unsafe { write(out, out_name, call)? };
+    unsafe fn read_or_default(o: *const DvhQueryOptions) -> Result<QueryOptions, Failure> {
         // SAFETY: NULL or readable (contract).
-        let (pa, pb) = unsafe { (pose_a.as_ref(), pose_b.as_ref()) };
-        let pa = pa.map(|p| pose(p, "pose_a")).transpose()?;
-        let pb = pb.map(|p| pose(p, "pose_b")).transpose()?;
-        // SAFETY: NULL or readable (contract).
-        let o = unsafe { options_or_default(options) }?;
-        let s = query(&ma, pa.as_ref(), &mb, pb.as_ref(), &o, &mut out)?;
-        // SAFETY: NULL or writable (contract).
-        unsafe { write_unless_null(stats_out, DvhQueryStats::from(&s)) };
-        Ok(())
-    })
-}
-
-/// A query of one mesh against itself from C (entry point `call`), as [`two_meshes`].
-///
-/// # Safety
-/// As `dvh_self_collide`'s.
-pub(super) unsafe fn one_mesh<H: Handle>(
-    mesh: *const DvhMesh,
-    options: *const DvhQueryOptions,
-    out: *mut H,
-    out_name: &str,
-    stats_out: *mut DvhQueryStats,
-    call: &str,
-    query: impl FnOnce(&Mesh, &QueryOptions, &mut H::Inner) -> crate::Result<QueryStats>,
-) -> DvhStatus {
-    guard(|| {
-        // SAFETY: NULL or live, read-only during the call (contract).
-        let m = unsafe { read(mesh, "mesh", call) }?;
-        // SAFETY: NULL or a live buffer used by this thread only (contract).
-        let mut out = unsafe { write(out, out_name, call)? };
-        // SAFETY: NULL or readable (contract).
-        let o = unsafe { options_or_default(options) }?;
-        let s = query(&m, &o, &mut out)?;
-        // SAFETY: NULL or writable (contract).
-        unsafe { write_unless_null(stats_out, DvhQueryStats::from(&s)) };
-        Ok(())
-    })
+        let o = unsafe { o.as_ref() };
+        Ok(o.map(query_options).transpose()?.unwrap_or_default())
+    }
 }
 
 /// The pairs `(a, b)`, `a < b`, of triangles of one mesh that intersect. Two triangles that

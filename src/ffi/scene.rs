@@ -4,8 +4,9 @@ use super::access::{SCENE_TAG, Write, read, release, write};
 use super::boundary::{
     Failure, guard, guard_value, slice_from, times_three, try_box, write_unless_null,
 };
+use super::calls::CallOptions;
 use super::mesh::StridedF32;
-use super::query::{options_or_default, pose};
+use super::query::pose;
 use super::results;
 use super::types::*;
 use crate::{Mesh, Pose, Scene};
@@ -339,7 +340,7 @@ pub unsafe extern "C" fn dvh_scene_collide(
         // SAFETY: NULL or a live buffer used by this thread only (contract).
         let mut out = unsafe { write(contacts_out, "contacts_out", "dvh_scene_collide")? };
         // SAFETY: NULL or readable (contract).
-        let o = unsafe { options_or_default(options) }?;
+        let o = unsafe { DvhQueryOptions::read_or_default(options) }?;
         let st = s.collide(&o, &mut out)?;
         // SAFETY: NULL or writable (contract).
         unsafe { write_unless_null(stats_out, DvhSceneStats::from(&st)) };

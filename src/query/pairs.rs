@@ -37,11 +37,15 @@ pub struct Pairs {
     pub(crate) workspace: Workspace,
 }
 
-/// The read side shared by the result buffers ([`Pairs`], the scene's `Contacts`): a struct with
-/// fields `items: Vec<$item>` and `kind: PairKind`, and `Default`. The docs of `as_slice` and
-/// `kind` are the buffer's own; the others name its items.
+/// The read side shared by the result buffers ([`Pairs`], the scene's `Contacts`, `Impacts`,
+/// `NearPairs`): a struct with a field `items: Vec<$item>` (and `kind: PairKind` when `kind:` is
+/// given) and `Default`. The docs of `as_slice` and `kind` are the buffer's own; the others name
+/// its items.
 macro_rules! result_buffer {
-    ($buffer:ident, $item:ty, $items:literal, as_slice: $as_slice:literal, kind: $kind:literal) => {
+    (
+        $buffer:ident, $item:ty, $items:literal, as_slice: $as_slice:literal
+        $(, kind: $kind:literal)?
+    ) => {
         impl $buffer {
             /// An empty buffer.
             pub fn new() -> $buffer {
@@ -63,13 +67,23 @@ macro_rules! result_buffer {
                 self.items.is_empty()
             }
 
-            #[doc = $kind]
-            pub fn kind(&self) -> PairKind {
-                self.kind
-            }
+            $(
+                #[doc = $kind]
+                pub fn kind(&self) -> PairKind {
+                    self.kind
+                }
+            )?
 
             #[doc = concat!("Iterates over the ", $items, ".")]
             pub fn iter(&self) -> std::slice::Iter<'_, $item> {
+                self.items.iter()
+            }
+        }
+
+        impl<'a> IntoIterator for &'a $buffer {
+            type Item = &'a $item;
+            type IntoIter = std::slice::Iter<'a, $item>;
+            fn into_iter(self) -> Self::IntoIter {
                 self.items.iter()
             }
         }
@@ -92,14 +106,6 @@ impl Pairs {
     /// pairs). It grows with the largest query served and is kept for the next.
     pub fn memory_bytes(&self) -> usize {
         heap_bytes(&self.items) + heap_bytes(&self.spare) + self.workspace.heap_bytes()
-    }
-}
-
-impl<'a> IntoIterator for &'a Pairs {
-    type Item = &'a Pair;
-    type IntoIter = std::slice::Iter<'a, Pair>;
-    fn into_iter(self) -> Self::IntoIter {
-        self.items.iter()
     }
 }
 

@@ -2,8 +2,11 @@
 //! code under test decides signs: every candidate closest pair (corners, edge and face
 //! projections that land strictly inside) with its exact squared distance.
 
+use super::values::sqrt_rational;
 use super::*;
 use crate::fixtures::Rng;
+use num_rational::BigRational;
+use num_traits::{One, ToPrimitive, Zero};
 
 type Q = BigRational;
 type QV = [Q; 3];

@@ -3,7 +3,7 @@
 
 use crate::csr::heap_bytes;
 use crate::geometry::ccd::CcdMode;
-use crate::query::pairs::Pairs;
+use crate::query::pairs::{Pairs, result_buffer};
 pub use crate::query::primitives::ImpactKind;
 use crate::query::primitives::Workspace;
 
@@ -128,32 +128,14 @@ pub struct Impacts {
     pub(crate) narrow_space: Workspace<Impact>,
 }
 
+result_buffer!(
+    Impacts,
+    Impact,
+    "impacts",
+    as_slice: "The impacts of the last successful query, sorted by `(kind, a0, a1, b0, b1)`."
+);
+
 impl Impacts {
-    /// An empty buffer.
-    pub fn new() -> Impacts {
-        Impacts::default()
-    }
-
-    /// The impacts of the last successful query, sorted by `(kind, a0, a1, b0, b1)`.
-    pub fn as_slice(&self) -> &[Impact] {
-        &self.items
-    }
-
-    /// Number of impacts.
-    pub fn len(&self) -> usize {
-        self.items.len()
-    }
-
-    /// No impacts?
-    pub fn is_empty(&self) -> bool {
-        self.items.is_empty()
-    }
-
-    /// Iterates over the impacts.
-    pub fn iter(&self) -> std::slice::Iter<'_, Impact> {
-        self.items.iter()
-    }
-
     /// Bytes of memory the buffer holds beyond the struct itself: the result, its spare, and
     /// the scratch space of the queries it served.
     pub fn memory_bytes(&self) -> usize {
@@ -161,13 +143,5 @@ impl Impacts {
             + heap_bytes(&self.spare)
             + self.leaves.memory_bytes()
             + self.narrow_space.heap_bytes()
-    }
-}
-
-impl<'a> IntoIterator for &'a Impacts {
-    type Item = &'a Impact;
-    type IntoIter = std::slice::Iter<'a, Impact>;
-    fn into_iter(self) -> Self::IntoIter {
-        self.items.iter()
     }
 }

@@ -7,7 +7,7 @@ use crate::geometry::aabb::Aabb;
 use crate::geometry::ccd::{CcdMode, time_of_impact};
 use crate::geometry::predicates::Point;
 use crate::mesh::Mesh;
-use crate::query::primitives::{Key, PrimitiveTest, Side, Worker};
+use crate::query::primitives::{Key, PrimitiveTest, Side, Worker, points_of};
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Where each vertex of a moving mesh starts and ends.
@@ -96,16 +96,8 @@ impl PrimitiveTest for Sweeps<'_, '_> {
         (kind_out, a0, a1, b0, b1): Key,
     ) -> Option<Impact> {
         let (a, b) = (self.side(first), self.side(second));
-        let mut start = [[0.0; 3]; 4];
-        let mut end = [[0.0; 3]; 4];
-        for (i, &v) in pa.iter().enumerate() {
-            start[i] = a.start[v as usize];
-            end[i] = a.end[v as usize];
-        }
-        for (i, &v) in pb.iter().enumerate() {
-            start[N + i] = b.start[v as usize];
-            end[N + i] = b.end[v as usize];
-        }
+        let start = points_of(a.start, pa, b.start, pb);
+        let end = points_of(a.end, pa, b.end, pb);
         let toi = time_of_impact(kind, &start, &end, self.mode, self.cut())?;
         Some(Impact {
             kind: kind_out,

@@ -14,7 +14,9 @@ use crate::mesh::Mesh;
 use crate::query::engine::node_pairs;
 use crate::query::options::{QueryMode, QueryOptions};
 use crate::query::pairs::QueryStats;
-use crate::query::primitives::{self, ImpactKind, Key, Narrow, Owners, PrimitiveTest, Side};
+use crate::query::primitives::{
+    self, ImpactKind, Key, Narrow, Owners, PrimitiveTest, Side, points_of,
+};
 use crate::query::proximity::{Near, check_distance};
 use crate::threads;
 use std::mem::MaybeUninit;
@@ -180,13 +182,7 @@ impl PrimitiveTest for Stencils<'_> {
         key: Key,
     ) -> Option<Stencil> {
         let (pos_a, pos_b) = (self.side(first), self.side(second));
-        let mut p = [[0.0; 3]; 4];
-        for (i, &v) in pa.iter().enumerate() {
-            p[i] = pos_a[v as usize];
-        }
-        for (i, &v) in pb.iter().enumerate() {
-            p[N + i] = pos_b[v as usize];
-        }
+        let p = points_of(pos_a, pa, pos_b, pb);
         // The narrow phase gives only primitives whose boxes come within `d` (up to rounding;
         // the decision is exact whatever it gives).
         let decided = decide_within(kind, &p, self.d)?;

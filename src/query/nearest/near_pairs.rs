@@ -3,7 +3,7 @@
 use crate::csr::heap_bytes;
 use crate::geometry::nearest::{Decided, Feature, Nearest};
 use crate::geometry::predicates::Point;
-use crate::query::pairs::Pairs;
+use crate::query::pairs::{Pairs, result_buffer};
 use crate::query::primitives::{ImpactKind, Key, Workspace};
 
 /// A vertex-face or edge-edge pair within the query's distance: a contact stencil, with the
@@ -117,32 +117,14 @@ pub struct NearPairs {
     pub(crate) placed: [Vec<Point>; 2],
 }
 
+result_buffer!(
+    NearPairs,
+    NearPair,
+    "stencils",
+    as_slice: "The stencils of the last successful query, sorted by `(kind, a0, a1, b0, b1)`."
+);
+
 impl NearPairs {
-    /// An empty buffer.
-    pub fn new() -> NearPairs {
-        NearPairs::default()
-    }
-
-    /// The stencils of the last successful query, sorted by `(kind, a0, a1, b0, b1)`.
-    pub fn as_slice(&self) -> &[NearPair] {
-        &self.items
-    }
-
-    /// Number of stencils.
-    pub fn len(&self) -> usize {
-        self.items.len()
-    }
-
-    /// No stencils?
-    pub fn is_empty(&self) -> bool {
-        self.items.is_empty()
-    }
-
-    /// Iterates over the stencils.
-    pub fn iter(&self) -> std::slice::Iter<'_, NearPair> {
-        self.items.iter()
-    }
-
     /// Bytes of memory the buffer holds beyond the struct itself: the result, its spare, and
     /// the scratch space of the queries it served.
     pub fn memory_bytes(&self) -> usize {
@@ -152,13 +134,5 @@ impl NearPairs {
             + heap_bytes(&self.found)
             + self.narrow_space.heap_bytes()
             + self.placed.iter().map(heap_bytes).sum::<usize>()
-    }
-}
-
-impl<'a> IntoIterator for &'a NearPairs {
-    type Item = &'a NearPair;
-    type IntoIter = std::slice::Iter<'a, NearPair>;
-    fn into_iter(self) -> Self::IntoIter {
-        self.items.iter()
     }
 }

@@ -15,4 +15,4 @@ mod subsets;
 pub use kind::ImpactKind;
 pub(crate) use leaf_pairs::{Workspace, test_leaf_pairs};
 pub(crate) use node_pair::Narrow;
-pub(crate) use primitive_test::{Key, Owners, PrimitiveTest, Side, Worker};
+pub(crate) use primitive_test::{Key, Owners, PrimitiveTest, Side, Worker, points_of};

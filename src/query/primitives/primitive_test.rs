@@ -6,6 +6,7 @@ use super::ImpactKind;
 use super::subsets::Scratch;
 use crate::geometry::Primitive;
 use crate::geometry::aabb::Aabb;
+use crate::geometry::predicates::Point;
 use crate::mesh::{Features, Mesh};
 
 /// Which mesh of a query a primitive belongs to.
@@ -149,4 +150,24 @@ impl<F> Worker<F> {
         self.out.push(found);
         self.out.len() >= limit
     }
+}
+
+/// The points a [`PrimitiveTest::test`] is given, in one array as the geometric tests take
+/// them: the vertices `pa` of `a`, then `pb` of `b` (a vertex and a triangle's corners, or two
+/// edges' ends).
+#[inline(always)]
+pub(crate) fn points_of<const N: usize, const M: usize>(
+    a: &[Point],
+    pa: [u32; N],
+    b: &[Point],
+    pb: [u32; M],
+) -> [Point; 4] {
+    let mut p = [[0.0; 3]; 4];
+    for (i, &v) in pa.iter().enumerate() {
+        p[i] = a[v as usize];
+    }
+    for (i, &v) in pb.iter().enumerate() {
+        p[N + i] = b[v as usize];
+    }
+    p
 }
