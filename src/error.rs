@@ -206,7 +206,7 @@ impl fmt::Display for Error {
             } => write!(
                 f,
                 "pose rotation is not a rotation: max |R^T R - I| = {deviation:e} (tolerance {:e}), determinant {determinant}",
-                crate::RIGIDITY_TOLERANCE
+                crate::limits::RIGIDITY_TOLERANCE
             ),
             Error::OutOfMemory { bytes } => {
                 write!(f, "out of memory: could not allocate {bytes} bytes")
@@ -222,12 +222,12 @@ impl fmt::Display for Error {
             Error::PoseOutOfRange { side, bound } => write!(
                 f,
                 "pose of mesh {side:?} moves coordinates up to {bound:e}, beyond the supported magnitude {:e}",
-                crate::geometry::MAX_POSED_MAGNITUDE
+                crate::limits::MAX_POSED_MAGNITUDE
             ),
             Error::ObjectPoseOutOfRange { bound } => write!(
                 f,
                 "pose moves the object's coordinates up to {bound:e}, beyond the supported magnitude {:e}",
-                crate::geometry::MAX_POSED_MAGNITUDE
+                crate::limits::MAX_POSED_MAGNITUDE
             ),
             Error::UnknownObject { object } => write!(
                 f,

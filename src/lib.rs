@@ -64,6 +64,7 @@ pub mod ffi;
 #[cfg(feature = "fixtures")]
 pub mod fixtures;
 mod geometry;
+mod limits;
 mod mesh;
 mod prefetch;
 mod query;

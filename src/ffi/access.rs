@@ -14,10 +14,7 @@
 //! only ever catch some of these mistakes (see `ROBUSTNESS.md`).
 
 use super::boundary::{Failure, set_last_error};
-use super::types::{
-    DVH_STATUS_BUSY, DVH_STATUS_INTERNAL_PANIC, DVH_STATUS_INVALID_ARGUMENT, DvhContacts,
-    DvhImpacts, DvhMesh, DvhNearPairs, DvhPairs, DvhScene,
-};
+use super::types::{DVH_STATUS_BUSY, DVH_STATUS_INTERNAL_PANIC, DVH_STATUS_INVALID_ARGUMENT};
 use std::cell::UnsafeCell;
 use std::ops::{Deref, DerefMut};
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
@@ -207,7 +204,7 @@ pub(crate) unsafe fn read<'a, H: Handle + 'a>(
 ) -> Result<Read<'a, H::Inner>, Failure> {
     // SAFETY: as this function's contract.
     let (_, access, cell) = unsafe { live(h, name)? }.parts();
-    let reading = access.read(&describe::<H>(name), call)?;
+    let reading = access.read(&describe(H::TAG, name), call)?;
     Ok(Read {
         // SAFETY: while `reading` lives no call may change the object (every change takes the
         // access state first), so a shared reference is sound.
@@ -228,7 +225,7 @@ pub(crate) unsafe fn write<'a, H: Handle + 'a>(
 ) -> Result<Write<'a, H::Inner>, Failure> {
     // SAFETY: as this function's contract.
     let (_, access, cell) = unsafe { live(h, name)? }.parts();
-    let writing = access.write(&describe::<H>(name), call)?;
+    let writing = access.write(&describe(H::TAG, name), call)?;
     Ok(Write {
         // SAFETY: `writing` excludes every other call on the object while it lives.
         inner: unsafe { &mut *cell.get() },
@@ -249,7 +246,7 @@ pub(crate) unsafe fn release<H: Handle>(h: *mut H, name: &str, call: &str) {
     // SAFETY: as this function's contract.
     let taken = unsafe { live(h, name) }.and_then(|handle| {
         let (tag, access, _) = handle.parts();
-        Ok((tag, access.write(&describe::<H>(name), call)?))
+        Ok((tag, access.write(&describe(H::TAG, name), call)?))
     });
     match taken {
         Ok((tag, writing)) => {
@@ -275,9 +272,9 @@ unsafe fn live<'a, H: Handle + 'a>(h: *const H, name: &str) -> Result<&'a H, Fai
     Ok(handle)
 }
 
-/// How messages name argument `name`, a handle of type `H`: "DvhMesh `a`".
-fn describe<H: Handle>(name: &str) -> impl Fn() -> String + '_ {
-    move || format!("{} `{name}`", kind(H::TAG))
+/// How messages name argument `name`, a handle of the kind `tag` names: "DvhMesh `a`".
+fn describe(tag: u64, name: &str) -> impl Fn() -> String + '_ {
+    move || format!("{} `{name}`", kind(tag))
 }
 
 fn kind(tag: u64) -> &'static str {
@@ -291,25 +288,6 @@ fn kind(tag: u64) -> &'static str {
     }
 }
 
-macro_rules! handle {
-    ($handle:ty, $inner:ty, $tag:expr) => {
-        impl Handle for $handle {
-            type Inner = $inner;
-            const TAG: u64 = $tag;
-            fn parts(&self) -> (&Tag, &Access, &UnsafeCell<$inner>) {
-                (&self.0.tag, &self.0.access, &self.0.inner)
-            }
-        }
-    };
-}
-
-handle!(DvhMesh, crate::Mesh, MESH_TAG);
-handle!(DvhPairs, crate::Pairs, PAIRS_TAG);
-handle!(DvhScene, crate::Scene, SCENE_TAG);
-handle!(DvhContacts, crate::Contacts, CONTACTS_TAG);
-handle!(DvhImpacts, crate::Impacts, IMPACTS_TAG);
-handle!(DvhNearPairs, crate::NearPairs, NEAR_PAIRS_TAG);
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -317,7 +295,7 @@ mod tests {
     #[test]
     fn readers_or_one_writer() {
         let a = Access::default();
-        let mesh = describe::<DvhMesh>("mesh");
+        let mesh = describe(MESH_TAG, "mesh");
         let r1 = a.read(&mesh, "query").unwrap();
         let r2 = a.read(&mesh, "query").unwrap();
         let busy = a.write(&mesh, "dvh_mesh_refit").err().unwrap();
@@ -352,7 +330,7 @@ mod tests {
         // The interleaving, step by step: a reader adds its 1 while the writer holds the
         // object, the writer ends, then the reader takes its 1 back.
         let a = Access::default();
-        let mesh = describe::<DvhMesh>("mesh");
+        let mesh = describe(MESH_TAG, "mesh");
         let w = a.write(&mesh, "dvh_mesh_refit").unwrap();
         let before = a.0.fetch_add(1, Ordering::Acquire);
         assert_eq!(before, WRITER);
@@ -368,7 +346,7 @@ mod tests {
     fn readers_and_writers_on_many_threads_end_free() {
         const ROUNDS: usize = 200_000;
         let a = Access::default();
-        let mesh = describe::<DvhMesh>("mesh");
+        let mesh = describe(MESH_TAG, "mesh");
         std::thread::scope(|s| {
             for _ in 0..2 {
                 s.spawn(|| {
@@ -391,7 +369,7 @@ mod tests {
     #[test]
     fn a_panicking_change_poisons_for_good() {
         let a = Access::default();
-        let mesh = describe::<DvhMesh>("mesh");
+        let mesh = describe(MESH_TAG, "mesh");
         let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
             let _w = a.write(&mesh, "dvh_mesh_refit").unwrap();
             panic!("in the middle of a refit");

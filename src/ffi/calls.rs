@@ -4,12 +4,22 @@
 
 use super::access::{Handle, read, write};
 use super::boundary::{Failure, guard, write_unless_null};
-use super::query::pose;
-use super::types::{DvhMesh, DvhPose, DvhStatus};
+use super::handles::DvhMesh;
+use super::types::{DvhPose, DvhStatus};
 use crate::{Mesh, Pose};
 
 /// A mesh and its pose, as the C arguments give them.
 pub(super) type Placed = (*const DvhMesh, *const DvhPose);
+
+/// The pose behind a C pose (argument `name`), checked.
+pub(super) fn pose(p: &DvhPose, name: &str) -> Result<Pose, Failure> {
+    let r = &p.rotation;
+    Pose::new(
+        [[r[0], r[1], r[2]], [r[3], r[4], r[5]], [r[6], r[7], r[8]]],
+        p.translation,
+    )
+    .map_err(|e| Failure::about(name, e))
+}
 
 /// A C options struct, read from a pointer that may be NULL (then the defaults).
 pub(super) trait CallOptions {

@@ -5,6 +5,7 @@ use super::boundary::{
     Failure, choice, guard, guard_value, slice_from, times_three, write_unless_null,
 };
 use super::calls::{CallOptions, one_mesh, two_meshes};
+use super::handles::*;
 use super::mesh::refit_guarded;
 use super::results;
 use super::types::*;

@@ -2,6 +2,7 @@
 
 use super::access::{MESH_TAG, Read, read, release, write};
 use super::boundary::{Failure, choice, guard, guard_value, slice_from, times_three, try_box};
+use super::handles::*;
 use super::types::*;
 use crate::geometry::predicates::Point;
 use crate::{BuildOptions, LeftoverPolicy, Mesh, RadiusKind, TreeKind, VolumeKind};

@@ -12,6 +12,7 @@ mod access;
 mod boundary;
 mod calls;
 mod ccd;
+mod handles;
 mod mesh;
 mod nearest;
 mod query;
@@ -20,6 +21,7 @@ mod scene;
 mod types;
 
 pub use ccd::*;
+pub use handles::*;
 pub use mesh::*;
 pub use nearest::*;
 pub use query::*;

@@ -2,6 +2,7 @@
 //! result buffer.
 
 use super::calls::{one_mesh, two_meshes};
+use super::handles::*;
 use super::results;
 use super::types::*;
 use crate::{nearest_features, self_nearest_features};

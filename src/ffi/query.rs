@@ -3,10 +3,11 @@
 
 use super::boundary::{Failure, choice, guard, guard_value, slice_from};
 use super::calls::{CallOptions, one_mesh, two_meshes};
+use super::handles::*;
 use super::results;
 use super::types::*;
 use crate::exact::triangles_intersect;
-use crate::{Pose, QueryMode, QueryOptions, collide, proximity, self_collide, self_proximity};
+use crate::{QueryMode, QueryOptions, collide, proximity, self_collide, self_proximity};
 
 /// The default query options: every intersecting triangle pair, no pair limit, every core (all
 /// fields zero).
@@ -48,15 +49,6 @@ fn query_options(o: &DvhQueryOptions) -> Result<QueryOptions, Failure> {
         max_pairs,
         threads: o.threads,
     })
-}
-
-pub(super) fn pose(p: &DvhPose, name: &str) -> Result<Pose, Failure> {
-    let r = &p.rotation;
-    Pose::new(
-        [[r[0], r[1], r[2]], [r[3], r[4], r[5]], [r[6], r[7], r[8]]],
-        p.translation,
-    )
-    .map_err(|e| Failure::about(name, e))
 }
 
 /// A new, empty result buffer, or NULL when memory ran out. Owned by the caller, released with

@@ -1,14 +1,15 @@
-//! The C ABI's result buffers, `DvhPairs` and `DvhContacts`, and the family of calls on them
-//! (`_new`, `_len`, `_data`, `_kind`, `_free`), written once for both. The entry points
+//! The C ABI's result buffers (`DvhPairs`, `DvhContacts`, `DvhImpacts`, `DvhNearPairs`) and the
+//! family of calls on them (`_new`, `_len`, `_data`, `_kind`, `_free`), written once for all. The entry points
 //! themselves are one-line wrappers in `query.rs` and `scene.rs`, written out because cbindgen
 //! reads the sources without expanding macros, and each carries its own documentation into the
 //! header.
 
 use super::access::{Handle, Read, read, release};
 use super::boundary::{guard_value, set_last_error, try_box};
+use super::handles::{Body, DvhContacts, DvhImpacts, DvhNearPairs, DvhPairs};
 use super::types::{
-    Body, DVH_PAIR_KIND_NODES, DVH_PAIR_KIND_TRIANGLES, DvhContact, DvhContacts, DvhImpact,
-    DvhImpacts, DvhNearPair, DvhNearPairs, DvhPair, DvhPairKind, DvhPairs,
+    DVH_PAIR_KIND_NODES, DVH_PAIR_KIND_TRIANGLES, DvhContact, DvhImpact, DvhNearPair, DvhPair,
+    DvhPairKind,
 };
 use crate::{Contacts, Impacts, NearPairs, PairKind, Pairs};
 

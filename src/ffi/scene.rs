@@ -4,9 +4,9 @@ use super::access::{SCENE_TAG, Write, read, release, write};
 use super::boundary::{
     Failure, guard, guard_value, slice_from, times_three, try_box, write_unless_null,
 };
-use super::calls::CallOptions;
+use super::calls::{CallOptions, pose};
+use super::handles::*;
 use super::mesh::StridedF32;
-use super::query::pose;
 use super::results;
 use super::types::*;
 use crate::{Mesh, Pose, Scene};

@@ -4,9 +4,7 @@
 //! enums: a C caller can pass any integer, and an out-of-range value read as a Rust enum would be
 //! undefined behaviour. Every such value is checked and reported as an invalid argument.
 
-use super::access::{Access, Tag};
 use crate::{CcdStats, Contact, Impact, Pair, QueryStats, RefitStats, SceneStats, TreeStats};
-use std::cell::UnsafeCell;
 
 /// Result of every fallible call: `DVH_STATUS_OK` (0) or one of the `DVH_STATUS_*` codes.
 /// `dvh_last_error_message` gives the details of a failure.
@@ -221,36 +219,6 @@ const _: () = {
     assert!(std::mem::offset_of!(DvhPair, b) == std::mem::offset_of!(Pair, b));
 };
 
-/// What every handle holds, in this order. The tag comes first, at offset 0 of every kind of
-/// handle (checked below), so reading it through a pointer to a handle of another kind, or to
-/// any other object of at least 8 bytes, stays inside that object's memory.
-#[repr(C)]
-pub(crate) struct Body<T> {
-    pub(crate) tag: Tag,
-    /// Queries read a mesh and write a result buffer, refits and scene calls change theirs.
-    pub(crate) access: Access,
-    pub(crate) inner: UnsafeCell<T>,
-}
-
-impl<T> Body<T> {
-    /// A live handle's body: `tag` says its kind, `inner` is the object.
-    pub(crate) fn new(tag: u64, inner: T) -> Body<T> {
-        Body {
-            tag: Tag::new(tag),
-            access: Access::default(),
-            inner: UnsafeCell::new(inner),
-        }
-    }
-}
-
-/// A mesh with its hierarchy: topology, current positions, 1-rings, spheres. Opaque; created by
-/// `dvh_mesh_create`, released by `dvh_mesh_free`.
-pub struct DvhMesh(pub(crate) Body<crate::Mesh>);
-
-/// A reusable result buffer with the scratch space queries need. Opaque; created by
-/// `dvh_pairs_new`, released by `dvh_pairs_free`. Use one per thread.
-pub struct DvhPairs(pub(crate) Body<crate::Pairs>);
-
 /// One contact of a scene query: `a` in object `object_a` meets `b` in object `object_b`, with
 /// `object_a < object_b` (triangles, or nodes in the coarse modes: see `dvh_contacts_kind`).
 #[repr(C)]
@@ -302,14 +270,6 @@ pub struct DvhSceneStats {
     /// Did `max_pairs` cut the result short?
     pub truncated: bool,
 }
-
-/// A set of objects (rigid or deformable, sharing meshes) queried together. Opaque; created by
-/// `dvh_scene_create`, released by `dvh_scene_free`.
-pub struct DvhScene(pub(crate) Body<crate::Scene>);
-
-/// A reusable result buffer for `dvh_scene_collide`. Opaque; created by `dvh_contacts_new`,
-/// released by `dvh_contacts_free`. Use one per thread.
-pub struct DvhContacts(pub(crate) Body<crate::Contacts>);
 
 /// How a continuous test decides (`DvhCcdOptions.mode`).
 pub type DvhCcdMode = u32;
@@ -476,10 +436,6 @@ const _: () = {
     assert!(Feature::Interior as u32 == DVH_FEATURE_INTERIOR);
 };
 
-/// A reusable result buffer for the closest-point queries. Opaque; created by
-/// `dvh_near_pairs_new`, released by `dvh_near_pairs_free`. Use one per thread.
-pub struct DvhNearPairs(pub(crate) Body<crate::NearPairs>);
-
 /// Counters of one continuous query.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -495,22 +451,6 @@ pub struct DvhCcdStats {
     /// Did `max_impacts` stop the query before every impact was found?
     pub truncated: bool,
 }
-
-/// A reusable result buffer for the continuous queries. Opaque; created by `dvh_impacts_new`,
-/// released by `dvh_impacts_free`. Use one per thread.
-pub struct DvhImpacts(pub(crate) Body<crate::Impacts>);
-
-// The tag check reads the first 8 bytes of whatever a handle pointer points to: every handle
-// keeps its tag there.
-const _: () = {
-    use std::mem::offset_of;
-    assert!(offset_of!(DvhMesh, 0.tag) == 0);
-    assert!(offset_of!(DvhPairs, 0.tag) == 0);
-    assert!(offset_of!(DvhScene, 0.tag) == 0);
-    assert!(offset_of!(DvhContacts, 0.tag) == 0);
-    assert!(offset_of!(DvhNearPairs, 0.tag) == 0);
-    assert!(offset_of!(DvhImpacts, 0.tag) == 0);
-};
 
 // The counters cross the boundary as mirrors of the library's own, field for field and in the
 // same order. Each conversion names every field of both sides, so that a field added to one

@@ -39,6 +39,4 @@ impl Primitive {
     }
 }
 
-/// Largest magnitude a posed mesh's transformed coordinates may reach. Beyond it, differences of
-/// world coordinates could overflow and the sphere tests would no longer be conservative.
-pub const MAX_POSED_MAGNITUDE: f64 = 1e300;
+pub use crate::limits::MAX_POSED_MAGNITUDE;

@@ -5,10 +5,7 @@ use crate::error::{Error, Result};
 #[cfg(feature = "nalgebra")]
 use nalgebra::{Isometry3, Matrix3, Vector3};
 
-/// Largest entry of `|RᵀR - I|` a pose's rotation may have. Rotations that went through `f32`
-/// (quaternions, engine transforms) are orthonormal to about `1e-7`; anything far beyond this is a
-/// scale or shear, which would break the sphere radii.
-pub const RIGIDITY_TOLERANCE: f64 = 1e-5;
+pub use crate::limits::RIGIDITY_TOLERANCE;
 
 /// A rigid motion of a mesh: `world = R * p + t`, with `R` a rotation (orthonormal within
 /// [`RIGIDITY_TOLERANCE`], determinant positive).

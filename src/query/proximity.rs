@@ -138,8 +138,10 @@ mod tests {
     use super::*;
     use crate::fixtures::oracle::{proximity_brute_force, self_proximity_brute_force};
     use crate::fixtures::{Rng, grid, icosphere, torus};
+    use crate::mesh::BuildOptions;
     use crate::query::testing::{map_vertices, nodes_cover};
-    use crate::{BuildOptions, Pair, PairKind, QueryMode, VolumeKind, collide};
+    use crate::query::{Pair, PairKind, QueryMode, collide};
+    use crate::volume::VolumeKind;
 
     fn modes() -> [QueryMode; 5] {
         [

@@ -130,9 +130,11 @@ mod tests {
     use super::*;
     use crate::fixtures::oracle::self_collide_brute_force;
     use crate::fixtures::{Rng, grid, icosphere, torus};
+    use crate::mesh::BuildOptions;
     use crate::query::testing::{map_vertices, nodes_cover};
+    use crate::query::{Pair, PairKind, QueryMode};
     use crate::threads::{Step, sharing};
-    use crate::{BuildOptions, Pair, PairKind, QueryMode, VolumeKind};
+    use crate::volume::VolumeKind;
 
     /// Self-collision of the mesh equals brute force for every volume kind, on 1 and 2 threads;
     /// first hit, the pair limit and the coarse modes keep their promises. Returns the count.
@@ -193,7 +195,7 @@ mod tests {
                     &QueryOptions::with_mode(QueryMode::Budget(0)),
                     &mut pairs
                 ),
-                Err(crate::Error::ZeroBudget)
+                Err(crate::error::Error::ZeroBudget)
             ));
             count = expected.len();
         }

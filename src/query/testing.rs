@@ -2,8 +2,9 @@
 
 use super::pairs::Pair;
 use crate::fixtures::{MeshData, Rng};
+use crate::mesh::BuildOptions;
 use crate::mesh::Mesh;
-use crate::{BuildOptions, VolumeKind};
+use crate::volume::VolumeKind;
 use std::collections::HashSet;
 
 /// Does every triangle pair of `expected` lie in some node pair of `nodes` (of `a` and `b`; of

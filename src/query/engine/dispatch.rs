@@ -2,8 +2,8 @@
 //! both sides by placement and volume kind, runs the traversal with the narrow phase the mode
 //! asks for (on the calling thread or shared out), and sorts the result.
 
-use super::pair_test::{Reach, TriangleTest};
 use super::parallel::{Descend, Finish, Job, share_out};
+use super::query_traits::{Reach, TriangleTest};
 use super::side::{
     LazyBoxVolumes, Local, MeshVolumes, MixedVolumes, NodeVolumes, Placement, Posed,
     with_node_volumes,

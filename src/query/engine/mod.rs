@@ -5,16 +5,16 @@
 //! - `side.rs`: a query's typed sides (placed vertices, node volumes, widened by a distance);
 //! - `traverse.rs`: the one traversal of node pairs, which hands terminal pairs on;
 //! - `parallel.rs`: the traversal's top shared out between threads;
-//! - `pair_test.rs`: what a query tests: its settings (`Reach`) and, for the triangle queries,
-//!   the triangle test (`TriangleTest`);
+//! - `query_traits.rs`: the traits a query implements: its settings (`Reach`) and, for the
+//!   triangle queries, the triangle test (`TriangleTest`);
 //! - `terminal.rs`: what becomes of a terminal node pair: kept as a node pair (the coarse
 //!   modes), or its triangle pairs tested (the leaf narrow phase);
 //! - `sink.rs`, `sort.rs`: where found pairs go, and their order;
 //! - `workspace.rs`: the scratch space kept between queries.
 
 mod dispatch;
-mod pair_test;
 mod parallel;
+mod query_traits;
 mod side;
 mod sink;
 mod sort;
@@ -23,7 +23,7 @@ mod traverse;
 mod workspace;
 
 pub(crate) use dispatch::{QueryMesh, leaf_pairs, node_pairs, query, query_lazy, query_one};
-pub(crate) use pair_test::{Reach, TriangleTest};
+pub(crate) use query_traits::{Reach, TriangleTest};
 pub(crate) use side::{NodeVolumes, Widened};
 pub(crate) use traverse::OneMesh;
 pub(crate) use workspace::{Prepared, Stamped, Workspace};

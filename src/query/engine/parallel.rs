@@ -65,7 +65,7 @@ where
 
     fn begin(&self, a: &mut SideSpace, b: &mut SideSpace) -> Option<Stop> {
         let (ma, mb) = (self.a.0.mesh(), self.b.0.mesh());
-        let longest = |m: &crate::Mesh| N::TRIANGLES.then_some(m.rings().longest);
+        let longest = |m: &crate::mesh::Mesh| N::TRIANGLES.then_some(m.rings().longest);
         a.begin(ma.vertex_count(), ma.ring_count(), longest(ma), !PA::LOCAL)
             .and_then(|()| b.begin(mb.vertex_count(), mb.ring_count(), longest(mb), !PB::LOCAL))
             .err()

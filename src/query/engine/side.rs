@@ -573,7 +573,8 @@ impl<'m, P: Placement<'m>, K: NodeVolumes<'m>> QuerySide<'m> for View<'_, P, K> 
 mod tests {
     use super::*;
     use crate::fixtures::Rng;
-    use crate::{BuildOptions, VolumeKind};
+    use crate::mesh::BuildOptions;
+    use crate::volume::VolumeKind;
 
     /// A posed box holds the coordinates the triangle test sees for every point it bounds, even
     /// when those points sit within an ulp of the box's faces: no widening is needed, because

@@ -3,7 +3,7 @@
 //! the one leaf narrow phase, [`LeafPairs`], which asks a [`TriangleTest`] only what differs
 //! between queries.
 
-use super::pair_test::TriangleTest;
+use super::query_traits::TriangleTest;
 use super::side::QuerySide;
 use super::sink::Sink;
 use super::traverse::{NarrowPhase, Walk, depth_first};

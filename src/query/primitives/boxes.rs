@@ -3,7 +3,7 @@
 //! four each on a self query), and building its primitives' boxes anew for each cost more than
 //! the primitive tests they spared.
 
-use super::primitive_test::{Owners, PrimitiveTest, Side};
+use super::vocabulary::{Owners, PrimitiveTest, Side};
 use crate::geometry::aabb::Aabb;
 use crate::query::engine::Stamped;
 use std::ops::Range;

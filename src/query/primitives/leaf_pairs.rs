@@ -4,7 +4,7 @@
 use super::ImpactKind;
 use super::boxes::OwnedBoxes;
 use super::node_pair::{Narrow, Tables};
-use super::primitive_test::{Key, PrimitiveTest, Side, Worker};
+use super::vocabulary::{Key, PrimitiveTest, Side, Worker};
 use crate::error::{Error, Result};
 use crate::query::pairs::Pair;
 use crate::threads;

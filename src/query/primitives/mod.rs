@@ -9,10 +9,10 @@ mod boxes;
 mod kind;
 mod leaf_pairs;
 mod node_pair;
-mod primitive_test;
 mod subsets;
+mod vocabulary;
 
 pub use kind::ImpactKind;
 pub(crate) use leaf_pairs::{Workspace, test_leaf_pairs};
 pub(crate) use node_pair::Narrow;
-pub(crate) use primitive_test::{Key, Owners, PrimitiveTest, Side, Worker, points_of};
+pub(crate) use vocabulary::{Key, Owners, PrimitiveTest, Side, Worker, points_of};

@@ -4,8 +4,8 @@
 
 use super::ImpactKind;
 use super::boxes::OwnedBoxes;
-use super::primitive_test::{Key, Owners, PrimitiveTest, Side, Worker};
 use super::subsets::{Built, Kept, Primitives, Scratch, Subset};
+use super::vocabulary::{Key, Owners, PrimitiveTest, Side, Worker};
 use crate::geometry::Primitive;
 use crate::geometry::aabb::Aabb;
 
