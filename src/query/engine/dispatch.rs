@@ -11,7 +11,7 @@ use super::side::{
 use super::sink::{Sink, Stop};
 use super::sort::sort_pairs;
 use super::terminal::{Coarse, Exact, NodePairs, Terminal};
-use super::traverse::{Walk, best_first};
+use super::traverse::{OneMesh, best_first};
 use super::workspace::{Worker, Workspace};
 use crate::error::{Error, Result, Side};
 use crate::geometry::MAX_POSED_MAGNITUDE;
@@ -237,10 +237,8 @@ fn run_query<'m, W: Work<'m>>(
     } else {
         let run = Run {
             mode: options.mode,
-            walk: Walk {
-                max_depth: options.mode.max_depth(),
-                own: work.reach().own(),
-            },
+            max_depth: options.mode.max_depth(),
+            own: work.reach().own(),
             check_domain: !(a.in_fast_range() && b.in_fast_range())
                 || pose_a.is_some()
                 || pose_b.is_some(),
@@ -340,7 +338,10 @@ fn widening(pose: &Pose, mesh: &Mesh, side: Side) -> Result<(f64, f64)> {
 /// the calling thread or shared out.
 struct Run<'q, 'm> {
     mode: QueryMode,
-    walk: Walk<'m>,
+    /// The depth at which nodes are no longer opened.
+    max_depth: u32,
+    /// `Some` when both sides are one mesh.
+    own: Option<OneMesh<'m>>,
     check_domain: bool,
     /// Pairs to find before stopping.
     limit: usize,
@@ -374,7 +375,7 @@ impl<'m> Run<'_, 'm> {
         let job = Job {
             a,
             b,
-            walk: self.walk,
+            max_depth: self.max_depth,
             terminal,
             limit: self.limit,
         };
@@ -418,7 +419,10 @@ impl<'m> Run<'_, 'm> {
     {
         match self.mode {
             QueryMode::Budget(budget) => self.best_first(a, b, budget),
-            _ => self.run(a, b, Coarse),
+            _ => {
+                let own = self.own;
+                self.run(a, b, Coarse { own })
+            }
         }
     }
 
@@ -439,8 +443,8 @@ impl<'m> Run<'_, 'm> {
         let job = Job {
             a,
             b,
-            walk: self.walk,
-            terminal: Coarse,
+            max_depth: self.max_depth,
+            terminal: Coarse { own: self.own },
             limit: self.limit,
         };
         let ws = self.workspace;
@@ -458,7 +462,7 @@ impl<'m> Run<'_, 'm> {
             return (Some(stop), false);
         }
         let (mut va, mut vb) = job.views(&mut w.a, &mut w.b);
-        let own = self.walk.own;
+        let own = self.own;
         let mut narrow = NodePairs {
             sink: &mut sink,
             one_mesh: own.is_some(),

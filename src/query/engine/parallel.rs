@@ -21,16 +21,17 @@ const ITEMS_PER_THREAD: usize = 128;
 
 /// What every thread of a query shares: both sides, typed, how the traversal walks, and what
 /// becomes of its terminal pairs.
-pub(crate) struct Job<'m, PA, KA, PB, KB, N> {
+pub(crate) struct Job<PA, KA, PB, KB, N> {
     pub a: (PA, KA),
     pub b: (PB, KB),
-    pub walk: Walk<'m>,
+    /// The depth at which nodes are no longer opened.
+    pub max_depth: u32,
     pub terminal: N,
     /// Pairs to find before stopping.
     pub limit: usize,
 }
 
-impl<'m, PA, KA, PB, KB, N> Job<'m, PA, KA, PB, KB, N>
+impl<'m, PA, KA, PB, KB, N> Job<PA, KA, PB, KB, N>
 where
     PA: Placement<'m>,
     KA: NodeVolumes<'m>,
@@ -38,6 +39,16 @@ where
     KB: NodeVolumes<'m>,
     N: Terminal<'m>,
 {
+    /// How the traversal walks, built where it runs: whether both sides are one mesh is known
+    /// there at compile time for most queries (see [`Terminal::own`]).
+    #[inline(always)]
+    pub fn walk(&self) -> Walk<'m> {
+        Walk {
+            max_depth: self.max_depth,
+            own: self.terminal.own(),
+        }
+    }
+
     /// Both sides seen through a thread's caches.
     pub fn views<'w>(
         &self,
@@ -51,7 +62,7 @@ where
     }
 }
 
-impl<'m, PA, KA, PB, KB, N> Descend for Job<'m, PA, KA, PB, KB, N>
+impl<'m, PA, KA, PB, KB, N> Descend for Job<PA, KA, PB, KB, N>
 where
     PA: Placement<'m>,
     KA: NodeVolumes<'m>,
@@ -82,7 +93,13 @@ where
     ) {
         let (mut va, mut vb) = self.views(&mut w.a, &mut w.b);
         split(
-            &mut va, &mut vb, &self.walk, target, items, next_items, stats,
+            &mut va,
+            &mut vb,
+            &self.walk(),
+            target,
+            items,
+            next_items,
+            stats,
         );
     }
 
@@ -100,7 +117,7 @@ where
             rings_b: &mut b.rings,
         };
         self.terminal
-            .descend(&mut va, &mut vb, start, &self.walk, scratch, stats, sink);
+            .descend(&mut va, &mut vb, start, &self.walk(), scratch, stats, sink);
     }
 }
 

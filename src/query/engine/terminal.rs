@@ -6,7 +6,7 @@
 use super::query_traits::TriangleTest;
 use super::side::QuerySide;
 use super::sink::Sink;
-use super::traverse::{NarrowPhase, Walk, depth_first};
+use super::traverse::{NarrowPhase, OneMesh, Walk, depth_first};
 use super::workspace::{Prepared, RingCache};
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::is_safe_point;
@@ -22,6 +22,11 @@ use std::ops::Range;
 pub(crate) trait Terminal<'m>: Copy + Sync {
     /// Are triangles prepared (so that each thread's caches must hold rings)?
     const TRIANGLES: bool;
+
+    /// `Some` when both sides are one mesh. Known when the code is compiled for the exact
+    /// modes of a query of two meshes (always `None`), where it lets the traversal drop its
+    /// checks of one mesh's pairs: a tenth of a small query's time.
+    fn own(&self) -> Option<OneMesh<'m>>;
 
     /// Every terminal pair of the traversal `walk` from the roots (`None`) or below `start`,
     /// handled; the pairs found go to `sink`. Returns whether the traversal stopped early.
@@ -45,12 +50,20 @@ pub(crate) struct Scratch<'w> {
     pub rings_b: &'w mut RingCache,
 }
 
-/// The coarse modes: every terminal node pair is reported.
+/// The coarse modes: every terminal node pair is reported. Compiled once for every query whose
+/// sides have the same types, so whether they are one mesh is known only when it runs.
 #[derive(Clone, Copy)]
-pub(crate) struct Coarse;
+pub(crate) struct Coarse<'m> {
+    pub own: Option<OneMesh<'m>>,
+}
 
-impl<'m> Terminal<'m> for Coarse {
+impl<'m> Terminal<'m> for Coarse<'m> {
     const TRIANGLES: bool = false;
+
+    #[inline(always)]
+    fn own(&self) -> Option<OneMesh<'m>> {
+        self.own
+    }
 
     fn descend<A: QuerySide<'m>, B: QuerySide<'m>>(
         &self,
@@ -80,6 +93,11 @@ pub(crate) struct Exact<T> {
 
 impl<'m, T: TriangleTest<'m>> Terminal<'m> for Exact<T> {
     const TRIANGLES: bool = true;
+
+    #[inline(always)]
+    fn own(&self) -> Option<OneMesh<'m>> {
+        self.test.own()
+    }
 
     fn descend<A: QuerySide<'m>, B: QuerySide<'m>>(
         &self,
