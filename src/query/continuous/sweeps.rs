@@ -2,12 +2,11 @@
 //! their sweeps, then the time of impact.
 
 use super::impacts::Impact;
-use crate::geometry::Primitive;
 use crate::geometry::aabb::Aabb;
 use crate::geometry::ccd::{CcdMode, time_of_impact};
 use crate::geometry::predicates::Point;
 use crate::mesh::Mesh;
-use crate::query::primitives::{Key, PrimitiveTest, Side, Worker, points_of};
+use crate::query::primitives::{PrimitivePair, PrimitiveTest, Side, Worker};
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Where each vertex of a moving mesh starts and ends.
@@ -86,19 +85,12 @@ impl PrimitiveTest for Sweeps<'_, '_> {
     }
 
     #[inline]
-    fn test<const N: usize, const M: usize>(
-        &self,
-        kind: Primitive,
-        first: Side,
-        pa: [u32; N],
-        second: Side,
-        pb: [u32; M],
-        (kind_out, a0, a1, b0, b1): Key,
-    ) -> Option<Impact> {
-        let (a, b) = (self.side(first), self.side(second));
-        let start = points_of(a.start, pa, b.start, pb);
-        let end = points_of(a.end, pa, b.end, pb);
-        let toi = time_of_impact(kind, &start, &end, self.mode, self.cut())?;
+    fn test<const N: usize, const M: usize>(&self, pair: PrimitivePair<N, M>) -> Option<Impact> {
+        let (a, b) = (self.side(pair.first), self.side(pair.second));
+        let start = pair.points(a.start, b.start);
+        let end = pair.points(a.end, b.end);
+        let (kind_out, a0, a1, b0, b1) = pair.key;
+        let toi = time_of_impact(pair.kind, &start, &end, self.mode, self.cut())?;
         Some(Impact {
             kind: kind_out,
             a0,

@@ -15,7 +15,7 @@ use crate::query::engine::node_pairs;
 use crate::query::options::{QueryMode, QueryOptions};
 use crate::query::pairs::QueryStats;
 use crate::query::primitives::{
-    self, ImpactKind, Key, Narrow, Owners, PrimitiveTest, Side, points_of,
+    self, ImpactKind, Key, Narrow, Owners, PrimitivePair, PrimitiveTest, Side,
 };
 use crate::query::proximity::{Near, check_distance};
 use crate::threads;
@@ -172,21 +172,15 @@ impl PrimitiveTest for Stencils<'_> {
     }
 
     #[inline]
-    fn test<const N: usize, const M: usize>(
-        &self,
-        kind: Primitive,
-        first: Side,
-        pa: [u32; N],
-        second: Side,
-        pb: [u32; M],
-        key: Key,
-    ) -> Option<Stencil> {
-        let (pos_a, pos_b) = (self.side(first), self.side(second));
-        let p = points_of(pos_a, pa, pos_b, pb);
+    fn test<const N: usize, const M: usize>(&self, pair: PrimitivePair<N, M>) -> Option<Stencil> {
+        let p = pair.points(self.side(pair.first), self.side(pair.second));
         // The narrow phase gives only primitives whose boxes come within `d` (up to rounding;
         // the decision is exact whatever it gives).
-        let decided = decide_within(kind, &p, self.d)?;
-        Some(Stencil { key, decided })
+        let decided = decide_within(pair.kind, &p, self.d)?;
+        Some(Stencil {
+            key: pair.key,
+            decided,
+        })
     }
 }
 

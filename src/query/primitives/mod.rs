@@ -15,4 +15,4 @@ mod vocabulary;
 pub use kind::ImpactKind;
 pub(crate) use leaf_pairs::{Workspace, test_leaf_pairs};
 pub(crate) use node_pair::Narrow;
-pub(crate) use vocabulary::{Key, Owners, PrimitiveTest, Side, Worker, points_of};
+pub(crate) use vocabulary::{Key, Owners, PrimitivePair, PrimitiveTest, Side, Worker};

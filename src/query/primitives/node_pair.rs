@@ -5,7 +5,7 @@
 use super::ImpactKind;
 use super::boxes::OwnedBoxes;
 use super::subsets::{Built, Kept, Primitives, Scratch, Subset};
-use super::vocabulary::{Key, Owners, PrimitiveTest, Side, Worker};
+use super::vocabulary::{Owners, PrimitivePair, PrimitiveTest, Side, Worker};
 use crate::geometry::Primitive;
 use crate::geometry::aabb::Aabb;
 
@@ -352,7 +352,18 @@ impl<T: PrimitiveTest> Narrow<'_, T> {
                     (ImpactKind::FaceVertex, index, 0, v, 0)
                 };
                 let kind = Primitive::VertexFace;
-                self.run(w, kind, side, [v], other, corners_t[j], key, limit)
+                self.run(
+                    w,
+                    PrimitivePair {
+                        kind,
+                        first: side,
+                        pa: [v],
+                        second: other,
+                        pb: corners_t[j],
+                        key,
+                    },
+                    limit,
+                )
             }) {
                 return true;
             }
@@ -374,25 +385,27 @@ impl<T: PrimitiveTest> Narrow<'_, T> {
         // node came first.
         let (e1, e2) = if one && eb < ea { (eb, ea) } else { (ea, eb) };
         let key = (ImpactKind::EdgeEdge, e1[0], e1[1], e2[0], e2[1]);
-        self.run(w, Primitive::EdgeEdge, Side::A, e1, Side::B, e2, key, limit)
+        let pair = PrimitivePair {
+            kind: Primitive::EdgeEdge,
+            first: Side::A,
+            pa: e1,
+            second: Side::B,
+            pb: e2,
+            key,
+        };
+        self.run(w, pair, limit)
     }
 
     /// One test, counted, and its result kept.
-    #[allow(clippy::too_many_arguments)]
     #[inline]
     fn run<const N: usize, const M: usize>(
         &self,
         w: &mut Worker<T::Found>,
-        kind: Primitive,
-        first: Side,
-        pa: [u32; N],
-        second: Side,
-        pb: [u32; M],
-        key: Key,
+        pair: PrimitivePair<N, M>,
         limit: usize,
     ) -> bool {
         w.primitive_tests += 1;
-        match self.test.test(kind, first, pa, second, pb, key) {
+        match self.test.test(pair) {
             Some(found) => self.test.keep(w, found, limit),
             None => false,
         }

@@ -58,19 +58,12 @@ pub(crate) trait PrimitiveTest: Sync {
         0.0
     }
 
-    /// The test of the points `pa` of `first` against `pb` of `second` (a vertex and a
-    /// triangle's corners, or two edges' ends), to be reported under `key`. Called for every
-    /// pair of primitives whose boxes (as [`PrimitiveTest::grow`] makes them) come within
-    /// [`PrimitiveTest::reach`] of each other, and only for those or pairs farther by no more
-    /// than the rounding of that comparison.
+    /// The test of `pair`. Called for every pair of primitives whose boxes (as
+    /// [`PrimitiveTest::grow`] makes them) come within [`PrimitiveTest::reach`] of each other,
+    /// and only for those or pairs farther by no more than the rounding of that comparison.
     fn test<const N: usize, const M: usize>(
         &self,
-        kind: Primitive,
-        first: Side,
-        pa: [u32; N],
-        second: Side,
-        pb: [u32; M],
-        key: Key,
+        pair: PrimitivePair<N, M>,
     ) -> Option<Self::Found>;
 
     /// Keeps what a test found. Returns whether the narrow phase must stop: `limit` results
@@ -152,22 +145,30 @@ impl<F> Worker<F> {
     }
 }
 
-/// The points a [`PrimitiveTest::test`] is given, in one array as the geometric tests take
-/// them: the vertices `pa` of `a`, then `pb` of `b` (a vertex and a triangle's corners, or two
-/// edges' ends).
-#[inline(always)]
-pub(crate) fn points_of<const N: usize, const M: usize>(
-    a: &[Point],
-    pa: [u32; N],
-    b: &[Point],
-    pb: [u32; M],
-) -> [Point; 4] {
-    let mut p = [[0.0; 3]; 4];
-    for (i, &v) in pa.iter().enumerate() {
-        p[i] = a[v as usize];
+/// A pair of primitives to test: the vertices `pa` of side `first` against `pb` of side
+/// `second` (a vertex and a triangle's corners, or two edges' ends), reported under `key`.
+#[derive(Clone, Copy)]
+pub(crate) struct PrimitivePair<const N: usize, const M: usize> {
+    pub kind: Primitive,
+    pub first: Side,
+    pub pa: [u32; N],
+    pub second: Side,
+    pub pb: [u32; M],
+    pub key: Key,
+}
+
+impl<const N: usize, const M: usize> PrimitivePair<N, M> {
+    /// The pair's points in one array, as the geometric tests take them: `pa` of `first`'s
+    /// positions `a`, then `pb` of `second`'s positions `b`.
+    #[inline(always)]
+    pub fn points(&self, a: &[Point], b: &[Point]) -> [Point; 4] {
+        let mut p = [[0.0; 3]; 4];
+        for (i, &v) in self.pa.iter().enumerate() {
+            p[i] = a[v as usize];
+        }
+        for (i, &v) in self.pb.iter().enumerate() {
+            p[N + i] = b[v as usize];
+        }
+        p
     }
-    for (i, &v) in pb.iter().enumerate() {
-        p[N + i] = b[v as usize];
-    }
-    p
 }
