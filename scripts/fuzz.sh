@@ -9,10 +9,11 @@
 #                                              without sanitizers on every core (libFuzzer's fork
 #                                              mode), starting from fuzz/corpus/<target> (unpacked
 #                                              from its archive when not there yet; from the seeds
-#                                              and regressions when there is none); replay every
-#                                              new input under AddressSanitizer; merge the result
-#                                              back into fuzz/corpus/<target>, minimised, and pack
-#                                              it into fuzz/corpora/<target>.tar.xz
+#                                              and regressions when there is none); minimise
+#                                              the result; replay every new input under
+#                                              AddressSanitizer; replace fuzz/corpus/<target>
+#                                              with the minimised corpus and pack it into
+#                                              fuzz/corpora/<target>.tar.xz
 #   scripts/fuzz.sh restore [target...]        unpack every target's archive into fuzz/corpus,
 #                                              replacing what is there; fails, naming it, when a
 #                                              target has no archive (seconds; no nightly needed)
