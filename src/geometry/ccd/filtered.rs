@@ -1,9 +1,11 @@
 //! The exact continuous tests, filtered: floating-point tests that can only say "no contact",
 //! then exact rational arithmetic on what they cannot decide.
 //!
-//! 1. Boxes: the primitives' corners at the start and the end bound everything they sweep
-//!    (each point's path is a segment, each primitive stays in the hull of its corners), so
-//!    disjoint boxes of the start and end positions mean no contact. Exact: only comparisons.
+//! 1. Boxes: along a coordinate axis, one primitive's corners strictly below the other's at the
+//!    start and again at the end stay below in between (each point's path is a segment, each
+//!    primitive stays in the hull of its corners), so there is no contact. Exact: only
+//!    comparisons. It decides what disjoint boxes of the whole sweeps decide, and primitives
+//!    that pass each other's place while keeping their order along an axis.
 //! 2. Coplanarity: contact needs the orientation determinant f(t) = det(u(t), v(t), w(t)) to
 //!    vanish. f is trilinear in three linearly moving vectors, so its Bernstein coefficients on
 //!    [0, 1] are averages of the eight determinants det(u_i, v_j, w_k), i, j, k in {start, end};
@@ -25,7 +27,6 @@ use super::poly::Poly;
 use super::rational::earliest;
 use super::scaled;
 use crate::geometry::Primitive;
-use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::{Point, orient3d};
 use crate::geometry::tri_tri::triangles_intersect;
 
@@ -128,10 +129,24 @@ fn touching(kind: Primitive, p: &[Point; 4]) -> bool {
     }
 }
 
-/// Are the boxes of points `..split` and `split..`, over both times, disjoint on some axis?
+/// Are the points `..split` strictly on one side of the points `split..` along some axis, the
+/// same side at the start and at the end? Then they are throughout: along a fixed axis, the
+/// gap `min(b) - max(a)` is a minimum of linear functions of t less a maximum of them, concave,
+/// so positive at both ends means positive between. Exact: only comparisons. This holds
+/// whenever the boxes swept over both times are disjoint, and also for primitives that move a
+/// long way in one step while keeping their order (a sheet sliding along itself).
 fn boxes_apart(start: &[Point; 4], end: &[Point; 4], split: usize) -> bool {
-    let swept = |r: std::ops::Range<usize>| Aabb::of_points(start[r.clone()].iter().chain(&end[r]));
-    !swept(0..split).meets(&swept(split..4))
+    let range = |p: &[Point; 4], r: std::ops::Range<usize>, k: usize| {
+        p[r].iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), q| {
+                (lo.min(q[k]), hi.max(q[k]))
+            })
+    };
+    (0..3).any(|k| {
+        let (a0, b0) = (range(start, 0..split, k), range(start, split..4, k));
+        let (a1, b1) = (range(end, 0..split, k), range(end, split..4, k));
+        (a0.1 < b0.0 && a1.1 < b1.0) || (b0.1 < a0.0 && b1.1 < a1.0)
+    })
 }
 
 /// The vectors whose determinant is the coplanarity polynomial, at one time: for vertex-face
@@ -322,6 +337,53 @@ mod tests {
         }
         // Both answers and both filters are exercised.
         assert!(hits > 80 && filtered > 80, "{hits} {filtered}");
+    }
+
+    /// The box filter says "apart" only where the oracle and the independent judge find no
+    /// contact, and it decides primitives that pass each other's place along one axis while
+    /// staying ordered along another, which the boxes of the whole sweeps cannot.
+    #[test]
+    fn boxes_kept_in_order_only_decide_what_never_meets() {
+        use crate::fixtures::ccd_judge::{Primitives, Verdict, judge};
+        let mut rng = Rng::new(0x0b0e_5a9a);
+        let (mut apart, mut beyond_sweeps) = (0, 0);
+        for case in 0..1200 {
+            let grid = [2, 4, 1 << 20][case % 3];
+            let (mut s, mut e) = random_case(&mut rng, case, grid);
+            if case % 2 == 0 {
+                // Slide the second part along x past the first, a little above it in y.
+                for i in 0..4 {
+                    let lift = if i < 2 { 0.0 } else { 2.5 };
+                    s[i] = [s[i][0] - 3.0 * lift, s[i][1] + lift, s[i][2]];
+                    e[i] = [e[i][0] + 3.0 * lift, e[i][1] + lift, e[i][2]];
+                }
+            }
+            for (kind, split, primitives) in [
+                (Primitive::VertexFace, 1, Primitives::VertexFace),
+                (Primitive::EdgeEdge, 2, Primitives::EdgeEdge),
+            ] {
+                if !boxes_apart(&s, &e, split) {
+                    continue;
+                }
+                apart += 1;
+                let want = match kind {
+                    Primitive::VertexFace => vertex_face_toi(&s, &e),
+                    Primitive::EdgeEdge => edge_edge_toi(&s, &e),
+                };
+                assert_eq!(want, None, "case {case} {kind:?}: {s:?} -> {e:?}");
+                let swept = |r: std::ops::Range<usize>| {
+                    crate::geometry::aabb::Aabb::of_points(s[r.clone()].iter().chain(&e[r]))
+                };
+                if swept(0..split).meets(&swept(split..4)) {
+                    beyond_sweeps += 1;
+                    assert!(
+                        !matches!(judge(primitives, &s, &e, None), Verdict::Wrong(_)),
+                        "case {case} {kind:?}: the judge finds a contact"
+                    );
+                }
+            }
+        }
+        assert!(apart > 800 && beyond_sweeps > 80, "{apart} {beyond_sweeps}");
     }
 
     #[test]
