@@ -76,6 +76,7 @@ mod volume;
 /// Hooks for the tests of the threaded paths: not part of the API.
 #[doc(hidden)]
 pub mod testing {
+    pub use crate::mesh::scratch_growths as patch_scratch_growths;
     pub use crate::threads::{Step, at_least_two_threads, shared_count, sharing};
 }
 

@@ -23,6 +23,17 @@ pub struct PolygonScratch {
     edges: Vec<EdgeBox>,
 }
 
+impl PolygonScratch {
+    /// Elements of room held, over all its buffers: grows when a test needs more.
+    pub(crate) fn room(&self) -> usize {
+        self.ups.capacity()
+            + self.points.capacity()
+            + self.pieces.capacity()
+            + self.active.capacity()
+            + self.edges.capacity()
+    }
+}
+
 /// A monotone piece of a loop: `points[start..=end]` in increasing order, from corner `lo` of
 /// the loop to corner `hi`.
 #[derive(Clone, Copy, Debug)]

@@ -18,4 +18,5 @@ pub use mesh::{BoundingVolume, Mesh, NodeView, TreeStats};
 pub use mesh_validation::InvariantError;
 pub use options::BuildOptions;
 pub(crate) use patches::Patches;
+pub use patches::scratch_growths;
 pub use rings::LeftoverPolicy;

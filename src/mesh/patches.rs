@@ -32,7 +32,7 @@ use crate::geometry::polygon::{
 use crate::geometry::predicates::{Point, projected_orientations};
 use std::collections::HashMap;
 use std::sync::OnceLock;
-use std::sync::atomic::{AtomicU16, Ordering::Relaxed};
+use std::sync::atomic::{AtomicU16, AtomicUsize, Ordering::Relaxed};
 
 /// The boundary loop of every node whose patch is a disk (an empty row for the others), and
 /// what the test of two nodes' patches together needs.
@@ -133,7 +133,7 @@ impl Patches {
         mesh.patch_cache.simple(mesh, n, k, || {
             let boundary = self.loops.row(n as usize);
             boundary.len() >= 3
-                && SCRATCH.with_borrow_mut(|scratch| {
+                && with_scratch(|scratch| {
                     let Scratch { flat, polygon, .. } = scratch;
                     flat.clear();
                     flat.extend(boundary.iter().map(|&v| project(&mesh.positions, v, k)));
@@ -201,7 +201,7 @@ impl Patches {
         );
         let [x0, x1] = stretch(lx, seam.from_x);
         let [y0, y1] = stretch(ly, seam.from_y);
-        SCRATCH.with_borrow_mut(|scratch| {
+        with_scratch(|scratch| {
             // The stretches as chains, each closed by the other's first corner: `x`'s runs from
             // the path's last vertex round to its first, `y`'s from the first to the last.
             let Scratch {
@@ -351,6 +351,29 @@ struct Scratch {
 
 thread_local! {
     static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::default();
+}
+
+/// Patch tests whose thread's scratch had to grow, over the process's life.
+static SCRATCH_GROWTHS: AtomicUsize = AtomicUsize::new(0);
+
+/// Runs `f` with this thread's scratch, counting the calls that grew it.
+fn with_scratch<R>(f: impl FnOnce(&mut Scratch) -> R) -> R {
+    SCRATCH.with_borrow_mut(|scratch| {
+        let room = |s: &Scratch| s.flat.capacity() + s.other.capacity() + s.polygon.room();
+        let before = room(scratch);
+        let result = f(scratch);
+        if room(scratch) > before {
+            SCRATCH_GROWTHS.fetch_add(1, Relaxed);
+        }
+        result
+    })
+}
+
+/// How many patch tests so far had to grow their thread's scratch. The scratch is kept per
+/// thread, not in a query's workspace: a query whose patch tests ran on a pool thread that had
+/// done none as large allocates, however warm its workspace. Tests of allocation count them.
+pub fn scratch_growths() -> usize {
+    SCRATCH_GROWTHS.load(Relaxed)
 }
 
 /// The axes (bit `k` for coordinate `k` left out) along which triangles whose turns are
