@@ -255,6 +255,14 @@ mod tests {
 
     type Prim = [[f64; 3]; 4];
 
+    /// The rational oracle's answer for `kind`.
+    fn oracle(kind: Primitive, s: &Prim, e: &Prim) -> Option<f64> {
+        match kind {
+            Primitive::VertexFace => vertex_face_toi(s, e),
+            Primitive::EdgeEdge => edge_edge_toi(s, e),
+        }
+    }
+
     fn random_case(rng: &mut Rng, case: usize, grid: u64) -> (Prim, Prim) {
         let mut coord = || (rng.next_u64() % (2 * grid + 1)) as f64 / grid as f64 - 1.0;
         let mut s: Prim = [[0.0; 3]; 4];
@@ -302,10 +310,7 @@ mod tests {
             let grid = [2, 4, 1 << 20][case % 3];
             let (s, e) = random_case(&mut rng, case, grid);
             for kind in [Primitive::VertexFace, Primitive::EdgeEdge] {
-                let want = match kind {
-                    Primitive::VertexFace => vertex_face_toi(&s, &e),
-                    Primitive::EdgeEdge => edge_edge_toi(&s, &e),
-                };
+                let want = oracle(kind, &s, &e);
                 let got = time_of_impact(kind, &s, &e, 1.0);
                 assert_eq!(got, want, "case {case} {kind:?}: {s:?} -> {e:?}");
                 // A cut-off answers what is at or before it, in both modes, and nothing later.
@@ -330,7 +335,7 @@ mod tests {
                 }
                 hits += usize::from(got.is_some());
                 filtered += usize::from(
-                    boxes_apart(&s, &e, if kind == Primitive::VertexFace { 1 } else { 2 })
+                    boxes_apart(&s, &e, kind.split())
                         || coplanar_times(kind, &s, &e) == Coplanar::Never,
                 );
             }
@@ -358,18 +363,16 @@ mod tests {
                     e[i] = [e[i][0] + 3.0 * lift, e[i][1] + lift, e[i][2]];
                 }
             }
-            for (kind, split, primitives) in [
-                (Primitive::VertexFace, 1, Primitives::VertexFace),
-                (Primitive::EdgeEdge, 2, Primitives::EdgeEdge),
+            for (kind, primitives) in [
+                (Primitive::VertexFace, Primitives::VertexFace),
+                (Primitive::EdgeEdge, Primitives::EdgeEdge),
             ] {
+                let split = kind.split();
                 if !boxes_apart(&s, &e, split) {
                     continue;
                 }
                 apart += 1;
-                let want = match kind {
-                    Primitive::VertexFace => vertex_face_toi(&s, &e),
-                    Primitive::EdgeEdge => edge_edge_toi(&s, &e),
-                };
+                let want = oracle(kind, &s, &e);
                 assert_eq!(want, None, "case {case} {kind:?}: {s:?} -> {e:?}");
                 let swept = |r: std::ops::Range<usize>| {
                     crate::geometry::aabb::Aabb::of_points(s[r.clone()].iter().chain(&e[r]))
@@ -394,10 +397,7 @@ mod tests {
             // General position: fine grids, no constructed degeneracy.
             let (s, e) = random_case(&mut rng, 6 * case, 1 << 20);
             for kind in [Primitive::VertexFace, Primitive::EdgeEdge] {
-                let want = match kind {
-                    Primitive::VertexFace => vertex_face_toi(&s, &e),
-                    Primitive::EdgeEdge => edge_edge_toi(&s, &e),
-                };
+                let want = oracle(kind, &s, &e);
                 contacts += usize::from(want.is_some());
                 match interval::time_of_impact(kind, &s, &e, 1.0) {
                     Answer::Decided(got) => {
