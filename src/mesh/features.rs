@@ -46,18 +46,26 @@ impl Features {
                 }
             }
         }
-        // Sides as (low, high, triangle), sorted: the first of each run owns the edge.
-        let mut sides: Vec<(u32, u32, u32)> = Vec::with_capacity(3 * triangles.len());
-        for (t, tri) in triangles.iter().enumerate() {
-            for k in 0..3 {
-                let (u, v) = (tri[k], tri[(k + 1) % 3]);
-                if u != v {
-                    sides.push((u.min(v), u.max(v), t as u32));
-                }
-            }
+        // Sides as (low, high, triangle) in that order, the first of each (low, high) run
+        // owning the edge: grouped by their low vertex in two linear passes, then each group
+        // (a vertex's few sides) sorted alone, a fraction of one sort of them all.
+        let by_low = Csr::from_entries(vertex_count, || {
+            triangles.iter().enumerate().flat_map(|(t, tri)| {
+                (0..3).filter_map(move |k| {
+                    let (u, v) = (tri[k], tri[(k + 1) % 3]);
+                    (u != v).then(|| (u.min(v), (u.max(v), t as u32)))
+                })
+            })
+        });
+        let mut sides: Vec<(u32, u32, u32)> = Vec::with_capacity(by_low.items().len());
+        let mut group = Vec::new();
+        for low in 0..vertex_count {
+            group.clear();
+            group.extend_from_slice(by_low.row(low));
+            group.sort_unstable();
+            group.dedup_by_key(|s| s.0);
+            sides.extend(group.iter().map(|&(high, t)| (low as u32, high, t)));
         }
-        sides.sort_unstable();
-        sides.dedup_by_key(|s| (s.0, s.1));
         Features {
             triangles: Csr::from_entries(ring_count, || {
                 triangle_owner
@@ -123,6 +131,26 @@ mod tests {
                 let mut owned_edges = f.edges.items().to_vec();
                 owned_edges.sort_unstable();
                 assert_eq!(owned_edges, oracle::edges(&m));
+                let mut owner = vec![0; tris.len()];
+                for r in 0..rows {
+                    for &t in f.triangles.row(r) {
+                        owner[t as usize] = r;
+                    }
+                }
+                for r in 0..rows {
+                    // In order, each owned by the ring of the first triangle with that side.
+                    let edges = f.edges.row(r);
+                    assert!(edges.windows(2).all(|w| w[0] < w[1]), "ring {r}: {edges:?}");
+                    for e in edges {
+                        let first = tris.iter().position(|t| {
+                            (0..3).any(|k| {
+                                let (u, w) = (t[k], t[(k + 1) % 3]);
+                                [u.min(w), u.max(w)] == *e
+                            })
+                        });
+                        assert_eq!(first.map(|t| owner[t]), Some(r), "edge {e:?}");
+                    }
+                }
                 for r in 0..rows {
                     let held = rings.triangles.row(r);
                     for t in f.triangles.row(r) {
