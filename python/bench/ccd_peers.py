@@ -8,7 +8,8 @@
    percentile, max), hits, false positives and negatives against dvh's exact mode, and how much
    earlier (or later) than the exact time of impact each tool reports;
 2. one mesh's self CCD per step (a cloth folding over itself, the cloth draped and jittered, an
-   icosphere under a smooth displacement field): dvh's ``refit_motion`` +
+   icosphere under a smooth displacement field, and three steps of a cloth simulation,
+   ``cloth_steps.py``, where the sheet rests and slides on itself): dvh's ``refit_motion`` +
    ``self_continuous_collide`` against ``ipctk.compute_collision_free_stepsize``;
 3. two meshes (a sheet falling onto a sphere): ``dvh.continuous_collide`` against ipctk on one
    ``CollisionMesh`` holding both;
@@ -39,6 +40,13 @@ import numpy as np
 
 import dvh
 from dvh._dvh import ffi, lib
+
+import cloth_steps
+
+# The simulated cloth's steps, and those whose motions are measured: all in resting and sliding
+# self-contact (the sheet lands about step 45).
+CLOTH_STEPS = 150
+CLOTH_BENCH_STEPS = (60, 100, 140)
 
 try:
     import ipctk
@@ -1111,7 +1119,7 @@ def main() -> None:
     ap.add_argument("--timeout", type=float, default=None,
                     help="seconds before a Tight Inclusion call is killed (default 0.1; 0.05 with --quick)")
     ap.add_argument("--seed", type=int, default=20240601)
-    ap.add_argument("--skip", default="", help="comma-separated parts to skip: prim,self,pair,fcl")
+    ap.add_argument("--skip", default="", help="comma-separated parts to skip: prim,self,cloth,pair,fcl")
     args = ap.parse_args()
     q = args.quick
     skip = set(filter(None, args.skip.split(",")))
@@ -1175,6 +1183,12 @@ def main() -> None:
         cases = [(f"cloth fold, {len(Fs)} tris", Vs, fold(Vs), Fs),
                  (f"cloth drape + jitter, {len(Fs)} tris", Vs, drape(Vs, args.seed), Fs),
                  (f"icosphere + smooth field, {len(Fi)} tris", Vi, blob(Vi, args.seed), Fi)]
+        if "cloth" not in skip:
+            progress("simulating the cloth")
+            Fc, motions, _, _ = cloth_steps.simulate(grid_n, CLOTH_STEPS)
+            for k in CLOTH_BENCH_STEPS:
+                S, E = motions[k]
+                cases.append((f"cloth simulation, step {k}, {len(Fc)} tris", S, E, Fc.astype(np.int64)))
         md, c = bench_self(cases, reps, budget)
         checks += c
         print(f"\n### 2. Self CCD per step (one mesh), {timing}\n\n"
@@ -1182,7 +1196,11 @@ def main() -> None:
               "*fold* maps x > 0 to (-x + 0.02 y, y, 0.03 - 0.04 x) in one step; *drape* drops it "
               "to z ≈ -0.5 with a ripple, gathered to 0.8 × 0.85 of its size, plus Gaussian jitter "
               "of one edge length per vertex and axis. Icosphere: radius 1, displaced by six random "
-              "plane waves (wavenumber 3–5, amplitude 0.45). "
+              "plane waves (wavenumber 3–5, amplitude 0.45). *Cloth simulation*: the motion a "
+              f"simulator asks about at steps {', '.join(map(str, CLOTH_BENCH_STEPS))} of "
+              f"`cloth_steps.py`'s {CLOTH_STEPS} (a {grid_n}×{grid_n}-quad sheet fallen onto a ball "
+              "and the floor, folded onto itself, its self-contact kept by dvh's stencils and "
+              "CCD): from the last positions to the predicted ones. "
               "dvh times include `refit_motion(start, end)` (a simulator calls it every step); the "
               "parts column splits it. ipctk: `compute_collision_free_stepsize(mesh, V0, V1, "
               "min_distance=0, broad_phase=None, TightInclusionCCD())` on a `CollisionMesh` built "

@@ -1,14 +1,18 @@
 #!/usr/bin/env python3
 """dvh's closest-point stencils (``dvh.self_nearest_features``) against IPC Toolkit's collision
 set (``ipctk.NormalCollisions.build``: its broad phase, then the distance of every candidate),
-measured in the same run on the frames of two deforming meshes, as the benchmark runner's
-``self`` command builds them:
+measured in the same run on the frames of three deforming meshes, the first two as the
+benchmark runner's ``self`` command builds them:
 
 1. *sheet*: a grid of n × n cells, 1 wide, rippled, falling while it folds over a crease past
    180 degrees, so that the flap comes down on the rest of the sheet (20,000 triangles;
    3,200, the runner's short size, with --quick);
 2. *bent*: CGAL's scanned elephant (Debian's libcgal-demo, 5,558 triangles) bent around a
    cylinder until its ends cross; a UV sphere stands in when the data is not installed.
+3. *cloth simulation*: ``cloth_steps.py``'s sheet (2,048 triangles with --quick, 8,192 otherwise)
+   fallen onto a ball and the floor and folded onto itself, its self-contact kept by dvh's own
+   stencils and CCD: the positions a simulator produces, frames spread over its steps in
+   contact.
 
 For each mesh, distance (0.1 %, 1 % and 5 % of the rest mesh's bounding-box diagonal, as the
 runner) and frame (t in [0, 1)): ``self_nearest_features`` (every vertex-face and edge-edge pair
@@ -47,6 +51,8 @@ import numpy as np
 
 import dvh
 
+import cloth_steps
+
 try:
     import ipctk
 except ImportError:
@@ -55,6 +61,9 @@ except ImportError:
 # Debian's libcgal-demo package; data/meshes/*.off are scanned and modelled surfaces.
 CGAL_DATA = os.environ.get("DVH_CGAL_DATA", "/usr/share/doc/libcgal-demo/data.tar.gz")
 FRACTIONS = (0.001, 0.01, 0.05)
+# The simulated cloth (``cloth_steps.py``): its steps, and the first in self-contact.
+CLOTH_STEPS = 150
+CLOTH_FROM = 50
 # Pairs whose distance is within this relative band of d may be decided either way by a
 # floating-point tool (and ipctk keeps distance < d where dvh keeps distance <= d).
 TIE = 1e-9
@@ -708,7 +717,7 @@ def main() -> None:
     ap.add_argument("--cgal-data", default=CGAL_DATA, help="libcgal-demo's data.tar.gz, or a directory of .off files")
     ap.add_argument("--seed", type=int, default=20240601,
                     help="unused: every scene here is deterministic (kept for the other scripts' command line)")
-    ap.add_argument("--skip", default="", help="comma-separated parts to skip: sheet,bent,check")
+    ap.add_argument("--skip", default="", help="comma-separated parts to skip: sheet,bent,cloth,check")
     args = ap.parse_args()
     q = args.quick
     skip = set(filter(None, args.skip.split(",")))
@@ -745,6 +754,15 @@ def main() -> None:
     if "bent" not in skip:
         name, V, F = bent_rest(args.cgal_data)
         scenes.append((name, V, F, bent_at))
+    if "cloth" not in skip:
+        progress("simulating the cloth")
+        Fc, _, states, _ = cloth_steps.simulate(32 if q else 64, CLOTH_STEPS)
+
+        def cloth_at(rest, t, states=states):
+            # The frames spread over the steps in self-contact (the sheet lands about step 45).
+            return states[CLOTH_FROM + min(int(t * (len(states) - CLOTH_FROM)), len(states) - CLOTH_FROM - 1)]
+
+        scenes.append(("cloth simulation", states[CLOTH_FROM], Fc.astype(np.int64), cloth_at))
     timing, counts, checks, memory = [], [], [], []
     for name, V, F, at in scenes:
         t, c, k, mem = bench_scene(name, V, F, at, frames, reps, cap, budget, "check" not in skip)
