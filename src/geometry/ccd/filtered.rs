@@ -74,7 +74,7 @@ pub(crate) fn time_of_impact(
                 Primitive::VertexFace => vertex_face(&m[0], [&m[1], &m[2], &m[3]]),
                 Primitive::EdgeEdge => edge_edge([&m[0], &m[1]], [&m[2], &m[3]]),
             };
-            earliest(&condition, from).filter(|&t| t <= until)
+            earliest(&condition, from, until).filter(|&t| t <= until)
         }
     }
 }
