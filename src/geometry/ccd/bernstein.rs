@@ -1,11 +1,13 @@
 //! A floating-point filter that can only say "no contact up to a time": the condition's
 //! polynomials in Bernstein form on [0, 1], in plain doubles with one a-priori error bound per
 //! polynomial kind, and their ranges over time cells from blossoms (the Bernstein coefficients
-//! over a cell, whose hull holds the polynomial's values there). A cell is settled when f is
-//! certainly non-zero over it or some group of the condition certainly fails over it; the
-//! test is settled when every cell up to the cut-off is, within a few levels of bisection.
-//! Anything else goes on to the interval path unchanged, so the answers are those of the paths
-//! behind it.
+//! over a cell, whose hull holds the polynomial's values there). First the spans of time over
+//! which the primitives are certainly apart along an axis (the coordinate-difference groups,
+//! linear); then, by bisection, a cell is settled when it lies in those spans, f is certainly
+//! non-zero over it, or a projection's orientations certainly fail over it. The test is
+//! settled when every cell up to the cut-off is, within a few levels of bisection. Anything
+//! else goes on to the interval path unchanged, so the answers are those of the paths behind
+//! it.
 //!
 //! Error bounds, with u = 2^-53 (unit roundoff) and D an upper bound on every coordinate
 //! difference of two of the four points at one end of the step:
@@ -21,7 +23,7 @@
 //! error many times over. D is at most 1e150, so no product or sum overflows, and every
 //! input is finite, so nothing is NaN; outside that range the filter does not answer.
 
-use super::condition::{GROUPS, PROJECTIONS, Signs, Tri, group_holds};
+use super::condition::PROJECTIONS;
 use crate::geometry::Primitive;
 use crate::geometry::predicates::Point;
 
@@ -88,17 +90,21 @@ fn on_cell<const N: usize>(b: &[f64; N], s: f64, t: f64) -> [f64; N] {
     c
 }
 
-/// The signs the polynomial may have over `[s, t]`, its computed coefficients being within
-/// `bound` of what the blossom of the exact ones gives.
+/// The polynomial's sign over `[s, t]` when certain (1 or -1), else 0, its computed
+/// coefficients there being within `bound` of the exact ones (whose hull holds its values).
 #[inline(always)]
-fn signs<const N: usize>(b: &[f64; N], s: f64, t: f64, bound: f64) -> Signs {
-    // The values over the cell are in the hull of its coefficients.
-    let (lo, hi) = on_cell(b, s, t)
+fn sign<const N: usize>(b: &[f64; N], s: f64, t: f64, bound: f64) -> i8 {
+    let c = on_cell(b, s, t);
+    let (lo, hi) = c[1..]
         .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
-            (lo.min(x), hi.max(x))
-        });
-    Signs::within(lo - bound, hi + bound)
+        .fold((c[0], c[0]), |(lo, hi), &x| (lo.min(x), hi.max(x)));
+    if lo > bound {
+        1
+    } else if hi < -bound {
+        -1
+    } else {
+        0
+    }
 }
 
 /// The group polynomials in Bernstein form, the orientations built on first use.
@@ -200,24 +206,104 @@ impl Groups {
         self.built[q] = true;
     }
 
-    /// Group `g` (in the order of `condition::GROUPS`) over `[s, t]`.
-    fn judge(&mut self, g: usize, s: f64, t: f64) -> Tri {
-        let mut sg = [Signs::within(0.0, 0.0); 4];
+    /// Time spans over which some coordinate-difference group certainly fails (every
+    /// difference of one strict sign): candidates from the differences' roots in floating
+    /// point, moved inwards to multiples of 2^-20 (so that `1 - s` stays exact in the
+    /// blossom) and kept only when the cell test proves them. Sorted by start.
+    fn linear_spans(&self) -> Spans {
+        const GRID: f64 = (1u64 << 20) as f64;
         let n = self.width;
-        if g < 3 {
-            for (x, b) in sg.iter_mut().zip(&self.diff[g][..n]) {
-                *x = signs(b, s, t, self.lin_bound);
-            }
-        } else {
-            let q = g - 3;
-            if !self.built[q] {
-                self.build(q);
-            }
-            for (x, b) in sg.iter_mut().zip(&self.orient[q][..n]) {
-                *x = signs(b, s, t, self.quad_bound);
+        let mut spans = Spans {
+            at: [(0.0, 0.0); 6],
+            len: 0,
+        };
+        for axis in &self.diff {
+            for sigma in [1.0, -1.0] {
+                // Below 0 and above 1 while no root bounds them.
+                let (mut lo, mut hi) = (-1.0f64, 2.0f64);
+                for b in &axis[..n] {
+                    let (x, y) = (sigma * b[0], sigma * b[1]);
+                    if x > 0.0 && y > 0.0 {
+                        continue;
+                    }
+                    if x <= 0.0 && y <= 0.0 {
+                        lo = 2.0;
+                        break;
+                    }
+                    // One root, x / (x - y): positive before it when x > 0, after it if not.
+                    let r = x / (x - y);
+                    if x > 0.0 {
+                        hi = hi.min(r);
+                    } else {
+                        lo = lo.max(r);
+                    }
+                }
+                // Strictly inside the roots (a root at 0 leaves out t = 0).
+                let p = if lo >= 0.0 {
+                    ((lo * GRID).floor() + 1.0) / GRID
+                } else {
+                    0.0
+                };
+                let q = if hi <= 1.0 {
+                    ((hi * GRID).ceil() - 1.0) / GRID
+                } else {
+                    1.0
+                };
+                let proved = p < q
+                    && axis[..n]
+                        .iter()
+                        .all(|b| f64::from(sign(b, p, q, self.lin_bound)) == sigma);
+                if proved {
+                    spans.at[spans.len] = (p, q);
+                    spans.len += 1;
+                }
             }
         }
-        group_holds(self.edges, g, &sg[..n])
+        spans.at[..spans.len].sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        spans
+    }
+
+    /// Do the orientations of projection `q` (group `3 + q` of `condition::GROUPS`)
+    /// certainly fail over `[s, t]`, as `condition::group_holds` says `No`? For vertex-face,
+    /// orientations of both strict signs; for edge-edge, one segment's ends strictly on one
+    /// side of the other's line.
+    #[inline]
+    fn orientations_fail(&mut self, q: usize, s: f64, t: f64) -> bool {
+        if !self.built[q] {
+            self.build(q);
+        }
+        let mut sg = [0i8; 4];
+        for (x, b) in sg.iter_mut().zip(&self.orient[q][..self.width]) {
+            *x = sign(b, s, t, self.quad_bound);
+        }
+        if self.edges {
+            (sg[0] != 0 && sg[0] == sg[1]) || (sg[2] != 0 && sg[2] == sg[3])
+        } else {
+            sg[..3].contains(&1) && sg[..3].contains(&-1)
+        }
+    }
+}
+
+/// Closed time spans, sorted by start.
+struct Spans {
+    at: [(f64, f64); 6],
+    len: usize,
+}
+
+impl Spans {
+    /// Does their union hold `[s, t]`?
+    fn cover(&self, s: f64, t: f64) -> bool {
+        let mut x = s;
+        for &(p, q) in &self.at[..self.len] {
+            if p > x {
+                break;
+            }
+            x = x.max(q);
+            if x >= t {
+                return true;
+            }
+        }
+        false
     }
 }
 
@@ -234,6 +320,8 @@ pub(crate) fn apart_until(
         return false;
     };
     let f_bound = f.bound();
+    // Where the primitives are apart along an axis: most cells end here.
+    let spans = groups.linear_spans();
     // Depth-first, left half first: cells come out in increasing order of their starts.
     let mut stack = [(0.0f64, 1.0f64, 0u32); MAX_DEPTH as usize + 2];
     let mut top = 1;
@@ -244,11 +332,11 @@ pub(crate) fn apart_until(
             // Every cell left starts later: a contact there has a rounded time after `until`.
             break;
         }
-        let fs = signs(&f.b, s, t, f_bound);
-        if !fs.zero {
+        if spans.cover(s, t) || sign(&f.b, s, t, f_bound) != 0 {
             continue;
         }
-        if (0..GROUPS).any(|g| groups.judge(g, s, t) == Tri::No) {
+        // The orientations (the differences are in the spans).
+        if (0..3).any(|q| groups.orientations_fail(q, s, t)) {
             continue;
         }
         if depth == MAX_DEPTH {
@@ -266,7 +354,7 @@ pub(crate) fn apart_until(
 mod tests {
     use super::*;
     use crate::fixtures::Rng;
-    use crate::geometry::ccd::condition::{Moving, build_group, coplanarity, moving};
+    use crate::geometry::ccd::condition::{GROUPS, Moving, build_group, coplanarity, moving};
     use crate::geometry::ccd::oracle::{edge_edge_toi, vertex_face_toi};
     use crate::geometry::ccd::poly::{Poly, rational};
     use num_rational::BigRational;
@@ -369,12 +457,16 @@ mod tests {
         let mut checked = 0;
         for c in 0..1500 {
             let (s, e) = rounding_case(&mut rng, c);
-            let depth = (rng.next_u64() % 6) as u32;
-            let k = rng.next_u64() % (1 << depth);
-            let (cs, ct) = (
-                k as f64 / (1u64 << depth) as f64,
-                (k + 1) as f64 / (1u64 << depth) as f64,
-            );
+            // The bisection's cells, and spans on the grid of 2^-20.
+            let depth = [0, 1, 2, 3, 4, 5, 20][c % 7];
+            let n = 1u64 << depth;
+            let k = rng.next_u64() % n;
+            let j = if depth == 20 {
+                k + 1 + rng.next_u64() % (n - k)
+            } else {
+                k + 1
+            };
+            let (cs, ct) = (k as f64 / n as f64, j as f64 / n as f64);
             let (rs, rt) = (rational(cs), rational(ct));
             for kind in [Primitive::VertexFace, Primitive::EdgeEdge] {
                 let edges = kind == Primitive::EdgeEdge;
