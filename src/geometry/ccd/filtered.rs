@@ -21,6 +21,7 @@
 //!    increasing order against the whole [`Condition`]; when the motion is coplanar throughout,
 //!    every root of every polynomial of the condition is a candidate (as the oracle does).
 
+use super::bernstein::{self, Cubic};
 use super::condition::{Moving, edge_edge, vertex_face};
 use super::interval::{self, Answer};
 use super::poly::Poly;
@@ -42,8 +43,12 @@ pub(crate) fn time_of_impact(
     end: &[Point; 4],
     until: f64,
 ) -> Option<f64> {
-    if let Some(answer) = filtered(kind, start, end) {
-        return answer.filter(|&t| t <= until);
+    match filtered(kind, start, end) {
+        Filtered::Answer(answer) => return answer.filter(|&t| t <= until),
+        Filtered::Undecided(Some(f)) if bernstein::apart_until(kind, start, end, &f, until) => {
+            return None;
+        }
+        Filtered::Undecided(_) => {}
     }
     // Contact is a condition on signs, unchanged when every coordinate is scaled by a power
     // of two: scaled so that all are integers, the polynomials have integer coefficients, and
@@ -74,7 +79,7 @@ pub(crate) fn time_of_impact(
                 Primitive::VertexFace => vertex_face(&m[0], [&m[1], &m[2], &m[3]]),
                 Primitive::EdgeEdge => edge_edge([&m[0], &m[1]], [&m[2], &m[3]]),
             };
-            earliest(&condition, from).filter(|&t| t <= until)
+            earliest(&condition, from, until).filter(|&t| t <= until)
         }
     }
 }
@@ -95,8 +100,8 @@ pub(crate) fn conservative_time_of_impact(
     until: f64,
 ) -> Option<f64> {
     let toi = match filtered(kind, start, end) {
-        Some(answer) => answer,
-        None => match interval::time_of_impact(kind, start, end, until) {
+        Filtered::Answer(answer) => answer,
+        Filtered::Undecided(_) => match interval::time_of_impact(kind, start, end, until) {
             Answer::Decided(toi) => toi,
             Answer::ContactIn(lo, _, _) | Answer::Unknown(lo) => Some(lo),
         },
@@ -107,17 +112,26 @@ pub(crate) fn conservative_time_of_impact(
 /// The answer of the exact filters when they give one: boxes apart or never coplanar (none),
 /// or coplanar only at one end of the step (then contact only there, decided by the exact
 /// static test). Both modes run them first.
-fn filtered(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> Option<Option<f64>> {
+fn filtered(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> Filtered {
     let split = kind.split();
     if boxes_apart(start, end, split) {
-        return Some(None);
+        return Filtered::Answer(None);
     }
-    match coplanar_times(kind, start, end) {
-        Coplanar::Never => Some(None),
-        Coplanar::OnlyAtStart => Some(touching(kind, start).then_some(0.0)),
-        Coplanar::OnlyAtEnd => Some(touching(kind, end).then_some(1.0)),
-        Coplanar::Maybe => None,
+    let (times, f) = coplanar_times(kind, start, end);
+    match times {
+        Coplanar::Never => Filtered::Answer(None),
+        Coplanar::OnlyAtStart => Filtered::Answer(touching(kind, start).then_some(0.0)),
+        Coplanar::OnlyAtEnd => Filtered::Answer(touching(kind, end).then_some(1.0)),
+        Coplanar::Maybe => Filtered::Undecided(f),
     }
+}
+
+/// What the exact filters found.
+enum Filtered {
+    /// The answer.
+    Answer(Option<f64>),
+    /// No answer; the coplanarity cubic in Bernstein form when its error bound holds.
+    Undecided(Option<Cubic>),
 }
 
 /// Do the primitives share a point at these positions? The exact static triangle test, a
@@ -171,6 +185,12 @@ fn det(u: &[f64; 3], v: &[f64; 3], w: &[f64; 3]) -> (f64, f64) {
     (d, perm)
 }
 
+/// The coplanarity cubic in Bernstein form, when its error bound holds.
+#[cfg(test)]
+pub(crate) fn cubic(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> Option<Cubic> {
+    coplanar_times(kind, start, end).1
+}
+
 /// When the coplanarity polynomial f can vanish, as its Bernstein coefficients on [0, 1] tell.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 enum Coplanar {
@@ -190,7 +210,13 @@ enum Coplanar {
 /// the others certainly share one strict sign. Maybe otherwise, and whenever the floating-point
 /// numbers leave the range where the error bound holds (overflow, or products small enough to
 /// lose bits).
-fn coplanar_times(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> Coplanar {
+///
+/// Also the cubic's Bernstein coefficients with a bound on their errors, when it holds.
+fn coplanar_times(
+    kind: Primitive,
+    start: &[Point; 4],
+    end: &[Point; 4],
+) -> (Coplanar, Option<Cubic>) {
     // Shewchuk's orient3d bound is (7 + 56 eps) eps times the permanent; 8 eps covers it, and
     // the sums below add at most 3 eps of their terms' magnitude.
     const EPS: f64 = f64::EPSILON / 2.0;
@@ -200,6 +226,11 @@ fn coplanar_times(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> Copl
     let ends = [vectors(kind, start), vectors(kind, end)];
     // The sign of each coefficient when certain (0 when not).
     let mut signs = [0i8; 4];
+    // The m-th Bernstein coefficient is the m-th sum over C(3, m).
+    let mut cubic = Cubic {
+        b: [0.0; 4],
+        err: 0.0,
+    };
     for (m, sign) in signs.iter_mut().enumerate() {
         let (mut sum, mut err, mut mag) = (0.0f64, 0.0f64, 0.0f64);
         for (i, j, k) in [
@@ -217,13 +248,16 @@ fn coplanar_times(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> Copl
             }
             let (d, perm) = det(&ends[i][0], &ends[j][1], &ends[k][2]);
             if !(perm.is_finite() && perm < LARGEST) || (perm != 0.0 && perm < SMALLEST) {
-                return Coplanar::Maybe;
+                return (Coplanar::Maybe, None);
             }
             sum += d;
             err += BOUND * perm;
             mag += d.abs();
         }
         let err = (err + 3.0 * EPS * mag) * (1.0 + 4.0 * EPS);
+        // Dividing by 3 divides the error and adds a rounding: within err + u |b|.
+        cubic.b[m] = if m == 1 || m == 2 { sum / 3.0 } else { sum };
+        cubic.err = cubic.err.max(err + 2.0 * EPS * cubic.b[m].abs());
         *sign = if sum > err {
             1
         } else if sum < -err {
@@ -234,17 +268,17 @@ fn coplanar_times(kind: Primitive, start: &[Point; 4], end: &[Point; 4]) -> Copl
     }
     let one_sign = |s: &[i8]| s[0] != 0 && s.iter().all(|&x| x == s[0]);
     if one_sign(&signs) {
-        return Coplanar::Never;
+        return (Coplanar::Never, Some(cubic));
     }
     // The end coefficients are f at the ends: exactly zero when the four points are coplanar.
     let coplanar_at = |p: &[Point; 4]| orient3d(&p[0], &p[1], &p[2], &p[3]) == 0;
     if signs[0] == 0 && one_sign(&signs[1..]) && coplanar_at(start) {
-        return Coplanar::OnlyAtStart;
+        return (Coplanar::OnlyAtStart, Some(cubic));
     }
     if signs[3] == 0 && one_sign(&signs[..3]) && coplanar_at(end) {
-        return Coplanar::OnlyAtEnd;
+        return (Coplanar::OnlyAtEnd, Some(cubic));
     }
-    Coplanar::Maybe
+    (Coplanar::Maybe, Some(cubic))
 }
 
 #[cfg(test)]
@@ -336,7 +370,7 @@ mod tests {
                 hits += usize::from(got.is_some());
                 filtered += usize::from(
                     boxes_apart(&s, &e, kind.split())
-                        || coplanar_times(kind, &s, &e) == Coplanar::Never,
+                        || coplanar_times(kind, &s, &e).0 == Coplanar::Never,
                 );
             }
         }

@@ -1,5 +1,6 @@
 //! Continuous collision of linearly moving points, triangles and segments, decided exactly.
 
+pub(crate) mod bernstein;
 pub(crate) mod condition;
 pub(crate) mod filtered;
 pub(crate) mod interval;

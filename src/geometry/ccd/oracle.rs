@@ -20,6 +20,7 @@ pub(crate) fn vertex_face_toi(start: &[[f64; 3]; 4], end: &[[f64; 3]; 4]) -> Opt
     earliest_of_every_candidate(
         &vertex_face(&m[0], [&m[1], &m[2], &m[3]]),
         &num_traits::Zero::zero(),
+        &num_traits::One::one(),
     )
 }
 
@@ -30,6 +31,7 @@ pub(crate) fn edge_edge_toi(start: &[[f64; 3]; 4], end: &[[f64; 3]; 4]) -> Optio
     earliest_of_every_candidate(
         &edge_edge([&m[0], &m[1]], [&m[2], &m[3]]),
         &num_traits::Zero::zero(),
+        &num_traits::One::one(),
     )
 }
 

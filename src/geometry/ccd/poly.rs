@@ -227,6 +227,15 @@ impl Poly {
     /// isolated, in increasing order.
     pub(crate) fn roots_in(&self, lo: &BigRational, hi: &BigRational) -> Vec<Root> {
         assert!(!self.is_zero(), "the zero polynomial vanishes everywhere");
+        if self.degree() == Some(1) {
+            // A line's one root, exactly (half the condition's polynomials are lines).
+            let x = -&self.0[0] / &self.0[1];
+            return if *lo <= x && x <= *hi {
+                vec![Root::exact(self, x)]
+            } else {
+                Vec::new()
+            };
+        }
         let p = self.squarefree();
         if p.degree() == Some(0) {
             return Vec::new();

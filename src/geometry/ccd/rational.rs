@@ -9,20 +9,31 @@ use num_rational::BigRational;
 
 /// The earliest time at or after `from` (before which there is no contact) at which the
 /// condition holds, trying the coplanarity polynomial's roots (or, when it vanishes
-/// identically, every polynomial's) in increasing order.
-pub(crate) fn earliest(c: &Condition<Poly>, from: f64) -> Option<f64> {
+/// identically, every polynomial's) in increasing order. Only times whose rounding down is at
+/// most `until` are searched for (roots up to the next double): a later contact may be
+/// answered or not.
+pub(crate) fn earliest(c: &Condition<Poly>, from: f64, until: f64) -> Option<f64> {
     let f = &c.polys[0];
     let from = poly::rational(from);
+    let upto = if until >= 1.0 {
+        one()
+    } else {
+        poly::rational(until.next_up())
+    };
     if f.is_zero() {
-        return earliest_of_every_candidate(c, &from);
+        return earliest_of_every_candidate(c, &from, &upto);
     }
-    first_holding(c, f.roots_in(&from, &one()))
+    first_holding(c, f.roots_in(&from, &upto))
 }
 
-/// The earliest time at or after `from` at which the condition holds, trying `from` and every
-/// root of every polynomial: the contact times form a closed set whose truth changes only at
-/// such roots. (With `from` = 0, the oracle.)
-pub(crate) fn earliest_of_every_candidate(c: &Condition<Poly>, from: &BigRational) -> Option<f64> {
+/// The earliest time in `[from, upto]` at which the condition holds, trying `from` and every
+/// root of every polynomial there: the contact times form a closed set whose truth changes
+/// only at such roots. (With `from` = 0 and `upto` = 1, the oracle.)
+pub(crate) fn earliest_of_every_candidate(
+    c: &Condition<Poly>,
+    from: &BigRational,
+    upto: &BigRational,
+) -> Option<f64> {
     let at_from: Vec<Signs> = c
         .polys
         .iter()
@@ -31,12 +42,11 @@ pub(crate) fn earliest_of_every_candidate(c: &Condition<Poly>, from: &BigRationa
     if c.holds(&at_from) == Tri::Yes {
         return Some(poly::floor_f64(from));
     }
-    let one = one();
     let candidates = c
         .polys
         .iter()
         .filter(|p| !p.is_zero())
-        .flat_map(|p| p.roots_in(from, &one))
+        .flat_map(|p| p.roots_in(from, upto))
         .collect();
     first_holding(c, candidates)
 }

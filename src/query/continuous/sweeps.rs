@@ -85,12 +85,23 @@ impl PrimitiveTest for Sweeps<'_, '_> {
     }
 
     #[inline]
-    fn test<const N: usize, const M: usize>(&self, pair: PrimitivePair<N, M>) -> Option<Impact> {
+    fn test<const N: usize, const M: usize>(
+        &self,
+        pair: PrimitivePair<N, M>,
+        best: Option<&Impact>,
+    ) -> Option<Impact> {
         let (a, b) = (self.side(pair.first), self.side(pair.second));
         let start = pair.points(a.start, b.start);
         let end = pair.points(a.end, b.end);
         let (kind_out, a0, a1, b0, b1) = pair.key;
-        let toi = time_of_impact(pair.kind, &start, &end, self.mode, self.cut())?;
+        let mut cut = self.cut();
+        // A contact at this thread's best time would lose to it in the result's order (ties
+        // are common where a vertex lands exactly on a face: every primitive around it meets
+        // then), so only earlier ones are wanted. Which impact wins does not change.
+        if self.earliest_only && best.is_some_and(|b| b.toi == cut && b.key() < pair.key) {
+            cut = cut.next_down();
+        }
+        let toi = time_of_impact(pair.kind, &start, &end, self.mode, cut)?;
         Some(Impact {
             kind: kind_out,
             a0,

@@ -172,7 +172,11 @@ impl PrimitiveTest for Stencils<'_> {
     }
 
     #[inline]
-    fn test<const N: usize, const M: usize>(&self, pair: PrimitivePair<N, M>) -> Option<Stencil> {
+    fn test<const N: usize, const M: usize>(
+        &self,
+        pair: PrimitivePair<N, M>,
+        _: Option<&Stencil>,
+    ) -> Option<Stencil> {
         let p = pair.points(self.side(pair.first), self.side(pair.second));
         // The narrow phase gives only primitives whose boxes come within `d` (up to rounding;
         // the decision is exact whatever it gives).

@@ -405,7 +405,7 @@ impl<T: PrimitiveTest> Narrow<'_, T> {
         limit: usize,
     ) -> bool {
         w.primitive_tests += 1;
-        match self.test.test(pair) {
+        match self.test.test(pair, w.best.as_ref()) {
             Some(found) => self.test.keep(w, found, limit),
             None => false,
         }

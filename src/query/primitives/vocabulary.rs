@@ -61,9 +61,11 @@ pub(crate) trait PrimitiveTest: Sync {
     /// The test of `pair`. Called for every pair of primitives whose boxes (as
     /// [`PrimitiveTest::grow`] makes them) come within [`PrimitiveTest::reach`] of each other,
     /// and only for those or pairs farther by no more than the rounding of that comparison.
+    /// `best` is this thread's [`Worker::best`].
     fn test<const N: usize, const M: usize>(
         &self,
         pair: PrimitivePair<N, M>,
+        best: Option<&Self::Found>,
     ) -> Option<Self::Found>;
 
     /// Keeps what a test found. Returns whether the narrow phase must stop: `limit` results
