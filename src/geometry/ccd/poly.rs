@@ -330,7 +330,8 @@ impl ZPoly {
             }
             // An isolating interval must not end on a root (the left end may be one: the
             // interval's lower bound, or a split point found as a root).
-            if n == 1 && !p.sign_at(&a).is_eq() {
+            let root_at_a = p.sign_at(&a).is_eq();
+            if n == 1 && !root_at_a {
                 out.push(Root {
                     poly: p.clone(),
                     lo: a,
@@ -338,11 +339,12 @@ impl ZPoly {
                 });
                 continue;
             }
-            // Two roots of p have a root of p' between them: splitting near p's critical
-            // points separates roots however close they are (a near double root, two roots
-            // 1e-150 apart, would take 500 halvings), once the precision is below their gap;
-            // it doubles at each split. Any split point is sound; the middle is the fallback.
-            let mut cuts: Vec<BigRational> = if n >= 2 {
+            // Two roots of p (two in (a, b], or a and one in (a, b]) have a root of p' between
+            // them: splitting near p's critical points separates roots however close they are
+            // (a near double root, two roots 1e-150 apart, would take 500 halvings), once the
+            // precision is below their gap; it doubles at each such split. Any split point is
+            // sound; the middle is the fallback.
+            let mut cuts: Vec<BigRational> = if n >= 2 || root_at_a {
                 critical_points(&p, bits)
                     .into_iter()
                     .filter(|x| rcmp(x, &a).is_gt() && rcmp(x, &b).is_lt())
@@ -362,7 +364,7 @@ impl ZPoly {
                     variations(&sturm, &x)
                 };
                 let (l, vl) = std::mem::replace(&mut left, (x.clone(), vx));
-                open.push((l, x, vl, vx, bits * 2));
+                open.push((l, x, vl, vx, bits.saturating_mul(2)));
             }
         }
         out.sort_by(|x, y| x.cmp(y));
@@ -391,6 +393,24 @@ pub(crate) fn rcmp(a: &BigRational, b: &BigRational) -> Ordering {
         return a.numer().cmp(b.numer());
     }
     (a.numer() * b.denom()).cmp(&(b.numer() * a.denom()))
+}
+
+/// The sign of `u + v √d` for `d > 0`: of the terms when they agree, else of the larger
+/// square.
+fn sign_plus_sqrt(u: &BigInt, v: &BigInt, d: &BigInt) -> Ordering {
+    let (su, sv) = (u.sign(), v.sign());
+    let of = |s: Sign| s.cmp(&Sign::NoSign);
+    if sv == Sign::NoSign || su == sv {
+        return of(su);
+    }
+    if su == Sign::NoSign {
+        return of(sv);
+    }
+    match (u * u).cmp(&(v * v * d)) {
+        Ordering::Greater => of(su),
+        Ordering::Less => of(sv),
+        Ordering::Equal => Ordering::Equal,
+    }
 }
 
 /// `m / 2^k` in lowest terms.
@@ -479,7 +499,132 @@ impl Root {
         if self.is_exact() {
             return q.sign_at(&self.lo);
         }
-        self.tarski_query(q, &self.lo, &self.hi)
+        self.sign_at_root(q, &self.lo, &self.hi)
+    }
+
+    /// The sign of `q` at the root, which is the only root of `p` in `(lo, hi)`, neither end
+    /// a root of `p`. For `q` of degree at most 2 (every polynomial of a condition but the
+    /// coplanarity cubic), from `q`'s roots in closed form: the root against a rational, or
+    /// against `(-b ± √D) / 2a` by the sign of `p` there, an expression `u + v √D` whose sign
+    /// needs only integer squares. Otherwise a Tarski query. Nothing bisects: the cost does
+    /// not depend on how close the roots are, and the numbers stay a few times the size of
+    /// the coefficients (the remainder sequences of a Tarski query grow to twenty times).
+    fn sign_at_root(&self, q: &ZPoly, lo: &BigRational, hi: &BigRational) -> Ordering {
+        let sign = |x: &BigInt| x.sign().cmp(&Sign::NoSign);
+        match q.degree() {
+            None => Ordering::Equal,
+            Some(0) => sign(&q.0[0]),
+            Some(1) => {
+                // q = q1 (t - x): its sign at the root is q1's above x, the opposite below.
+                let (q0, q1) = (&q.0[0], &q.0[1]);
+                let x = if q1.sign() == Sign::Minus {
+                    BigRational::new_raw(q0.clone(), -q1)
+                } else {
+                    BigRational::new_raw(-q0, q1.clone())
+                };
+                match self.locate(lo, hi, &x) {
+                    Ordering::Equal => Ordering::Equal,
+                    Ordering::Greater => sign(q1),
+                    Ordering::Less => sign(q1).reverse(),
+                }
+            }
+            Some(2) => {
+                let (c, b, a) = (&q.0[0], &q.0[1], &q.0[2]);
+                let d = b * b - BigInt::from(4) * a * c;
+                let sa = sign(a);
+                if d.sign() == Sign::Minus {
+                    return sa;
+                }
+                let two_a = a << 1u32;
+                if d.is_zero() {
+                    // a (t - x)² with x = -b / 2a.
+                    let x = if a.sign() == Sign::Minus {
+                        BigRational::new_raw(b.clone(), -&two_a)
+                    } else {
+                        BigRational::new_raw(-b, two_a)
+                    };
+                    return if self.locate(lo, hi, &x).is_eq() {
+                        Ordering::Equal
+                    } else {
+                        sa
+                    };
+                }
+                // p mod q (a positive multiple): p's sign at q's roots.
+                let r = self.poly.pseudo_div(q).1;
+                let mut inside = 0;
+                for s in [-1i32, 1] {
+                    match self.locate_quadratic(lo, hi, b, &two_a, &d, s, &r) {
+                        Ordering::Equal => return Ordering::Equal,
+                        // Above the root (-b + s √D) / 2a: the larger one when s a > 0.
+                        Ordering::Greater => inside += i32::from((s > 0) != (sa.is_gt())),
+                        Ordering::Less => inside += i32::from((s > 0) == (sa.is_gt())),
+                    }
+                }
+                // Between q's roots (above the smaller, below the larger) q has -a's sign.
+                if inside == 2 { sa.reverse() } else { sa }
+            }
+            _ => self.tarski_query(q, lo, hi),
+        }
+    }
+
+    /// The root (the only root of `p` in `(lo, hi)`) compared with the rational `x`.
+    fn locate(&self, lo: &BigRational, hi: &BigRational, x: &BigRational) -> Ordering {
+        if rcmp(x, lo).is_le() {
+            return Ordering::Greater;
+        }
+        if rcmp(x, hi).is_ge() {
+            return Ordering::Less;
+        }
+        // p keeps its sign at lo up to the root.
+        match self.poly.sign_at(x) {
+            Ordering::Equal => Ordering::Equal,
+            s if s == self.poly.sign_at(lo) => Ordering::Greater,
+            _ => Ordering::Less,
+        }
+    }
+
+    /// The root (the only root of `p` in `(lo, hi)`) compared with `β = (-b + s √d) / 2a`
+    /// (`two_a` = 2a, `d` > 0), where `r` is a positive multiple of `p` modulo the quadratic
+    /// whose root `β` is (so `r(β)` has the sign of `p(β)`).
+    #[allow(clippy::too_many_arguments)]
+    fn locate_quadratic(
+        &self,
+        lo: &BigRational,
+        hi: &BigRational,
+        b: &BigInt,
+        two_a: &BigInt,
+        d: &BigInt,
+        s: i32,
+        r: &ZPoly,
+    ) -> Ordering {
+        let sa = two_a.sign().cmp(&Sign::NoSign);
+        let sqrt_coeff = |v: BigInt| if s < 0 { -v } else { v };
+        // sign(β - n/m) = sign(a) · sign(-b m - 2a n + s m √d), for m > 0.
+        let beta_vs = |x: &BigRational| -> Ordering {
+            let (n, m) = (x.numer(), x.denom());
+            let u = -(b * m) - two_a * n;
+            let s = sign_plus_sqrt(&u, &sqrt_coeff(m.clone()), d);
+            if sa.is_lt() { s.reverse() } else { s }
+        };
+        if beta_vs(lo).is_le() {
+            return Ordering::Greater;
+        }
+        if beta_vs(hi).is_ge() {
+            return Ordering::Less;
+        }
+        // β in (lo, hi): p(β) decides, as p(x) does for a rational x in `locate`.
+        let zero = BigInt::zero();
+        let (r0, r1) = (r.0.first().unwrap_or(&zero), r.0.get(1).unwrap_or(&zero));
+        // r(β) = (2a r0 - b r1 + s r1 √d) / 2a.
+        let mut at_beta = sign_plus_sqrt(&(two_a * r0 - b * r1), &sqrt_coeff(r1.clone()), d);
+        if sa.is_lt() {
+            at_beta = at_beta.reverse();
+        }
+        match at_beta {
+            Ordering::Equal => Ordering::Equal,
+            v if v == self.poly.sign_at(lo) => Ordering::Greater,
+            _ => Ordering::Less,
+        }
     }
 
     /// The sign of `q` at the root, which is the only root of `p` in `(lo, hi)`, neither end
@@ -506,18 +651,7 @@ impl Root {
         if self.is_exact() {
             return rcmp(&self.lo, x);
         }
-        if rcmp(x, &self.lo).is_le() {
-            return Ordering::Greater;
-        }
-        if rcmp(x, &self.hi).is_ge() {
-            return Ordering::Less;
-        }
-        // p keeps its sign at lo up to the root.
-        match self.poly.sign_at(x) {
-            Ordering::Equal => Ordering::Equal,
-            s if s == self.poly.sign_at(&self.lo) => Ordering::Greater,
-            _ => Ordering::Less,
-        }
+        self.locate(&self.lo, &self.hi, x)
     }
 
     /// Compares two roots exactly.
@@ -562,7 +696,7 @@ impl Root {
         // neither. q = o.poly vanishes at this root exactly when they are equal; otherwise q
         // has at this root its sign at lo exactly when this root is below o's.
         let q = &o.poly;
-        match self.tarski_query(q, lo, hi) {
+        match self.sign_at_root(q, lo, hi) {
             Ordering::Equal => Ordering::Equal,
             s if s == q.sign_at(lo) => Ordering::Less,
             _ => Ordering::Greater,
