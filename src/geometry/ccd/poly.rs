@@ -5,9 +5,11 @@
 //! reduced by a gcd after every operation, which on coordinates far apart in magnitude (a
 //! thousand bits and more once scaled to integers) costs far more than the arithmetic.
 //!
-//! Nothing here bisects to tell roots apart or to find a sign at a root: both are decided by
-//! Tarski queries (the signed remainder sequence of `p` and `p' q`), whose cost does not depend
-//! on how close the roots are. Only isolating the roots of one polynomial bisects.
+//! Nothing here bisects to tell roots apart or to find a sign at a root: lines and quadratics
+//! are compared with a root through their own roots in closed form, anything else by a Tarski
+//! query (the signed remainder sequence of `p` and `p' q`); neither's cost depends on how
+//! close the roots are. Isolating the roots of one polynomial splits intervals near its
+//! critical points, which separates close roots at once, and halves them otherwise.
 
 use num_bigint::{BigInt, Sign};
 use num_rational::BigRational;
@@ -415,6 +417,9 @@ fn sign_plus_sqrt(u: &BigInt, v: &BigInt, d: &BigInt) -> Ordering {
 
 /// `m / 2^k` in lowest terms.
 fn dyadic_ratio(m: BigInt, k: u64) -> BigRational {
+    if m.is_zero() {
+        return BigRational::zero();
+    }
     let t = m.trailing_zeros().unwrap_or(0).min(k);
     BigRational::new_raw(m >> t, BigInt::one() << (k - t))
 }
@@ -870,6 +875,77 @@ mod tests {
         let mut r2 = r2;
         assert_eq!(r2.sign_of(&poly(&[-1, 0, 2])), Ordering::Equal);
         assert_eq!(r2.sign_of(&poly(&[-5, 7])), Ordering::Less);
+    }
+
+    /// Roots 2^-k apart (k up to 600, far below what halving could separate quickly) and not
+    /// dyadic, so that they stay inexact: isolated, ordered, and every sign at them and every
+    /// comparison with other polynomials' roots as exact evaluation at the known values says.
+    #[test]
+    fn close_roots_signs_and_order_agree_with_exact_values() {
+        let (z, o) = (BigRational::zero(), one());
+        let line = |a: BigRational, b: BigRational| Poly::new(vec![-b, a]); // a t - b
+        for k in [3u32, 60, 200, 600] {
+            let eps = BigRational::new(1.into(), BigInt::from(2).pow(k));
+            let x = [q(1, 3), q(1, 3) + &eps / q(3, 1), q(5, 7)];
+            let factors = [
+                line(q(3, 1), q(1, 1)),
+                line(q(3, 1), q(1, 1) + &eps),
+                line(q(7, 1), q(5, 1)),
+            ];
+            let p = factors[0].mul(&factors[1]).mul(&factors[2]);
+            let mut roots = p.roots_in(&z, &o);
+            assert_eq!(roots.len(), 3, "k {k}");
+            assert!(roots.iter().all(|r| !r.is_exact()));
+            for w in roots.windows(2) {
+                assert_eq!(w[0].cmp(&w[1]), Ordering::Less, "k {k}");
+            }
+            // Lines and quadratics through the roots, beside them and between them.
+            let mut tests = vec![
+                factors[0].clone(),
+                factors[1].clone(),
+                line(q(6, 1), q(2, 1) + &eps),
+                Poly::constant(q(-2, 1)),
+            ];
+            for (a, b) in [(0, 1), (1, 2), (0, 2)] {
+                tests.push(line(one(), x[a].clone()).mul(&line(one(), x[b].clone())));
+            }
+            let mid = (&x[0] + &x[1]) / q(2, 1);
+            tests.push(line(one(), mid.clone()).mul(&line(q(9, 1), q(7, 1))));
+            tests.push(line(one(), mid.clone()).mul(&line(one(), mid.clone())));
+            tests.push(Poly::new(vec![q(1, 1), q(0, 1), q(1, 1)])); // t² + 1
+            tests.push(Poly::new(vec![-(&mid * &mid), q(0, 1), q(1, 1)])); // t² - mid²
+            tests.push(p.clone());
+            for (i, r) in roots.iter_mut().enumerate() {
+                for t in &tests {
+                    let want = t.eval(&x[i]).cmp(&BigRational::zero());
+                    assert_eq!(r.sign_of(t), want, "k {k} root {i} of {t:?}");
+                }
+            }
+            // Against other polynomials' roots, some equal to these.
+            for t in &tests[..tests.len() - 1] {
+                if t.is_zero() || t.integer().degree() == Some(0) {
+                    continue;
+                }
+                let mut values: Vec<BigRational> = Vec::new();
+                for c in [&x[0], &x[1], &x[2], &mid] {
+                    if t.eval(c).is_zero() {
+                        values.push(c.clone());
+                    }
+                }
+                let theirs = t.roots_in(&z, &o);
+                for (r, v) in roots.iter().zip(&x) {
+                    for s in &theirs {
+                        // Each of their roots is one of the known values, or irrational and
+                        // off every root of p (t² - mid²: ±mid, t² + 1: none).
+                        let got = r.cmp(s);
+                        if let Some(w) = values.iter().find(|w| s.cmp_rational(w).is_eq()) {
+                            assert_eq!(got, v.cmp(w), "k {k} {t:?}");
+                        }
+                        assert_eq!(got, s.cmp(r).reverse());
+                    }
+                }
+            }
+        }
     }
 
     #[test]
