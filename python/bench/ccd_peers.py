@@ -4,9 +4,12 @@
 
 1. primitive queries, vertex-face and edge-edge: four sets of 2,000 queries each (random motions
    in the unit cube; motions that certainly meet; degenerate motions on a dyadic grid; near
-   misses at 1e-9..1e-4), each call timed alone: time per call (median, 99th and 99.9th
-   percentile, max), hits, false positives and negatives against dvh's exact mode, and how much
-   earlier (or later) than the exact time of impact each tool reports;
+   misses at 1e-9..1e-4) and a hard set of 2,000 (tangential grazing, coplanar motion in tilted
+   planes, contacts on edges and corners at dyadic times, at scales 1e-151 to 1e150, far from
+   the origin, and with exponents a thousand binades apart), each call timed alone: time per
+   call (median, 99th and 99.9th percentile, max), hits, false positives and negatives against
+   dvh's exact mode, and how much earlier (or later) than the exact time of impact each tool
+   reports;
 2. one mesh's self CCD per step (a cloth folding over itself, the cloth draped and jittered, an
    icosphere under a smooth displacement field, and three steps of a cloth simulation,
    ``cloth_steps.py``, where the sheet rests and slides on itself): dvh's ``refit_motion`` +
@@ -34,6 +37,7 @@ import platform
 import sys
 import time
 from datetime import datetime, timezone
+from fractions import Fraction
 from importlib import metadata
 
 import numpy as np
@@ -385,6 +389,231 @@ def ee_near(rng, n):
     return S, E
 
 
+# Hard sets: exact tangencies and contacts at dyadic times strictly inside the step, on a finer
+# grid (thirty-seconds, times in sixty-fourths) so that every construction is exact in doubles,
+# then placed at one of five scales. Tangential grazing: the coplanarity cubic f has a double
+# root at t* (it touches zero there without crossing), the primitives then meeting inside, on an
+# edge, at a corner or just apart. The exact path's slowest inputs are of these kinds.
+
+HARD_SCALES = ["unit", "tiny", "huge", "far", "spread"]
+
+
+def fine(rng, k=3, r=32):
+    """k coordinates in {-1, -31/32, ..., 1}."""
+    return rng.integers(-r, r + 1, size=k) / 32.0
+
+
+def fine_v(rng):
+    """A velocity in {-1, -15/16, ..., 1}^3."""
+    return rng.integers(-16, 17, size=3) / 16.0
+
+
+def hard_time(rng):
+    return rng.integers(1, 64) / 64.0
+
+
+def is_pow2(x):
+    return x != 0 and np.frexp(abs(x))[0] == 0.5
+
+
+def coplanarity_at(kind, s, e, t):
+    """The coplanarity determinant at rational time t, exactly, ordered as dvh orders it."""
+    p = [[Fraction(s[i][k]) + t * (Fraction(e[i][k]) - Fraction(s[i][k])) for k in range(3)] for i in range(4)]
+    d = lambda i, j: [p[i][k] - p[j][k] for k in range(3)]  # noqa: E731
+    u, v, w = (d(2, 1), d(3, 1), d(0, 1)) if kind == "vf" else (d(1, 0), d(2, 0), d(3, 0))
+    return (u[0] * (v[1] * w[2] - v[2] * w[1]) + u[1] * (v[2] * w[0] - v[0] * w[2])
+            + u[2] * (v[0] * w[1] - v[1] * w[0]))
+
+
+def double_root_at(kind, s, e, ts):
+    """Is ts a root of f of multiplicity two or more? f is a cubic: its values at four points
+    give its derivative at ts exactly (Lagrange)."""
+    ts = Fraction(ts)
+    if coplanarity_at(kind, s, e, ts) != 0:
+        return False
+    xs = [Fraction(0), Fraction(1), Fraction(2), Fraction(3)]
+    ys = [coplanarity_at(kind, s, e, x) for x in xs]
+    deriv = Fraction(0)
+    for i, xi in enumerate(xs):
+        den = Fraction(1)
+        for j, xj in enumerate(xs):
+            if j != i:
+                den *= xi - xj
+        # d/dt prod_{j != i} (t - xj) at ts
+        num = Fraction(0)
+        for j in range(4):
+            if j == i:
+                continue
+            term = Fraction(1)
+            for k in range(4):
+                if k not in (i, j):
+                    term *= ts - xs[k]
+            num += term
+        deriv += ys[i] * num / den
+    return deriv == 0
+
+
+def vf_tangent(rng, where):
+    """The point grazes the triangle's turning plane at t* (f has a double root there), meeting
+    it inside, on an edge, at a corner, or 1/64 outside an edge."""
+    while True:
+        ts = hard_time(rng)
+        T = np.vstack([fine(rng) for _ in range(3)])  # corners at t*
+        W = np.vstack([fine_v(rng) for _ in range(3)])
+        n = np.cross(T[1] - T[0], T[2] - T[0])
+        if not is_pow2(n[2]):
+            continue
+        u, v = {"inside": (rng.integers(1, 8) / 16, rng.integers(1, 8) / 16),
+                "edge": (rng.integers(1, 16) / 16, 0.0), "corner": (0.0, 0.0),
+                "outside": (rng.integers(1, 16) / 16, -1 / 64)}[where]
+        X = T[0] + u * (T[1] - T[0]) + v * (T[2] - T[0])
+        dn = np.cross(W[1] - W[0], T[2] - T[0]) + np.cross(T[1] - T[0], W[2] - W[0])
+        V = fine_v(rng)
+        # f'(t*) = n . (V - A') + n' . (X - A*) = 0, solved for V_z (n_z a power of two: exact)
+        V[2] = W[0][2] - (dn @ (X - T[0]) + n[0] * (V[0] - W[0][0]) + n[1] * (V[1] - W[0][1])) / n[2]
+        s = np.vstack([X - ts * V, T - ts * W])
+        e = s + np.vstack([V, W])
+        if double_root_at("vf", s, e, ts):
+            return s, e
+
+
+def ee_tangent(rng, where):
+    """The edges' lines graze coplanarity at t* (f has a double root there), the edges then
+    crossing inside, an end of one on the other, end to end, or 1/64 apart."""
+    while True:
+        ts = hard_time(rng)
+        a0, e1, e2 = fine(rng), fine(rng), fine(rng)
+        q = lambda x, y: a0 + x * e1 + y * e2  # noqa: E731  the plane at t*, in its own coordinates
+        if where == "cross":
+            b = [q(rng.integers(1, 16) / 16, -rng.integers(1, 9) / 8), None]
+            b[1] = q(rng.integers(1, 16) / 16, rng.integers(1, 9) / 8)
+        elif where == "end_on":
+            b = [q(rng.integers(1, 16) / 16, 0.0), q(rng.integers(-8, 9) / 8, rng.integers(1, 9) / 8)]
+        elif where == "end_end":
+            b = [q(1.0, 0.0), q(rng.integers(-8, 17) / 8, rng.integers(-8, 9) / 8)]
+        else:  # "apart": b's line crosses a's 1/64 beyond its end
+            y0, y1 = -rng.integers(1, 9) / 8, rng.integers(1, 9) / 8
+            x = 1 + 1 / 64
+            b = [q(x - y0 / 4, y0), q(x - y1 / 4, y1)]
+        P = np.vstack([a0, a0 + e1, b[0], b[1]])  # at t*
+        W = np.vstack([fine_v(rng) for _ in range(4)])
+        u, v, w = P[1] - P[0], P[2] - P[0], P[3] - P[0]
+        # f'(t*) = u'.(v x w) + v'.(w x u) + w'.(u x v) = 0, solved for one z velocity whose
+        # coefficient is a power of two (exact)
+        crosses = [(1, np.cross(v, w)), (2, np.cross(w, u)), (3, np.cross(u, v))]
+        pick = [(i, c) for i, c in crosses if is_pow2(c[2])]
+        if not pick:
+            continue
+        i, c = pick[rng.integers(len(pick))]
+        W[i][2] = 0.0
+        du, dv, dw = W[1] - W[0], W[2] - W[0], W[3] - W[0]
+        rest = du @ crosses[0][1] + dv @ crosses[1][1] + dw @ crosses[2][1]
+        W[i][2] = -rest / c[2]  # it enters f'(t*) only as W[i]_z c_z
+        s = P - ts * W
+        e = s + W
+        if double_root_at("ee", s, e, ts):
+            return s, e
+
+
+def vf_hard_one(rng, kind):
+    if kind.startswith("tangent_"):
+        return vf_tangent(rng, kind[len("tangent_"):])
+    ts = hard_time(rng)
+    if kind == "coplanar_tilted":  # all four points in one tilted plane moving in it
+        o, e1, e2 = fine(rng), fine(rng), fine(rng)
+        flat = lambda xy: o + xy[0] * e1 + xy[1] * e2  # noqa: E731
+        tri = [rng.integers(-16, 17, size=2) / 16 for _ in range(3)]
+        vel = [rng.integers(-8, 9, size=2) / 16 for _ in range(3)]
+        at = [tri[j] + ts * vel[j] for j in range(3)]
+        j = rng.integers(3)
+        target = [at[j], 0.5 * (at[j] + at[(j + 1) % 3])][rng.integers(2)]
+        pv = rng.integers(-8, 9, size=2) / 16
+        p0 = target - ts * pv
+        s = np.vstack([flat(p0)] + [flat(c) for c in tri])
+        e = np.vstack([flat(p0 + pv)] + [flat(c + w) for c, w in zip(tri, vel)])
+        return s, e
+    # "land_edge" / "land_corner": the point reaches a point of an edge, or a corner, at t*
+    T = np.vstack([fine(rng) for _ in range(3)])
+    W = np.vstack([fine_v(rng) for _ in range(3)])
+    j = rng.integers(3)
+    u = rng.integers(1, 16) / 16 if kind == "land_edge" else 0.0
+    X = T[j] + u * (T[(j + 1) % 3] - T[j])
+    V = fine_v(rng)
+    s = np.vstack([X - ts * V, T - ts * W])
+    return s, s + np.vstack([V, W])
+
+
+def ee_hard_one(rng, kind):
+    if kind.startswith("tangent_"):
+        return ee_tangent(rng, kind[len("tangent_"):])
+    ts = hard_time(rng)
+    if kind == "coplanar_tilted":  # both edges in one tilted plane moving in it, meeting at t*
+        o, e1, e2 = fine(rng), fine(rng), fine(rng)
+        flat = lambda xy: o + xy[0] * e1 + xy[1] * e2  # noqa: E731
+        a = [rng.integers(-16, 17, size=2) / 16 for _ in range(2)]
+        va = [rng.integers(-8, 9, size=2) / 16 for _ in range(2)]
+        at = [a[j] + ts * va[j] for j in range(2)]
+        x = at[0] + rng.integers(0, 5) / 4 * (at[1] - at[0])
+        d = rng.integers(-8, 9, size=2) / 16
+        sb = rng.integers(0, 3) / 2
+        b = [x - sb * d, x - sb * d + d]
+        vb = [rng.integers(-8, 9, size=2) / 16 for _ in range(2)]
+        s = np.vstack([flat(a[0]), flat(a[1]), flat(b[0] - ts * vb[0]), flat(b[1] - ts * vb[1])])
+        e = np.vstack([flat(a[0] + va[0]), flat(a[1] + va[1]), flat(b[0] + (1 - ts) * vb[0]),
+                       flat(b[1] + (1 - ts) * vb[1])])
+        return s, e
+    if kind == "collinear_touch":  # all four ends on one line at t* (a double root of f)
+        p, d = fine(rng), fine(rng) / 2
+        k = rng.integers(1, 4)
+        P = np.vstack([p, p + 2 * d, p + k * d, p + (k + rng.integers(1, 3)) * d])
+        W = np.vstack([fine_v(rng) for _ in range(4)])
+        s = P - ts * W
+        return s, s + W
+    # "cross_at": an interior point or an end of a meets one of b at t*, moving generically
+    A = np.vstack([fine(rng), fine(rng)])
+    X = A[0] + rng.integers(0, 5) / 4 * (A[1] - A[0])
+    d = fine(rng)
+    sb = rng.integers(0, 3) / 2
+    P = np.vstack([A, X - sb * d, X - sb * d + d])
+    W = np.vstack([fine_v(rng) for _ in range(4)])
+    s = P - ts * W
+    return s, s + W
+
+
+def place(rng, s, e, scale):
+    """The query at a scale: as built, times 2^-500 (about 3e-151), times 2^500 (about 3e150),
+    times 2^-10 and moved to 1e6 (small motion far from the origin), or with one coordinate
+    moved from 0 to ±2^-1000 (exponents spread over a thousand binades)."""
+    if scale == "tiny":
+        return s * 2.0 ** -500, e * 2.0 ** -500
+    if scale == "huge":
+        return s * 2.0 ** 500, e * 2.0 ** 500
+    if scale == "far":
+        return s * 2.0 ** -10 + 1e6, e * 2.0 ** -10 + 1e6
+    if scale == "spread":
+        i, k = rng.integers(4), rng.integers(3)
+        c = s[i, k]
+        s, e = s - np.eye(3)[k] * c, e - np.eye(3)[k] * c  # exact on the grid: s[i, k] is now 0
+        s[i, k] = rng.choice([-1.0, 1.0]) * 2.0 ** -1000
+        return s, e
+    return s, e
+
+
+VF_HARD = ["tangent_inside", "tangent_edge", "tangent_corner", "tangent_outside", "coplanar_tilted",
+           "land_edge", "land_corner"]
+EE_HARD = ["tangent_cross", "tangent_end_on", "tangent_end_end", "tangent_apart", "coplanar_tilted",
+           "collinear_touch", "cross_at"]
+
+
+def hard_set(rng, n, one, kinds):
+    """Kinds in turn, each at the five scales in turn."""
+    S, E = np.empty((n, 4, 3)), np.empty((n, 4, 3))
+    for i in range(n):
+        s, e = one(rng, kinds[i % len(kinds)])
+        S[i], E[i] = place(rng, s, e, HARD_SCALES[(i // len(kinds)) % len(HARD_SCALES)])
+    return S, E
+
+
 # ---------------------------------------------------------------------------------------------
 # 1. Primitive queries: the tools
 
@@ -607,24 +836,38 @@ def describe(kind, s, e):
     return f"start {f(s)}, end {f(e)}"
 
 
-def bench_primitives(n, rounds, seed, timeout):
+def query_kind(label, kind, q):
+    """The kind of query q of a constructed set ("" for the random ones); the hard sets' with
+    its scale."""
+    if "degenerate" in label:
+        kinds = VF_KINDS if kind == "vf" else EE_KINDS
+        return kinds[q % len(kinds)]
+    if "hard" in label:
+        kinds = VF_HARD if kind == "vf" else EE_HARD
+        return f"{kinds[q % len(kinds)]}, {HARD_SCALES[(q // len(kinds)) % len(HARD_SCALES)]}"
+    return ""
+
+
+def bench_primitives(n, rounds, seed, timeout, hard_n):
     sets = {
         "vf": [("(a) random", lambda r: random_set(r, n)), ("(b) certain hits", lambda r: vf_hits(r, n)),
                ("(c) degenerate", lambda r: degenerate_set(r, n, vf_degenerate_one, VF_KINDS)),
-               ("(d) near misses", lambda r: vf_near(r, n))],
+               ("(d) near misses", lambda r: vf_near(r, n)),
+               (f"(e) hard ({hard_n})", lambda r: hard_set(r, hard_n, vf_hard_one, VF_HARD))],
         "ee": [("(a) random", lambda r: random_set(r, n)), ("(b) certain hits", lambda r: ee_hits(r, n)),
                ("(c) degenerate", lambda r: degenerate_set(r, n, ee_degenerate_one, EE_KINDS)),
-               ("(d) near misses", lambda r: ee_near(r, n))],
+               ("(d) near misses", lambda r: ee_near(r, n)),
+               (f"(e) hard ({hard_n})", lambda r: hard_set(r, hard_n, ee_hard_one, EE_HARD))],
     }
     out_md = []
     slow = []
     by_kind = []
     examples = []
+    slow_exact = []
     for kind, title in (("vf", "vertex-face"), ("ee", "edge-edge")):
         tools, empties = dvh_tools(kind)
         if ipctk is None:
             empties = empties[:1]
-        kinds = VF_KINDS if kind == "vf" else EE_KINDS
         rows = []
         for si, (label, make) in enumerate(sets[kind]):
             progress(f"primitives: {title} {label}")
@@ -658,7 +901,12 @@ def bench_primitives(n, rounds, seed, timeout):
                              unf])
                 k = int(np.argmax(t))
                 slow.append((float(t[k]), title, label, name, k, exact[k], tois[name][k]))
-                tag = lambda q: f"{title} {label} #{q}" + (f" ({kinds[q % len(kinds)]})" if "degenerate" in label else "")  # noqa: E731
+                if name == "dvh exact":
+                    kk = query_kind(label, kind, k)
+                    slow_exact.append(f"{title} {label} #{k}{f' ({kk})' if kk else ''}: {us(t[k])} µs, "
+                                      f"exact {exact[k]!r}; {describe(kind, S[k], E[k])}")
+                tag = lambda q: f"{title} {label} #{q}" + (f" ({query_kind(label, kind, q)})"  # noqa: E731
+                                                            if query_kind(label, kind, q) else "")
                 for what, pick in (("false positive", lambda x, y: y not in (None, KILLED, FAILED) and x is None),
                                    ("false negative", lambda x, y: y is None and x is not None),
                                    ("later toi", lambda x, y: x is not None and isinstance(y, float) and y > x),
@@ -673,7 +921,7 @@ def bench_primitives(n, rounds, seed, timeout):
                     slow_kinds = {}
                     for q, y in enumerate(tois[name]):
                         if y is KILLED or y is FAILED or t[q] > 1e6:
-                            key = kinds[q % len(kinds)] if "degenerate" in label else "all"
+                            key = query_kind(label, kind, q).split(",")[0] or "all"
                             slow_kinds[key] = slow_kinds.get(key, 0) + 1
                     if slow_kinds:
                         by_kind.append(f"{title} {label}, {name}: {sum(slow_kinds.values())} calls over 1 ms "
@@ -682,9 +930,9 @@ def bench_primitives(n, rounds, seed, timeout):
         hdr = ["set", "tool", "median µs", "p99 µs", "p99.9 µs", "max µs", "hits",
                "false pos.", "false neg.", "max (exact − tool) toi", "tool toi later than exact",
                "killed"]
-        out_md.append(f"#### {title} ({n} queries per set)\n\n" + table(hdr, rows))
+        out_md.append(f"#### {title} ({n} queries per set, {hard_n} in the hard set)\n\n" + table(hdr, rows))
     slow.sort(key=lambda r: -r[0])
-    return out_md, slow, by_kind, examples
+    return out_md, slow, by_kind, examples, slow_exact
 
 
 # ---------------------------------------------------------------------------------------------
@@ -1116,6 +1364,8 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true", help="fewer queries and repeats, shorter time limit (about 2 minutes)")
     ap.add_argument("--queries", type=int, default=None,
                     help="queries per primitive set (default 2000; 500 with --quick)")
+    ap.add_argument("--hard-queries", type=int, default=2000,
+                    help="queries in each hard primitive set (default 2000, with --quick too)")
     ap.add_argument("--timeout", type=float, default=None,
                     help="seconds before a Tight Inclusion call is killed (default 0.1; 0.05 with --quick)")
     ap.add_argument("--seed", type=int, default=20240601)
@@ -1145,7 +1395,8 @@ def main() -> None:
         rounds = 1
         timeout = args.timeout if args.timeout is not None else (0.05 if q else 0.1)
         queries = args.queries if args.queries is not None else (500 if q else 2000)
-        md, slow, by_kind, examples = bench_primitives(queries, rounds, args.seed, timeout)
+        md, slow, by_kind, examples, slow_exact = bench_primitives(queries, rounds, args.seed, timeout,
+                                                                   args.hard_queries)
         print(f"\n### 1. Primitive queries\n\nEach call timed alone with `time.perf_counter_ns`, "
               "garbage collection off. dvh's calls run in this process, the tools taking turns query "
               "by query; Tight Inclusion's run in a forked child process, so that a call still "
@@ -1164,8 +1415,11 @@ def main() -> None:
         print("Slowest finished calls: " + "; ".join(
             f"{us(t)} µs, {name}, {title} {label} #{k} (exact {x!r}, tool {y!r})"
             for t, title, label, name, k, x, y in slow[:6]) + "\n", flush=True)
-        print("Calls over 1 ms (or killed), by tool and set (degenerate sets by kind of query):\n")
+        print("Calls over 1 ms (or killed), by tool and set (degenerate and hard sets by kind of query):\n")
         for line in by_kind:
+            print(f"- {line}", flush=True)
+        print("\nThe slowest dvh exact call of each set:\n")
+        for line in slow_exact:
             print(f"- {line}", flush=True)
         print("\nDisagreements with dvh exact (count, then the first query):\n")
         for line in examples:
