@@ -355,43 +355,20 @@ mod tests {
     use super::*;
     use crate::fixtures::Rng;
     use crate::geometry::ccd::condition::{GROUPS, Moving, build_group, coplanarity, moving};
+    use crate::geometry::ccd::grid_cases::{Prim, grid_case};
     use crate::geometry::ccd::oracle::{edge_edge_toi, vertex_face_toi};
     use crate::geometry::ccd::poly::{Poly, rational};
     use num_rational::BigRational;
     use num_traits::Signed;
 
-    type Prim = [[f64; 3]; 4];
-
     /// Grid points, with the degenerate motions of the filtered tests' cases: coplanar
     /// throughout, corners shared or repeated, edges parallel throughout, nothing moving.
     fn case(rng: &mut Rng, case: usize, grid: u64) -> (Prim, Prim) {
-        let mut coord = || (rng.next_u64() % (2 * grid + 1)) as f64 / grid as f64 - 1.0;
-        let mut s: Prim = [[0.0; 3]; 4];
-        let mut e: Prim = [[0.0; 3]; 4];
-        for i in 0..4 {
-            for k in 0..3 {
-                s[i][k] = coord();
-                e[i][k] = if case % 7 == 5 { s[i][k] } else { coord() };
-            }
-        }
-        match case % 7 {
-            1 | 6 => (0..4).for_each(|i| {
-                s[i][2] = 0.0;
-                e[i][2] = 0.0;
-            }),
-            2 => s[0] = s[1],
-            3 => {
-                s[2] = s[3];
-                e[2] = e[3];
-            }
-            4 => {
-                let d = [0, 1, 2].map(|k| s[1][k] - s[0][k]);
-                s[3] = [0, 1, 2].map(|k| s[2][k] + d[k]);
-                e[3] = [0, 1, 2].map(|k| e[2][k] + (e[1][k] - e[0][k]));
-            }
-            _ => {}
-        }
-        (s, e)
+        let shape = match case % 7 {
+            6 => 1,
+            c => c,
+        };
+        grid_case(rng, grid, case % 7 == 5, shape)
     }
 
     /// The exact Bernstein coefficients over `[s, t]` of `p`, of degree below `n`, from its

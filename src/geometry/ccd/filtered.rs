@@ -285,9 +285,8 @@ fn coplanar_times(
 mod tests {
     use super::*;
     use crate::fixtures::Rng;
+    use crate::geometry::ccd::grid_cases::{Prim, grid_case};
     use crate::geometry::ccd::oracle::{edge_edge_toi, vertex_face_toi};
-
-    type Prim = [[f64; 3]; 4];
 
     /// The rational oracle's answer for `kind`.
     fn oracle(kind: Primitive, s: &Prim, e: &Prim) -> Option<f64> {
@@ -297,43 +296,9 @@ mod tests {
         }
     }
 
+    /// Grid motions, every fifth still, in six shapes (see [`grid_case`]).
     fn random_case(rng: &mut Rng, case: usize, grid: u64) -> (Prim, Prim) {
-        let mut coord = || (rng.next_u64() % (2 * grid + 1)) as f64 / grid as f64 - 1.0;
-        let mut s: Prim = [[0.0; 3]; 4];
-        let mut e: Prim = [[0.0; 3]; 4];
-        for i in 0..4 {
-            for k in 0..3 {
-                s[i][k] = coord();
-                e[i][k] = if case.is_multiple_of(5) {
-                    s[i][k]
-                } else {
-                    coord()
-                };
-            }
-        }
-        match case % 6 {
-            // Coplanar throughout.
-            1 => (0..4).for_each(|i| {
-                s[i][2] = 0.0;
-                e[i][2] = 0.0;
-            }),
-            // A corner shared at the start, or repeated (degenerate triangle or edge).
-            2 => {
-                s[0] = s[1];
-            }
-            3 => {
-                s[2] = s[3];
-                e[2] = e[3];
-            }
-            // Parallel edges moving together.
-            4 => {
-                let d = [0, 1, 2].map(|k| s[1][k] - s[0][k]);
-                s[3] = [0, 1, 2].map(|k| s[2][k] + d[k]);
-                e[3] = [0, 1, 2].map(|k| e[2][k] + (e[1][k] - e[0][k]));
-            }
-            _ => {}
-        }
-        (s, e)
+        grid_case(rng, grid, case.is_multiple_of(5), case % 6)
     }
 
     #[test]

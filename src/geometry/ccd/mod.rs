@@ -3,6 +3,8 @@
 pub(crate) mod bernstein;
 pub(crate) mod condition;
 pub(crate) mod filtered;
+#[cfg(test)]
+mod grid_cases;
 pub(crate) mod interval;
 #[cfg(test)]
 pub(crate) mod oracle;
