@@ -2,7 +2,7 @@
 //! the deformable objects among them are refit, and the pairs are queried on the threads
 //! allowed, their contacts merged in order.
 
-use super::select::{Reach, needed};
+use super::select::{Reach, WITH_ITSELF, marks};
 use super::share::Shared;
 use super::{Apart, Body, Object, Scene, volume_box};
 use crate::error::{Error, Result};
@@ -76,15 +76,6 @@ struct Work {
     pairs: Pairs,
     bv_tests: u64,
     triangle_tests: u64,
-}
-
-/// One thread's part of the refits a query makes.
-#[derive(Default)]
-struct Share<'s> {
-    /// The objects, each with whether it may be refit lazily.
-    objects: Vec<(&'s mut Object, bool)>,
-    vertices: usize,
-    nodes: u64,
 }
 
 result_buffer!(
@@ -212,14 +203,18 @@ impl Scene {
             }
             !unchanged
         });
-        let needed = needed(&candidates, self.objects.len());
+        let mut needed = std::mem::take(&mut self.marks);
+        marks(&candidates, self.objects.len(), &mut needed);
         let result = if options.mode.reports_nodes() {
             self.query_pairs(&candidates, &[], options, out, &mut stats)
         } else {
+            // An object with itself is refit whole (`self_collide` reads no lazy view).
             let lazy = !self.eager;
-            let whole: Vec<bool> = self.self_contacts();
-            stats.nodes_refit =
-                self.refit_stale(|id| needed[id], options.threads, |id| lazy && !whole[id]);
+            stats.nodes_refit = self.refit_stale(
+                |id| needed[id] != 0,
+                options.threads,
+                |id| lazy && needed[id] & WITH_ITSELF == 0,
+            );
             let boxes = self.lazy_boxes(&needed);
             // SAFETY: nothing but the views reads those boxes until they are dropped below.
             let lazy = unsafe { self.lazy_views(&boxes) };
@@ -247,76 +242,18 @@ impl Scene {
         }
         self.apart_next = apart_next;
         self.candidates = candidates;
+        self.marks = needed;
         result.map(|()| stats)
-    }
-
-    /// Refits the stale deformable objects for which `needed(id)` holds, on up to `threads`
-    /// threads, each given a share of about equal vertex count (largest meshes first). Those
-    /// for which `lazy(id)` holds, with box volumes and no step, get only their top refit (the
-    /// query refits their blocks as it reaches them); the others are refit whole (with a step,
-    /// their volumes hold it). Returns the nodes recomputed by whole refits.
-    pub(super) fn refit_stale(
-        &mut self,
-        needed: impl Fn(usize) -> bool,
-        threads: u32,
-        lazy: impl Fn(usize) -> bool,
-    ) -> u64 {
-        let mut stale: Vec<(&mut Object, bool)> = self
-            .objects
-            .iter_mut()
-            .enumerate()
-            .filter_map(|(id, o)| {
-                let o = o.as_mut().filter(|_| needed(id))?;
-                let lazy = lazy(id) && !o.mesh.is_moving();
-                match &o.body {
-                    Body::Deformable { fresh }
-                        if !(fresh.is_current() || lazy && fresh.is_partial()) =>
-                    {
-                        Some((o, lazy))
-                    }
-                    _ => None,
-                }
-            })
-            .collect();
-        let workers = threads::resolve(threads).min(stale.len()).max(1);
-        stale.sort_by_key(|(o, _)| std::cmp::Reverse(o.mesh.vertex_count()));
-        let mut shares: Vec<Share> = (0..workers).map(|_| Share::default()).collect();
-        for o in stale {
-            let share = shares
-                .iter_mut()
-                .min_by_key(|s| s.vertices)
-                .expect("at least one share");
-            share.vertices += o.0.mesh.vertex_count();
-            share.objects.push(o);
-        }
-        threads::on_each(
-            threads::Step::SceneRefit,
-            &mut shares,
-            &|share: &mut Share, _| {
-                for (o, lazy) in &mut share.objects {
-                    let Body::Deformable { fresh } = &mut o.body else {
-                        unreachable!("only deformable objects are refit");
-                    };
-                    let mesh = Arc::make_mut(&mut o.mesh);
-                    if !(*lazy && mesh.refit_top(fresh)) {
-                        let s = mesh.refit_volumes();
-                        fresh.refit();
-                        share.nodes += s.nodes_refit;
-                    }
-                }
-            },
-        );
-        shares.iter().map(|s| s.nodes).sum()
     }
 
     /// Per object: the boxes a query reads lazily, for the objects `needed` whose top is current
     /// and some block not (each such mesh made this scene's own first).
-    fn lazy_boxes(&mut self, needed: &[bool]) -> Vec<Option<*mut [Aabb]>> {
+    fn lazy_boxes(&mut self, needed: &[u8]) -> Vec<Option<*mut [Aabb]>> {
         self.objects
             .iter_mut()
             .zip(needed)
             .map(|(o, &needed)| {
-                let o = o.as_mut().filter(|_| needed)?;
+                let o = o.as_mut().filter(|_| needed != 0)?;
                 match &o.body {
                     Body::Deformable { fresh } if fresh.is_partial() => {}
                     _ => return None,

@@ -2,7 +2,7 @@
 //! step, then each object pair's (and each self-contact object's) continuous query on world
 //! positions, the earliest impact found so far shared by all of them.
 
-use super::select::{Reach, needed};
+use super::select::{Reach, marks};
 use super::share::Shared;
 use super::{Body, Scene, WorldCopy};
 use crate::error::{Error, Result};
@@ -93,20 +93,22 @@ impl Scene {
     ) -> Result<CcdStats> {
         let mut candidates = std::mem::take(&mut self.candidates);
         self.select(Reach::Swept, &mut candidates);
-        let needed = needed(&candidates, self.objects.len());
-        self.refit_stale(|id| needed[id], options.threads, |_| false);
+        let mut needed = std::mem::take(&mut self.marks);
+        marks(&candidates, self.objects.len(), &mut needed);
+        self.refit_stale(|id| needed[id] != 0, options.threads, |_| false);
         let result = self
             .place_rigid(&needed)
             .and_then(|()| self.query_impacts(&candidates, options, out));
         self.candidates = candidates;
+        self.marks = needed;
         result
     }
 
     /// Makes the world copy of every rigid object that `needed` names and that moves or is
     /// posed, where it is not current.
-    fn place_rigid(&mut self, needed: &[bool]) -> Result<()> {
+    fn place_rigid(&mut self, needed: &[u8]) -> Result<()> {
         for (id, o) in self.objects.iter_mut().enumerate() {
-            let Some(o) = o.as_mut().filter(|_| needed[id]) else {
+            let Some(o) = o.as_mut().filter(|_| needed[id] != 0) else {
                 continue;
             };
             let Body::Rigid { pose, start, .. } = &o.body else {

@@ -15,6 +15,7 @@ mod broad;
 mod collide;
 mod continuous;
 mod nearest;
+mod refit;
 mod select;
 mod share;
 
@@ -143,6 +144,9 @@ pub struct Scene {
     excluded: HashSet<(u32, u32)>,
     /// Candidate pairs of the last query (kept so that queries reuse its memory).
     candidates: Vec<(u32, u32)>,
+    /// Per object, what the last query's candidates asked of it (`select::marks`; kept for
+    /// its memory).
+    marks: Vec<u8>,
     /// The last stamp given to an object.
     stamps: u64,
     /// Object pairs the last query found without contact, with what they were then: such a pair

@@ -2,7 +2,7 @@
 //! then each object pair's (and each self-contact object's) closest-feature query.
 
 use super::Scene;
-use super::select::{Reach, needed};
+use super::select::{Reach, marks};
 use super::share::Shared;
 use crate::error::{Error, Result};
 use crate::query::{
@@ -94,10 +94,12 @@ impl Scene {
         }
         let mut candidates = std::mem::take(&mut self.candidates);
         self.select(Reach::Within(distance), &mut candidates);
-        let needed = needed(&candidates, self.objects.len());
-        let nodes_refit = self.refit_stale(|id| needed[id], options.threads, |_| false);
+        let mut needed = std::mem::take(&mut self.marks);
+        marks(&candidates, self.objects.len(), &mut needed);
+        let nodes_refit = self.refit_stale(|id| needed[id] != 0, options.threads, |_| false);
         let result = self.query_stencils(&candidates, distance, options, out);
         self.candidates = candidates;
+        self.marks = needed;
         result.map(|stats| QueryStats {
             nodes_refit,
             ..stats

@@ -66,22 +66,23 @@ impl Scene {
         };
         a.group & b.mask != 0 && b.group & a.mask != 0 && !self.excluded.contains(&(i, j))
     }
-
-    /// Per object id: is its self-contact on?
-    pub(super) fn self_contacts(&self) -> Vec<bool> {
-        self.objects
-            .iter()
-            .map(|o| o.as_ref().is_some_and(|o| o.self_contact))
-            .collect()
-    }
 }
 
-/// The ids named by `pairs`, as flags per object id (`count` of them).
-pub(super) fn needed(pairs: &[(u32, u32)], count: usize) -> Vec<bool> {
-    let mut needed = vec![false; count];
+/// An object `pairs` names (in [`marks`]).
+pub(super) const NEEDED: u8 = 1;
+/// An object `pairs` names paired with itself (in [`marks`]).
+pub(super) const WITH_ITSELF: u8 = 2;
+
+/// Per object id (`count` of them) into `out`: [`NEEDED`] when `pairs` names it, with
+/// [`WITH_ITSELF`] when paired with itself.
+pub(super) fn marks(pairs: &[(u32, u32)], count: usize, out: &mut Vec<u8>) {
+    out.clear();
+    out.resize(count, 0);
     for &(i, j) in pairs {
-        needed[i as usize] = true;
-        needed[j as usize] = true;
+        out[i as usize] |= NEEDED;
+        out[j as usize] |= NEEDED;
+        if i == j {
+            out[i as usize] |= WITH_ITSELF;
+        }
     }
-    needed
 }
