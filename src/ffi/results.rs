@@ -1,6 +1,7 @@
 //! The C ABI's result buffers (`DvhPairs`, `DvhContacts`, `DvhImpacts`, `DvhNearPairs`) and the
-//! family of calls on them (`_new`, `_len`, `_data`, `_kind`, `_free`), written once for all. The entry points
-//! themselves are one-line wrappers in `query.rs` and `scene.rs`, written out because cbindgen
+//! family of calls on them (`_new`, `_len`, `_data`, `_free`, and `_kind` for the buffers whose
+//! indices may be nodes), written once for all. The entry points themselves are one-line
+//! wrappers in `query.rs`, `scene.rs`, `ccd.rs` and `nearest.rs`, written out because cbindgen
 //! reads the sources without expanding macros, and each carries its own documentation into the
 //! header.
 
@@ -25,7 +26,12 @@ pub(crate) trait Results: Handle + Sized {
     fn len(inner: &Self::Inner) -> usize;
     /// The first of them.
     fn data(inner: &Self::Inner) -> *const Self::Item;
-    /// What their indices refer to.
+}
+
+/// A result buffer whose indices are triangles or nodes, as the query's mode says (`_kind`).
+/// Impacts and stencils say their kind one by one.
+pub(crate) trait Kinded: Results {
+    /// What the results' indices refer to.
     fn kind(inner: &Self::Inner) -> PairKind;
 }
 
@@ -45,7 +51,9 @@ impl Results for DvhPairs {
         // `DvhPair` has `Pair`'s layout (checked in `types`).
         inner.as_slice().as_ptr().cast()
     }
+}
 
+impl Kinded for DvhPairs {
     fn kind(inner: &Pairs) -> PairKind {
         inner.kind()
     }
@@ -67,7 +75,9 @@ impl Results for DvhContacts {
         // `DvhContact` has `Contact`'s layout (checked in `types`).
         inner.as_slice().as_ptr().cast()
     }
+}
 
+impl Kinded for DvhContacts {
     fn kind(inner: &Contacts) -> PairKind {
         inner.kind()
     }
@@ -89,11 +99,6 @@ impl Results for DvhImpacts {
         // `DvhImpact` has `Impact`'s layout (checked in `types`).
         inner.as_slice().as_ptr().cast()
     }
-
-    fn kind(_: &Impacts) -> PairKind {
-        // Impacts say their kind one by one; no accessor asks.
-        PairKind::Triangles
-    }
 }
 
 impl Results for DvhNearPairs {
@@ -111,11 +116,6 @@ impl Results for DvhNearPairs {
     fn data(inner: &NearPairs) -> *const DvhNearPair {
         // `DvhNearPair` has `NearPair`'s layout (checked in `types`).
         inner.as_slice().as_ptr().cast()
-    }
-
-    fn kind(_: &NearPairs) -> PairKind {
-        // Stencils say their kind one by one; no accessor asks.
-        PairKind::Triangles
     }
 }
 
@@ -167,7 +167,7 @@ pub(super) unsafe fn data<R: Results>(r: *const R, call: &str) -> *const R::Item
 ///
 /// # Safety
 /// `r` is NULL or a live buffer.
-pub(super) unsafe fn kind<R: Results>(r: *const R, call: &str) -> DvhPairKind {
+pub(super) unsafe fn kind<R: Kinded>(r: *const R, call: &str) -> DvhPairKind {
     guard_value(DVH_PAIR_KIND_TRIANGLES, || {
         // SAFETY: per the contract.
         match unsafe { contents(r, call) }.map(|c| R::kind(&c)) {

@@ -1,10 +1,8 @@
 //! Scenes through the C ABI: objects, filters, the frame's query and its contact buffer.
 
 use super::access::{SCENE_TAG, Write, read, release, write};
-use super::boundary::{
-    Failure, guard, guard_value, slice_from, times_three, try_box, write_unless_null,
-};
-use super::calls::{CallOptions, pose};
+use super::boundary::{Failure, guard, guard_value, slice_from, times_three, try_box};
+use super::calls::{pose, whole_scene};
 use super::handles::*;
 use super::mesh::StridedF32;
 use super::results;
@@ -240,7 +238,8 @@ pub unsafe extern "C" fn dvh_scene_set_positions_f32(
         let mut s = unsafe { scene_mut(scene, "dvh_scene_set_positions_f32")? };
         check_vertex_count(&s, object, vertex_count)?;
         // SAFETY: readable per the contract; NULL, stride and span are checked inside.
-        let reader = unsafe { StridedF32::new(positions, stride_bytes, vertex_count)? };
+        let reader =
+            unsafe { StridedF32::new(positions, "positions", stride_bytes, vertex_count)? };
         s.set_positions_with(object, vertex_count, |i| reader.get(i))?;
         Ok(())
     })
@@ -334,18 +333,18 @@ pub unsafe extern "C" fn dvh_scene_collide(
     contacts_out: *mut DvhContacts,
     stats_out: *mut DvhSceneStats,
 ) -> DvhStatus {
-    guard(|| {
-        // SAFETY: per the contract.
-        let mut s = unsafe { scene_mut(scene, "dvh_scene_collide")? };
-        // SAFETY: NULL or a live buffer used by this thread only (contract).
-        let mut out = unsafe { write(contacts_out, "contacts_out", "dvh_scene_collide")? };
-        // SAFETY: NULL or readable (contract).
-        let o = unsafe { DvhQueryOptions::read_or_default(options) }?;
-        let st = s.collide(&o, &mut out)?;
-        // SAFETY: NULL or writable (contract).
-        unsafe { write_unless_null(stats_out, DvhSceneStats::from(&st)) };
-        Ok(())
-    })
+    // SAFETY: the caller's contract is this function's.
+    unsafe {
+        whole_scene(
+            scene,
+            options,
+            contacts_out,
+            "contacts_out",
+            stats_out,
+            "dvh_scene_collide",
+            |s, o, out| s.collide(o, out),
+        )
+    }
 }
 
 /// A new, empty contact buffer, or NULL when memory ran out. Owned by the caller, released with
