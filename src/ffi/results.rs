@@ -1,18 +1,20 @@
-//! The C ABI's result buffers (`DvhPairs`, `DvhContacts`, `DvhImpacts`, `DvhNearPairs`) and the
-//! family of calls on them (`_new`, `_len`, `_data`, `_free`, and `_kind` for the buffers whose
-//! indices may be nodes), written once for all. The entry points themselves are one-line
-//! wrappers in `query.rs`, `scene.rs`, `ccd.rs` and `nearest.rs`, written out because cbindgen
-//! reads the sources without expanding macros, and each carries its own documentation into the
-//! header.
+//! The C ABI's result buffers (`DvhPairs`, `DvhContacts`, `DvhImpacts`, `DvhNearPairs`,
+//! `DvhSceneImpacts`, `DvhSceneNearPairs`) and the family of calls on them (`_new`, `_len`,
+//! `_data`, `_free`, and `_kind` for the buffers whose indices may be nodes), written once for
+//! all. The entry points themselves are one-line wrappers in `query.rs`, `scene.rs`, `ccd.rs` and
+//! `nearest.rs`, written out because cbindgen reads the sources without expanding macros, and
+//! each carries its own documentation into the header.
 
 use super::access::{Handle, Read, read, release};
 use super::boundary::{guard_value, set_last_error, try_box};
-use super::handles::{Body, DvhContacts, DvhImpacts, DvhNearPairs, DvhPairs};
+use super::handles::{
+    Body, DvhContacts, DvhImpacts, DvhNearPairs, DvhPairs, DvhSceneImpacts, DvhSceneNearPairs,
+};
 use super::types::{
     DVH_PAIR_KIND_NODES, DVH_PAIR_KIND_TRIANGLES, DvhContact, DvhImpact, DvhNearPair, DvhPair,
-    DvhPairKind,
+    DvhPairKind, DvhSceneImpact, DvhSceneNearPair,
 };
-use crate::{Contacts, Impacts, NearPairs, PairKind, Pairs};
+use crate::{Contacts, Impacts, NearPairs, PairKind, Pairs, SceneImpacts, SceneNearPairs};
 
 /// A result buffer of the C ABI.
 pub(crate) trait Results: Handle + Sized {
@@ -115,6 +117,42 @@ impl Results for DvhNearPairs {
 
     fn data(inner: &NearPairs) -> *const DvhNearPair {
         // `DvhNearPair` has `NearPair`'s layout (checked in `types`).
+        inner.as_slice().as_ptr().cast()
+    }
+}
+
+impl Results for DvhSceneImpacts {
+    type Item = DvhSceneImpact;
+    const ARGUMENT: &'static str = "impacts";
+
+    fn empty() -> DvhSceneImpacts {
+        DvhSceneImpacts(Body::new(Self::TAG, SceneImpacts::new()))
+    }
+
+    fn len(inner: &SceneImpacts) -> usize {
+        inner.len()
+    }
+
+    fn data(inner: &SceneImpacts) -> *const DvhSceneImpact {
+        // `DvhSceneImpact` has `SceneImpact`'s layout (checked in `types`).
+        inner.as_slice().as_ptr().cast()
+    }
+}
+
+impl Results for DvhSceneNearPairs {
+    type Item = DvhSceneNearPair;
+    const ARGUMENT: &'static str = "pairs";
+
+    fn empty() -> DvhSceneNearPairs {
+        DvhSceneNearPairs(Body::new(Self::TAG, SceneNearPairs::new()))
+    }
+
+    fn len(inner: &SceneNearPairs) -> usize {
+        inner.len()
+    }
+
+    fn data(inner: &SceneNearPairs) -> *const DvhSceneNearPair {
+        // `DvhSceneNearPair` has `SceneNearPair`'s layout (checked in `types`).
         inner.as_slice().as_ptr().cast()
     }
 }
