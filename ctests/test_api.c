@@ -2258,6 +2258,620 @@ static void test_nearest_features(void) {
     dvh_near_pairs_free(out);
 }
 
+/* ---- scenes over a step: self-contact, motions, continuous collision and stencils ---- */
+
+static DvhSceneImpact scene_impact(uint32_t object_a, uint32_t object_b, DvhImpact i) {
+    DvhSceneImpact s;
+    memset(&s, 0, sizeof s);
+    s.object_a = object_a;
+    s.object_b = object_b;
+    s.impact = i;
+    return s;
+}
+
+static int same_scene_impact(const DvhSceneImpact *x, const DvhSceneImpact *y) {
+    return x->object_a == y->object_a && x->object_b == y->object_b && same_impact(&x->impact, &y->impact);
+}
+
+static int same_scene_impacts(const DvhSceneImpacts *r, const DvhSceneImpact *expected, size_t n) {
+    size_t len = dvh_scene_impacts_len(r), i;
+    const DvhSceneImpact *data = dvh_scene_impacts_data(r);
+    if (len != n) return 0;
+    if (n == 0) return data == NULL;
+    for (i = 0; i < n; i++)
+        if (!same_scene_impact(&data[i], &expected[i])) return 0;
+    return 1;
+}
+
+/* Field by field: DvhNearPair has padding before `distance`. */
+static int same_near_pair(const DvhNearPair *x, const DvhNearPair *y) {
+    return x->kind == y->kind && x->a0 == y->a0 && x->a1 == y->a1 && x->b0 == y->b0 && x->b1 == y->b1 &&
+           x->feature_a == y->feature_a && x->feature_b == y->feature_b && x->distance == y->distance &&
+           memcmp(x->closest_a, y->closest_a, sizeof x->closest_a) == 0 && memcmp(x->closest_b, y->closest_b, sizeof x->closest_b) == 0 &&
+           memcmp(x->weights_a, y->weights_a, sizeof x->weights_a) == 0 && memcmp(x->weights_b, y->weights_b, sizeof x->weights_b) == 0;
+}
+
+static int same_scene_near_pairs(const DvhSceneNearPairs *r, const DvhSceneNearPair *expected, size_t n) {
+    size_t len = dvh_scene_near_pairs_len(r), i;
+    const DvhSceneNearPair *data = dvh_scene_near_pairs_data(r);
+    if (len != n) return 0;
+    if (n == 0) return data == NULL;
+    for (i = 0; i < n; i++)
+        if (data[i].object_a != expected[i].object_a || data[i].object_b != expected[i].object_b ||
+            !same_near_pair(&data[i].pair, &expected[i].pair))
+            return 0;
+    return 1;
+}
+
+/* Appends the impacts of `r` as those of objects (a, b); returns the new count (at most `cap`). */
+static size_t append_impacts(DvhSceneImpact *out, size_t n, size_t cap, uint32_t a, uint32_t b, const DvhImpacts *r) {
+    size_t k;
+    for (k = 0; k < dvh_impacts_len(r) && n < cap; k++) out[n++] = scene_impact(a, b, dvh_impacts_data(r)[k]);
+    return n;
+}
+
+/* Appends the stencils of `r` as those of objects (a, b); returns the new count (at most `cap`). */
+static size_t append_near_pairs(DvhSceneNearPair *out, size_t n, size_t cap, uint32_t a, uint32_t b, const DvhNearPairs *r) {
+    size_t k;
+    for (k = 0; k < dvh_near_pairs_len(r) && n < cap; k++, n++) {
+        memset(&out[n], 0, sizeof out[n]);
+        out[n].object_a = a;
+        out[n].object_b = b;
+        out[n].pair = dvh_near_pairs_data(r)[k];
+    }
+    return n;
+}
+
+static DvhPose translated(double x, double y, double z) {
+    IPose p = ipose_make(0, 0, 0, 0);
+    DvhPose d = ipose_to_dvh(&p);
+    d.translation[0] = x;
+    d.translation[1] = y;
+    d.translation[2] = z;
+    return d;
+}
+
+/* The falling triangle of test_continuous_collide as a deformable object (0) with a motion, the
+ * floor triangle as a rigid object (1) with a pose motion, a copy of the floor far away (2):
+ * the impacts worked out by hand, their object ids and kinds, every option; every error path of
+ * the new calls, leaving the scene and the results as they were; the buffers' accessors on NULL,
+ * new and wrong-kind handles. */
+static void test_scene_continuous(void) {
+    /* The floor still: object 0's impacts with it are those of test_continuous_collide. */
+    const DvhSceneImpact still[4] = {
+        scene_impact(0, 1, impact(DVH_IMPACT_KIND_VERTEX_FACE, 0, 0, 0, 0, 0.6875)),
+        scene_impact(0, 1, impact(DVH_IMPACT_KIND_FACE_VERTEX, 0, 0, 0, 0, 0.5)),
+        scene_impact(0, 1, impact(DVH_IMPACT_KIND_EDGE_EDGE, 0, 1, 0, 2, 0.53125)),
+        scene_impact(0, 1, impact(DVH_IMPACT_KIND_EDGE_EDGE, 0, 2, 0, 1, 0.625)),
+    };
+    /* The floor rising from z = -2 to z = 2 while the triangle falls by 4: each pair meets when
+     * the triangle's height over the floor, 2 more at the start, has fallen by 8 times t. */
+    const DvhSceneImpact rising[4] = {
+        scene_impact(0, 1, impact(DVH_IMPACT_KIND_VERTEX_FACE, 0, 0, 0, 0, 0.59375)),
+        scene_impact(0, 1, impact(DVH_IMPACT_KIND_FACE_VERTEX, 0, 0, 0, 0, 0.5)),
+        scene_impact(0, 1, impact(DVH_IMPACT_KIND_EDGE_EDGE, 0, 1, 0, 2, 0.515625)),
+        scene_impact(0, 1, impact(DVH_IMPACT_KIND_EDGE_EDGE, 0, 2, 0, 1, 0.5625)),
+    };
+    const DvhPose below = translated(0, 0, -2), above = translated(0, 0, 2), far = translated(40, 0, 0);
+    DvhMesh *falling = NULL, *floor_mesh = NULL, *floor_moving = NULL, *falling_moving = NULL;
+    DvhScene *scene = NULL;
+    DvhSceneImpacts *impacts = dvh_scene_impacts_new(), *fresh = dvh_scene_impacts_new();
+    DvhImpacts *pairwise = dvh_impacts_new();
+    DvhContacts *contacts = dvh_contacts_new();
+    DvhSceneNearPairs *near = dvh_scene_near_pairs_new();
+    DvhCcdOptions o = dvh_ccd_options_default();
+    DvhCcdStats stats, sentinel;
+    DvhSceneImpact oracle[8];
+    double floor_start[9], floor_end[9], bad[9];
+    float start32[12], end32[12];
+    char *raw = malloc(sizeof bad + 8);
+    uint32_t id = 99, threads;
+    size_t k, n;
+
+    CHECK(impacts != NULL && fresh != NULL && near != NULL);
+    CHECK(dvh_scene_impacts_len(fresh) == 0 && dvh_scene_impacts_data(fresh) == NULL);
+    CHECK(dvh_scene_impacts_len(NULL) == 0 && dvh_scene_impacts_data(NULL) == NULL);
+    dvh_scene_impacts_free(NULL);
+    CHECK_STATUS(dvh_mesh_create(falling_start, 3, one_triangle, 1, NULL, &falling), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_mesh_create(floor_pos, 3, one_triangle, 1, NULL, &floor_mesh), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_create(&scene), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_add_deformable(scene, falling, 1, 0xffffffffu, &id), DVH_STATUS_OK, NULL);
+    CHECK(id == 0);
+    CHECK_STATUS(dvh_scene_add_rigid(scene, floor_mesh, NULL, 1, 0xffffffffu, &id), DVH_STATUS_OK, NULL);
+    CHECK(id == 1);
+    CHECK_STATUS(dvh_scene_add_rigid(scene, floor_mesh, &far, 1, 0xffffffffu, &id), DVH_STATUS_OK, NULL);
+    CHECK(id == 2);
+
+    /* No steps: everything stands still, apart. */
+    memset(&stats, 0xab, sizeof stats);
+    CHECK_STATUS(dvh_scene_continuous_collide(scene, NULL, impacts, &stats), DVH_STATUS_OK, NULL);
+    CHECK(dvh_scene_impacts_len(impacts) == 0 && dvh_scene_impacts_data(impacts) == NULL);
+    CHECK(stats.impacts == 0 && !stats.truncated && isinf(stats.earliest_toi));
+
+    /* The triangle falls through the still floor (a pose motion between two identities, NULL). */
+    CHECK_STATUS(dvh_scene_set_motion(scene, 0, falling_start, falling_end, 3), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_set_pose_motion(scene, 1, NULL, NULL), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_continuous_collide(scene, NULL, impacts, &stats), DVH_STATUS_OK, NULL);
+    CHECK(same_scene_impacts(impacts, still, 4));
+    CHECK(stats.impacts == 4 && stats.earliest_toi == 0.5 && !stats.truncated && stats.primitive_tests >= 4);
+    /* The discrete queries see the end of the step: apart. */
+    CHECK_STATUS(dvh_scene_collide(scene, NULL, contacts, NULL), DVH_STATUS_OK, NULL);
+    CHECK(dvh_contacts_len(contacts) == 0);
+
+    /* The floor rises while the triangle falls. */
+    CHECK_STATUS(dvh_scene_set_pose_motion(scene, 1, &below, &above), DVH_STATUS_OK, NULL);
+    for (threads = 0; threads < 3; threads++) {
+        o = dvh_ccd_options_default();
+        o.threads = threads;
+        CHECK_STATUS(dvh_scene_continuous_collide(scene, &o, impacts, &stats), DVH_STATUS_OK, NULL);
+        CHECK(same_scene_impacts(impacts, rising, 4));
+        CHECK(stats.impacts == 4 && stats.earliest_toi == 0.5 && !stats.truncated && stats.primitive_tests >= 4);
+    }
+    /* The same as the query of two stand-alone meshes moving as the objects do. */
+    for (k = 0; k < 9; k++) {
+        floor_start[k] = floor_pos[k] + (k % 3 == 2 ? -2.0 : 0.0);
+        floor_end[k] = floor_pos[k] + (k % 3 == 2 ? 2.0 : 0.0);
+    }
+    CHECK_STATUS(dvh_mesh_create(floor_pos, 3, one_triangle, 1, NULL, &floor_moving), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_mesh_refit_motion(floor_moving, floor_start, floor_end, 3), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_mesh_create(falling_start, 3, one_triangle, 1, NULL, &falling_moving), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_mesh_refit_motion(falling_moving, falling_start, falling_end, 3), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_continuous_collide(falling_moving, floor_moving, NULL, pairwise, NULL), DVH_STATUS_OK, NULL);
+    n = append_impacts(oracle, 0, 8, 0, 1, pairwise);
+    CHECK(n == 4 && same_scene_impacts(impacts, oracle, n));
+    /* The earliest alone; a limit. */
+    o = dvh_ccd_options_default();
+    o.earliest_only = true;
+    CHECK_STATUS(dvh_scene_continuous_collide(scene, &o, impacts, &stats), DVH_STATUS_OK, NULL);
+    CHECK(same_scene_impacts(impacts, &rising[1], 1));
+    CHECK(stats.impacts == 1 && stats.earliest_toi == 0.5 && !stats.truncated);
+    o = dvh_ccd_options_default();
+    o.max_impacts = 1;
+    CHECK_STATUS(dvh_scene_continuous_collide(scene, &o, impacts, &stats), DVH_STATUS_OK, NULL);
+    CHECK(dvh_scene_impacts_len(impacts) == 1 && stats.truncated && stats.impacts == 1);
+    if (dvh_scene_impacts_len(impacts) == 1) {
+        size_t found = 0;
+        for (k = 0; k < n; k++) found += same_scene_impact(dvh_scene_impacts_data(impacts), &oracle[k]);
+        CHECK(found == 1);
+    }
+    /* float motions at a stride: the same step. */
+    for (k = 0; k < 3; k++) {
+        start32[4 * k] = (float)falling_start[3 * k];
+        start32[4 * k + 1] = (float)falling_start[3 * k + 1];
+        start32[4 * k + 2] = (float)falling_start[3 * k + 2];
+        end32[4 * k] = (float)falling_end[3 * k];
+        end32[4 * k + 1] = (float)falling_end[3 * k + 1];
+        end32[4 * k + 2] = (float)falling_end[3 * k + 2];
+        start32[4 * k + 3] = end32[4 * k + 3] = 0.0f;
+    }
+    CHECK_STATUS(dvh_scene_set_motion_f32(scene, 0, start32, end32, 16, 3), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_continuous_collide(scene, NULL, impacts, &stats), DVH_STATUS_OK, NULL);
+    CHECK(same_scene_impacts(impacts, rising, 4));
+
+    /* Failed calls name what was wrong and change nothing: the same impacts afterwards. */
+    memcpy(bad, falling_end, sizeof bad);
+    bad[3 * 1 + 1] = NAN;
+    CHECK_STATUS(dvh_scene_set_motion(NULL, 0, falling_start, falling_end, 3), DVH_STATUS_NULL_ARGUMENT, "argument `scene` is NULL");
+    CHECK_STATUS(dvh_scene_set_motion(scene, 0, NULL, falling_end, 3), DVH_STATUS_NULL_ARGUMENT, "argument `start` is NULL");
+    CHECK_STATUS(dvh_scene_set_motion(scene, 0, falling_start, NULL, 3), DVH_STATUS_NULL_ARGUMENT, "argument `end` is NULL");
+    CHECK_STATUS(dvh_scene_set_motion(scene, 1, falling_start, falling_end, 3), DVH_STATUS_INVALID_ARGUMENT,
+                 "object 1 is rigid: it is moved by a pose");
+    CHECK_STATUS(dvh_scene_set_motion(scene, 9, falling_start, falling_end, 3), DVH_STATUS_INVALID_ARGUMENT,
+                 "object 9 is not in the scene");
+    CHECK_STATUS(dvh_scene_set_motion(scene, 0, falling_start, falling_end, 2), DVH_STATUS_INVALID_ARGUMENT,
+                 "vertex_count = 2, but object 0 has 3 vertices");
+    CHECK_STATUS(dvh_scene_set_motion(scene, 0, falling_start, bad, 3), DVH_STATUS_NON_FINITE_COORDINATE,
+                 "object 0: end positions: vertex 1: coordinate y is NaN");
+    CHECK_STATUS(dvh_scene_set_motion(scene, 0, bad, falling_end, 3), DVH_STATUS_NON_FINITE_COORDINATE,
+                 "object 0: start positions: vertex 1: coordinate y is NaN");
+    memcpy(raw + 1, falling_end, sizeof bad);
+    CHECK_STATUS(dvh_scene_set_motion(scene, 0, falling_start, (const double *)(const void *)(raw + 1), 3),
+                 DVH_STATUS_INVALID_ARGUMENT, "argument `end` is not aligned");
+    CHECK_STATUS(dvh_scene_set_motion_f32(NULL, 0, start32, end32, 16, 3), DVH_STATUS_NULL_ARGUMENT, "argument `scene` is NULL");
+    CHECK_STATUS(dvh_scene_set_motion_f32(scene, 0, NULL, end32, 16, 3), DVH_STATUS_NULL_ARGUMENT, "argument `start` is NULL");
+    CHECK_STATUS(dvh_scene_set_motion_f32(scene, 0, start32, NULL, 16, 3), DVH_STATUS_NULL_ARGUMENT, "argument `end` is NULL");
+    CHECK_STATUS(dvh_scene_set_motion_f32(scene, 0, start32, end32, 8, 3), DVH_STATUS_INVALID_ARGUMENT, "stride_bytes = 8");
+    CHECK_STATUS(dvh_scene_set_motion_f32(scene, 1, start32, end32, 16, 3), DVH_STATUS_INVALID_ARGUMENT, "object 1 is rigid");
+    CHECK_STATUS(dvh_scene_set_motion_f32(scene, 0, start32, end32, 16, 4), DVH_STATUS_INVALID_ARGUMENT,
+                 "vertex_count = 4, but object 0 has 3 vertices");
+    end32[4 * 2] = (float)INFINITY;
+    CHECK_STATUS(dvh_scene_set_motion_f32(scene, 0, start32, end32, 16, 3), DVH_STATUS_NON_FINITE_COORDINATE,
+                 "object 0: end positions: vertex 2: coordinate x is inf");
+    {
+        DvhPose skewed = above, nan_pose = above, out_of_range = above;
+        skewed.rotation[0] = 2.0;
+        nan_pose.translation[2] = NAN;
+        out_of_range.translation[1] = 1e301;
+        CHECK_STATUS(dvh_scene_set_pose_motion(NULL, 1, &below, &above), DVH_STATUS_NULL_ARGUMENT, "argument `scene` is NULL");
+        CHECK_STATUS(dvh_scene_set_pose_motion(scene, 0, &below, &above), DVH_STATUS_INVALID_ARGUMENT,
+                     "object 0 is deformable: it is moved by its positions");
+        CHECK_STATUS(dvh_scene_set_pose_motion(scene, 0, NULL, NULL), DVH_STATUS_INVALID_ARGUMENT, "object 0 is deformable");
+        CHECK_STATUS(dvh_scene_set_pose_motion(scene, 9, &below, &above), DVH_STATUS_INVALID_ARGUMENT, "object 9 is not in the scene");
+        CHECK_STATUS(dvh_scene_set_pose_motion(scene, 1, &skewed, &above), DVH_STATUS_NON_RIGID_POSE, "start: ");
+        CHECK_STATUS(dvh_scene_set_pose_motion(scene, 1, &below, &skewed), DVH_STATUS_NON_RIGID_POSE, "end: ");
+        CHECK_STATUS(dvh_scene_set_pose_motion(scene, 1, &below, &nan_pose), DVH_STATUS_NON_FINITE_COORDINATE, "end: ");
+        CHECK_STATUS(dvh_scene_set_pose_motion(scene, 1, &out_of_range, &above), DVH_STATUS_POSE_OUT_OF_RANGE, "object 1: pose moves");
+        CHECK_STATUS(dvh_scene_set_pose_motion(scene, 1, &below, &out_of_range), DVH_STATUS_POSE_OUT_OF_RANGE, "object 1: pose moves");
+    }
+    CHECK_STATUS(dvh_scene_set_self_contact(NULL, 0, true), DVH_STATUS_NULL_ARGUMENT, "argument `scene` is NULL");
+    CHECK_STATUS(dvh_scene_set_self_contact(scene, 1, true), DVH_STATUS_INVALID_ARGUMENT,
+                 "object 1 is rigid: self-contact is for deformable objects");
+    CHECK_STATUS(dvh_scene_set_self_contact(scene, 9, false), DVH_STATUS_INVALID_ARGUMENT, "object 9 is not in the scene");
+    CHECK_STATUS(dvh_scene_set_self_contact(scene, 1, false), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_continuous_collide(scene, NULL, impacts, &stats), DVH_STATUS_OK, NULL);
+    CHECK(same_scene_impacts(impacts, rising, 4));
+
+    /* Failed queries leave the result and the counters as they were. */
+    memset(&sentinel, 0xab, sizeof sentinel);
+    stats = sentinel;
+    o = dvh_ccd_options_default();
+    o.mode = 7;
+    CHECK_STATUS(dvh_scene_continuous_collide(scene, &o, impacts, &stats), DVH_STATUS_INVALID_ARGUMENT,
+                 "options->mode = 7 is not a DVH_CCD_MODE_* value (0 or 1)");
+    CHECK_STATUS(dvh_scene_continuous_collide(NULL, NULL, impacts, &stats), DVH_STATUS_NULL_ARGUMENT, "argument `scene` is NULL");
+    CHECK_STATUS(dvh_scene_continuous_collide(scene, NULL, NULL, &stats), DVH_STATUS_NULL_ARGUMENT,
+                 "argument `impacts_out` is NULL");
+    /* Handles of another kind, both ways. */
+    CHECK_STATUS(dvh_scene_continuous_collide(scene, NULL, (DvhSceneImpacts *)(void *)pairwise, &stats), DVH_STATUS_INVALID_ARGUMENT,
+                 "DvhSceneImpacts `impacts_out` is not a live handle");
+    CHECK_STATUS(dvh_scene_continuous_collide(scene, NULL, (DvhSceneImpacts *)(void *)near, &stats), DVH_STATUS_INVALID_ARGUMENT,
+                 "DvhSceneImpacts `impacts_out` is not a live handle");
+    CHECK_STATUS(dvh_scene_continuous_collide((DvhScene *)(void *)impacts, NULL, fresh, &stats), DVH_STATUS_INVALID_ARGUMENT,
+                 "DvhScene `scene` is not a live handle");
+    CHECK_STATUS(dvh_continuous_collide(falling_moving, floor_moving, NULL, (DvhImpacts *)(void *)impacts, &stats),
+                 DVH_STATUS_INVALID_ARGUMENT, "DvhImpacts `impacts_out` is not a live handle");
+    CHECK_STATUS(dvh_scene_collide(scene, NULL, (DvhContacts *)(void *)impacts, NULL), DVH_STATUS_INVALID_ARGUMENT,
+                 "DvhContacts `contacts_out` is not a live handle");
+    CHECK_STATUS(dvh_scene_nearest_features(scene, 1.0, NULL, (DvhSceneNearPairs *)(void *)impacts, NULL),
+                 DVH_STATUS_INVALID_ARGUMENT, "DvhSceneNearPairs `pairs_out` is not a live handle");
+    CHECK_STATUS(dvh_scene_set_motion((DvhScene *)(void *)impacts, 0, falling_start, falling_end, 3), DVH_STATUS_INVALID_ARGUMENT,
+                 "DvhScene `scene` is not a live handle");
+    CHECK(dvh_scene_impacts_len((const DvhSceneImpacts *)(const void *)pairwise) == 0);
+    CHECK(dvh_scene_impacts_data((const DvhSceneImpacts *)(const void *)pairwise) == NULL);
+    CHECK(dvh_scene_impacts_len((const DvhSceneImpacts *)(const void *)scene) == 0);
+    CHECK(dvh_impacts_len((const DvhImpacts *)(const void *)impacts) == 0);
+    /* Releasing a handle of another kind is refused and says so; the handle lives on. */
+    dvh_scene_impacts_free((DvhSceneImpacts *)(void *)pairwise);
+    {
+        char message[256];
+        dvh_last_error_message(message, sizeof message);
+        CHECK(strstr(message, "DvhSceneImpacts `impacts` is not a live handle") != NULL && strstr(message, "not released") != NULL);
+    }
+    CHECK(dvh_impacts_len(pairwise) == 4);
+    CHECK(memcmp(&stats, &sentinel, sizeof stats) == 0);
+    CHECK(same_scene_impacts(impacts, rising, 4));
+    CHECK(dvh_scene_impacts_len(fresh) == 0 && dvh_scene_impacts_data(fresh) == NULL);
+
+    /* A new position ends the triangle's step, a pose the floor's: still again, apart. */
+    CHECK_STATUS(dvh_scene_set_positions(scene, 0, falling_end, 3), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_continuous_collide(scene, NULL, impacts, &stats), DVH_STATUS_OK, NULL);
+    CHECK(dvh_scene_impacts_len(impacts) > 0); /* the floor still rises through it */
+    CHECK_STATUS(dvh_scene_set_pose(scene, 1, NULL), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_continuous_collide(scene, NULL, impacts, &stats), DVH_STATUS_OK, NULL);
+    CHECK(dvh_scene_impacts_len(impacts) == 0 && dvh_scene_impacts_data(impacts) == NULL && stats.impacts == 0);
+    /* And a new step: into a buffer that held other impacts. */
+    CHECK_STATUS(dvh_scene_set_motion(scene, 0, falling_start, falling_end, 3), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_continuous_collide(scene, NULL, fresh, NULL), DVH_STATUS_OK, NULL);
+    CHECK(same_scene_impacts(fresh, still, 4));
+
+    dvh_scene_impacts_free(impacts);
+    dvh_scene_impacts_free(fresh);
+    dvh_scene_near_pairs_free(near);
+    dvh_impacts_free(pairwise);
+    dvh_contacts_free(contacts);
+    dvh_scene_free(scene);
+    dvh_mesh_free(falling);
+    dvh_mesh_free(floor_mesh);
+    dvh_mesh_free(floor_moving);
+    dvh_mesh_free(falling_moving);
+    free(raw);
+}
+
+/* A deforming terrain (0) rising, a rigid terrain (1) turned a half turn about z falling through
+ * it by a pose motion, a sheet (2) folding through itself far away with self-contact on: the
+ * scene's impacts are the pairwise query's on stand-alone meshes moving as the objects do, then
+ * the sheet's own, whatever the thread count; off, the sheet's vanish. */
+static void test_scene_continuous_oracle(void) {
+    enum { CAP = 20000 };
+    Mesh ta = mesh_terrain(8, 0, 0, wave), tb = mesh_terrain(5, 1, 2, ridge), g = mesh_terrain(6, 100, 0, flat);
+    IPose high = ipose_make(3, 8, 9, 4), low = ipose_make(3, 8, 9, -4);
+    DvhPose dhigh = ipose_to_dvh(&high), dlow = ipose_to_dvh(&low);
+    double *a_end = malloc(ta.vertex_count * 3 * sizeof(double));
+    double *b_start = malloc(tb.vertex_count * 3 * sizeof(double)), *b_end = malloc(tb.vertex_count * 3 * sizeof(double));
+    double *g_start = malloc(g.vertex_count * 3 * sizeof(double)), *g_end = malloc(g.vertex_count * 3 * sizeof(double));
+    DvhSceneImpact *expected = malloc(CAP * sizeof *expected);
+    DvhMesh *a = create(&ta, NULL), *b = create(&tb, NULL), *sheet = create(&g, NULL);
+    DvhMesh *a_alone = create(&ta, NULL), *b_alone = create(&tb, NULL), *sheet_alone = create(&g, NULL);
+    DvhScene *scene = NULL;
+    DvhSceneImpacts *impacts = dvh_scene_impacts_new();
+    DvhImpacts *pairwise = dvh_impacts_new();
+    DvhCcdOptions o;
+    DvhCcdStats stats;
+    size_t i, n, n_pair, best;
+    uint32_t id, threads;
+    int j, col;
+
+    for (i = 0; i < ta.vertex_count * 3; i++) a_end[i] = ta.pos[i] + (i % 3 == 2 ? 0.5 : 0.0);
+    for (i = 0; i < tb.vertex_count; i++) {
+        int64_t w[3];
+        int c;
+        ipose_apply(&high, &tb.ipos[3 * i], w);
+        for (c = 0; c < 3; c++) b_start[3 * i + (size_t)c] = (double)w[c];
+        ipose_apply(&low, &tb.ipos[3 * i], w);
+        for (c = 0; c < 3; c++) b_end[3 * i + (size_t)c] = (double)w[c];
+    }
+    /* The sheet's columns beyond x = 103, a ramp at the start, swing under the rest (as in
+     * test_self_continuous_collide, moved by 100 along x). */
+    memcpy(g_start, g.pos, g.vertex_count * 3 * sizeof(double));
+    memcpy(g_end, g.pos, g.vertex_count * 3 * sizeof(double));
+    for (j = 0; j <= 6; j++)
+        for (col = 4; col <= 6; col++) {
+            size_t v = (size_t)(j * 7 + col);
+            g_start[3 * v + 2] = col - 3;
+            g_end[3 * v] = 100 + 6 - col + 0.0625 * j;
+            g_end[3 * v + 2] = -0.125 * (col - 3);
+        }
+
+    CHECK_STATUS(dvh_scene_create(&scene), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_add_deformable(scene, a, 1, 0xffffffffu, &id), DVH_STATUS_OK, NULL);
+    CHECK(id == 0);
+    CHECK_STATUS(dvh_scene_add_rigid(scene, b, &dhigh, 1, 0xffffffffu, &id), DVH_STATUS_OK, NULL);
+    CHECK(id == 1);
+    CHECK_STATUS(dvh_scene_add_deformable(scene, sheet, 1, 0xffffffffu, &id), DVH_STATUS_OK, NULL);
+    CHECK(id == 2);
+    CHECK_STATUS(dvh_scene_set_motion(scene, 0, ta.pos, a_end, ta.vertex_count), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_set_pose_motion(scene, 1, &dhigh, &dlow), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_set_motion(scene, 2, g_start, g_end, g.vertex_count), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_set_self_contact(scene, 2, true), DVH_STATUS_OK, NULL);
+
+    /* The stand-alone meshes, in world coordinates over the same step. */
+    CHECK_STATUS(dvh_mesh_refit_motion(a_alone, ta.pos, a_end, ta.vertex_count), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_mesh_refit_motion(b_alone, b_start, b_end, tb.vertex_count), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_mesh_refit_motion(sheet_alone, g_start, g_end, g.vertex_count), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_continuous_collide(a_alone, b_alone, NULL, pairwise, NULL), DVH_STATUS_OK, NULL);
+    n_pair = append_impacts(expected, 0, CAP, 0, 1, pairwise);
+    CHECK_STATUS(dvh_self_continuous_collide(sheet_alone, NULL, pairwise, NULL), DVH_STATUS_OK, NULL);
+    n = append_impacts(expected, n_pair, CAP, 2, 2, pairwise);
+    CHECK(n_pair > 3 && n > n_pair + 3 && n < CAP);
+    best = 0;
+    for (i = 1; i < n; i++)
+        if (expected[i].impact.toi < expected[best].impact.toi) best = i;
+
+    for (threads = 0; threads < 3; threads++) {
+        o = dvh_ccd_options_default();
+        o.threads = threads;
+        CHECK_STATUS(dvh_scene_continuous_collide(scene, &o, impacts, &stats), DVH_STATUS_OK, NULL);
+        CHECK(same_scene_impacts(impacts, expected, n));
+        CHECK(stats.impacts == n && !stats.truncated && stats.earliest_toi == expected[best].impact.toi);
+        o.earliest_only = true;
+        CHECK_STATUS(dvh_scene_continuous_collide(scene, &o, impacts, &stats), DVH_STATUS_OK, NULL);
+        CHECK(same_scene_impacts(impacts, &expected[best], 1));
+        o.earliest_only = false;
+        o.max_impacts = 3;
+        CHECK_STATUS(dvh_scene_continuous_collide(scene, &o, impacts, &stats), DVH_STATUS_OK, NULL);
+        CHECK(dvh_scene_impacts_len(impacts) == 3 && stats.truncated && stats.impacts == 3);
+        for (i = 0; i < dvh_scene_impacts_len(impacts); i++) {
+            const DvhSceneImpact *x = &dvh_scene_impacts_data(impacts)[i];
+            size_t k, found = 0;
+            for (k = 0; k < n; k++) found += same_scene_impact(x, &expected[k]);
+            CHECK(found == 1);
+        }
+    }
+    /* Self-contact off: the sheet's own impacts vanish. */
+    CHECK_STATUS(dvh_scene_set_self_contact(scene, 2, false), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_continuous_collide(scene, NULL, impacts, &stats), DVH_STATUS_OK, NULL);
+    CHECK(same_scene_impacts(impacts, expected, n_pair));
+
+    dvh_scene_impacts_free(impacts);
+    dvh_impacts_free(pairwise);
+    dvh_scene_free(scene);
+    dvh_mesh_free(a);
+    dvh_mesh_free(b);
+    dvh_mesh_free(sheet);
+    dvh_mesh_free(a_alone);
+    dvh_mesh_free(b_alone);
+    dvh_mesh_free(sheet_alone);
+    free(a_end);
+    free(b_start);
+    free(b_end);
+    free(g_start);
+    free(g_end);
+    free(expected);
+    mesh_free(&ta);
+    mesh_free(&tb);
+    mesh_free(&g);
+}
+
+/* Self-contact in the frame's query: a mesh whose triangles fold through each other reports its
+ * self-intersections as contacts with object_a == object_b while its self-contact is on, and an
+ * intact sheet none; off, they vanish. */
+static void test_scene_self_contact(void) {
+    /* test_self_collide's fold: triangle 1 folded flat onto triangle 0, triangle 2 through their
+     * corner, triangle 3 apart. */
+    static const double pos[] = {0, 0, 0, 2, 0, 0, 0, 2, 0, 1, 1, 0, 1, 1, -1, 1, 1, 1, 5, 5, 5, 6, 5, 5, 5, 6, 5};
+    static const uint32_t tris[] = {0, 1, 2, 0, 1, 3, 0, 4, 5, 6, 7, 8};
+    Mesh sheet = mesh_terrain(4, 20, 0, ridge);
+    DvhMesh *fold = NULL, *intact = create(&sheet, NULL);
+    DvhScene *scene = NULL;
+    DvhContacts *contacts = dvh_contacts_new();
+    DvhSceneStats st;
+    const DvhContact *c;
+    uint32_t id;
+
+    CHECK_STATUS(dvh_mesh_create(pos, 9, tris, 4, NULL, &fold), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_create(&scene), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_add_rigid(scene, fold, NULL, 1, 0xffffffffu, &id), DVH_STATUS_OK, NULL);
+    CHECK(id == 0);
+    CHECK_STATUS(dvh_scene_add_deformable(scene, intact, 1, 0xffffffffu, &id), DVH_STATUS_OK, NULL);
+    CHECK(id == 1);
+    CHECK_STATUS(dvh_scene_add_deformable(scene, fold, 1, 0xffffffffu, &id), DVH_STATUS_OK, NULL);
+    CHECK(id == 2);
+    CHECK_STATUS(dvh_scene_exclude_pair(scene, 0, 2), DVH_STATUS_OK, NULL);
+    /* Off by default: nothing (the rigid copy overlaps the deformable one, but they are
+     * excluded; exclusions do not gate self-contact). */
+    CHECK_STATUS(dvh_scene_collide(scene, NULL, contacts, &st), DVH_STATUS_OK, NULL);
+    CHECK(dvh_contacts_len(contacts) == 0 && st.contacts == 0);
+    CHECK_STATUS(dvh_scene_set_self_contact(scene, 0, true), DVH_STATUS_INVALID_ARGUMENT, "object 0 is rigid");
+    CHECK_STATUS(dvh_scene_set_self_contact(scene, 1, true), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_set_self_contact(scene, 2, true), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_collide(scene, NULL, contacts, &st), DVH_STATUS_OK, NULL);
+    CHECK(dvh_contacts_len(contacts) == 3 && st.contacts == 3);
+    c = dvh_contacts_data(contacts);
+    if (dvh_contacts_len(contacts) == 3) {
+        CHECK(c[0].object_a == 2 && c[0].object_b == 2 && c[0].a == 0 && c[0].b == 1);
+        CHECK(c[1].object_a == 2 && c[1].object_b == 2 && c[1].a == 0 && c[1].b == 2);
+        CHECK(c[2].object_a == 2 && c[2].object_b == 2 && c[2].a == 1 && c[2].b == 2);
+    }
+    /* Moved, the fold still folds; the first-hit mode keeps one contact of it. */
+    {
+        double moved[27];
+        size_t k;
+        DvhQueryOptions q = dvh_query_options_default();
+        for (k = 0; k < 27; k++) moved[k] = pos[k] + (k % 3 == 0 ? 40.0 : 0.0);
+        CHECK_STATUS(dvh_scene_set_positions(scene, 2, moved, 9), DVH_STATUS_OK, NULL);
+        q.mode = DVH_QUERY_MODE_FIRST_HIT;
+        CHECK_STATUS(dvh_scene_collide(scene, &q, contacts, &st), DVH_STATUS_OK, NULL);
+        CHECK(dvh_contacts_len(contacts) == 1 && dvh_contacts_data(contacts)[0].object_a == 2 &&
+              dvh_contacts_data(contacts)[0].object_b == 2);
+    }
+    CHECK_STATUS(dvh_scene_set_self_contact(scene, 2, false), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_collide(scene, NULL, contacts, &st), DVH_STATUS_OK, NULL);
+    CHECK(dvh_contacts_len(contacts) == 0 && dvh_contacts_data(contacts) == NULL);
+    dvh_contacts_free(contacts);
+    dvh_scene_free(scene);
+    dvh_mesh_free(fold);
+    dvh_mesh_free(intact);
+    mesh_free(&sheet);
+}
+
+/* Stencils of a scene: a triangle hovering over a rigid one across a gap (hand-worked, as in
+ * test_nearest_features, moved by 10 along x), a terrain with itself while its self-contact is
+ * on; each equal to the pairwise or self query; every error path. */
+static void test_scene_nearest(void) {
+    enum { CAP = 4000 };
+    static const double pa[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    static const double pb[] = {10.25, 0.25, 0.5, 10.25, -1, 0.25, 10.25, 2, 0.25};
+    static const double pb_far[] = {30.25, 0.25, 0.5, 30.25, -1, 0.25, 30.25, 2, 0.25};
+    static const uint32_t tri[] = {0, 1, 2};
+    static const double bad[] = {-1.0, NAN, INFINITY, -INFINITY};
+    const DvhPose at10 = translated(10, 0, 0);
+    Mesh tm = mesh_terrain(5, 40, 0, wave);
+    DvhMesh *a = NULL, *b = NULL, *terrain = create(&tm, NULL);
+    DvhScene *scene = NULL;
+    DvhSceneNearPairs *out = dvh_scene_near_pairs_new();
+    DvhNearPairs *pairwise = dvh_near_pairs_new();
+    DvhSceneNearPair *expected = malloc(CAP * sizeof *expected);
+    DvhQueryOptions q;
+    DvhQueryStats stats, sentinel;
+    const DvhSceneNearPair *p;
+    uint32_t id, threads;
+    size_t n, n_pair, k;
+
+    CHECK(out != NULL && dvh_scene_near_pairs_len(out) == 0 && dvh_scene_near_pairs_data(out) == NULL);
+    CHECK(dvh_scene_near_pairs_len(NULL) == 0 && dvh_scene_near_pairs_data(NULL) == NULL);
+    dvh_scene_near_pairs_free(NULL);
+    CHECK_STATUS(dvh_mesh_create(pa, 3, tri, 1, NULL, &a), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_mesh_create(pb, 3, tri, 1, NULL, &b), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_create(&scene), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_add_rigid(scene, a, &at10, 1, 0xffffffffu, &id), DVH_STATUS_OK, NULL);
+    CHECK(id == 0);
+    CHECK_STATUS(dvh_scene_add_deformable(scene, b, 1, 0xffffffffu, &id), DVH_STATUS_OK, NULL);
+    CHECK(id == 1);
+    CHECK_STATUS(dvh_scene_add_deformable(scene, terrain, 1, 0xffffffffu, &id), DVH_STATUS_OK, NULL);
+    CHECK(id == 2);
+
+    /* The two edge-edge stencils a quarter apart, by hand. */
+    CHECK_STATUS(dvh_scene_nearest_features(scene, 0.25, NULL, out, &stats), DVH_STATUS_OK, NULL);
+    CHECK(dvh_scene_near_pairs_len(out) == 2 && stats.pairs == 2 && !stats.truncated);
+    p = dvh_scene_near_pairs_data(out);
+    if (dvh_scene_near_pairs_len(out) == 2) {
+        CHECK(p[0].object_a == 0 && p[0].object_b == 1 && p[1].object_a == 0 && p[1].object_b == 1);
+        CHECK(p[0].pair.kind == DVH_IMPACT_KIND_EDGE_EDGE && p[0].pair.a0 == 0 && p[0].pair.a1 == 1 && p[0].pair.b0 == 1 &&
+              p[0].pair.b1 == 2);
+        CHECK(p[1].pair.kind == DVH_IMPACT_KIND_EDGE_EDGE && p[1].pair.a0 == 1 && p[1].pair.a1 == 2 && p[1].pair.b0 == 1 &&
+              p[1].pair.b1 == 2);
+        CHECK(p[0].pair.distance == 0.25 && p[0].pair.feature_a == DVH_FEATURE_EDGE_01 && p[0].pair.feature_b == DVH_FEATURE_EDGE_01);
+        CHECK(p[0].pair.closest_a[0] == 10.25 && p[0].pair.closest_a[1] == 0 && p[0].pair.closest_a[2] == 0);
+        CHECK(p[0].pair.closest_b[0] == 10.25 && p[0].pair.closest_b[1] == 0 && p[0].pair.closest_b[2] == 0.25);
+    }
+    /* Across a wider gap than the distance: nothing. */
+    CHECK_STATUS(dvh_scene_nearest_features(scene, 0.125, NULL, out, &stats), DVH_STATUS_OK, NULL);
+    CHECK(dvh_scene_near_pairs_len(out) == 0 && dvh_scene_near_pairs_data(out) == NULL && stats.pairs == 0);
+
+    /* At distance 1, with the terrain's self-contact on: the pairwise query, then the self query. */
+    CHECK_STATUS(dvh_nearest_features(a, &at10, b, NULL, 1.0, NULL, pairwise, NULL), DVH_STATUS_OK, NULL);
+    n_pair = append_near_pairs(expected, 0, CAP, 0, 1, pairwise);
+    CHECK_STATUS(dvh_self_nearest_features(terrain, 1.0, NULL, pairwise, NULL), DVH_STATUS_OK, NULL);
+    n = append_near_pairs(expected, n_pair, CAP, 2, 2, pairwise);
+    CHECK(n_pair > 2 && n > n_pair + 3 && n < CAP);
+    CHECK_STATUS(dvh_scene_nearest_features(scene, 1.0, NULL, out, &stats), DVH_STATUS_OK, NULL);
+    CHECK(same_scene_near_pairs(out, expected, n_pair));
+    CHECK_STATUS(dvh_scene_set_self_contact(scene, 2, true), DVH_STATUS_OK, NULL);
+    for (threads = 0; threads < 3; threads++) {
+        q = dvh_query_options_default();
+        q.threads = threads;
+        CHECK_STATUS(dvh_scene_nearest_features(scene, 1.0, &q, out, &stats), DVH_STATUS_OK, NULL);
+        CHECK(same_scene_near_pairs(out, expected, n));
+        CHECK(stats.pairs == n && !stats.truncated);
+        /* One stencil per object pair in the first-hit mode. */
+        q.mode = DVH_QUERY_MODE_FIRST_HIT;
+        CHECK_STATUS(dvh_scene_nearest_features(scene, 1.0, &q, out, &stats), DVH_STATUS_OK, NULL);
+        CHECK(dvh_scene_near_pairs_len(out) == 2 && stats.pairs == 2);
+        p = dvh_scene_near_pairs_data(out);
+        if (dvh_scene_near_pairs_len(out) == 2) CHECK(p[0].object_a == 0 && p[0].object_b == 1 && p[1].object_a == 2 && p[1].object_b == 2);
+        q.mode = DVH_QUERY_MODE_TRIANGLES;
+        q.max_pairs = 1;
+        CHECK_STATUS(dvh_scene_nearest_features(scene, 1.0, &q, out, &stats), DVH_STATUS_OK, NULL);
+        CHECK(dvh_scene_near_pairs_len(out) == 1 && stats.truncated && stats.pairs == 1);
+    }
+    /* A step is seen at its end: from far away to where it was, the same stencils. */
+    CHECK_STATUS(dvh_scene_set_motion(scene, 1, pb_far, pb, 3), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_nearest_features(scene, 1.0, NULL, out, &stats), DVH_STATUS_OK, NULL);
+    CHECK(same_scene_near_pairs(out, expected, n));
+
+    /* Errors leave the buffer and the counters as they were. */
+    memset(&sentinel, 0xab, sizeof sentinel);
+    stats = sentinel;
+    for (k = 0; k < sizeof bad / sizeof bad[0]; k++)
+        CHECK_STATUS(dvh_scene_nearest_features(scene, bad[k], NULL, out, &stats), DVH_STATUS_INVALID_ARGUMENT, "distance");
+    CHECK_STATUS(dvh_scene_nearest_features(NULL, 1.0, NULL, out, &stats), DVH_STATUS_NULL_ARGUMENT, "argument `scene` is NULL");
+    CHECK_STATUS(dvh_scene_nearest_features(scene, 1.0, NULL, NULL, &stats), DVH_STATUS_NULL_ARGUMENT, "argument `pairs_out` is NULL");
+    q = dvh_query_options_default();
+    q.mode = DVH_QUERY_MODE_BUDGET;
+    CHECK_STATUS(dvh_scene_nearest_features(scene, 1.0, &q, out, &stats), DVH_STATUS_INVALID_ARGUMENT, "options->budget = 0");
+    q.mode = 42;
+    CHECK_STATUS(dvh_scene_nearest_features(scene, 1.0, &q, out, &stats), DVH_STATUS_INVALID_ARGUMENT, "options->mode = 42");
+    CHECK_STATUS(dvh_scene_nearest_features(scene, 1.0, NULL, (DvhSceneNearPairs *)(void *)pairwise, &stats),
+                 DVH_STATUS_INVALID_ARGUMENT, "DvhSceneNearPairs `pairs_out` is not a live handle");
+    CHECK_STATUS(dvh_self_nearest_features(terrain, 1.0, NULL, (DvhNearPairs *)(void *)out, &stats), DVH_STATUS_INVALID_ARGUMENT,
+                 "DvhNearPairs `pairs_out` is not a live handle");
+    CHECK_STATUS(dvh_scene_continuous_collide(scene, NULL, (DvhSceneImpacts *)(void *)out, NULL), DVH_STATUS_INVALID_ARGUMENT,
+                 "DvhSceneImpacts `impacts_out` is not a live handle");
+    CHECK_STATUS(dvh_scene_nearest_features((DvhScene *)(void *)out, 1.0, NULL, out, &stats), DVH_STATUS_INVALID_ARGUMENT,
+                 "DvhScene `scene` is not a live handle");
+    CHECK(dvh_scene_near_pairs_len((const DvhSceneNearPairs *)(const void *)pairwise) == 0);
+    CHECK(dvh_scene_near_pairs_data((const DvhSceneNearPairs *)(const void *)pairwise) == NULL);
+    CHECK(dvh_near_pairs_len((const DvhNearPairs *)(const void *)out) == 0);
+    dvh_scene_near_pairs_free((DvhSceneNearPairs *)(void *)pairwise);
+    CHECK(dvh_near_pairs_len(pairwise) == n - n_pair);
+    CHECK(memcmp(&stats, &sentinel, sizeof stats) == 0);
+    CHECK(same_scene_near_pairs(out, expected, n));
+
+    /* Off again: the terrain's own stencils vanish. */
+    CHECK_STATUS(dvh_scene_set_self_contact(scene, 2, false), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_scene_nearest_features(scene, 1.0, NULL, out, &stats), DVH_STATUS_OK, NULL);
+    CHECK(same_scene_near_pairs(out, expected, n_pair));
+
+    dvh_scene_near_pairs_free(out);
+    dvh_near_pairs_free(pairwise);
+    dvh_scene_free(scene);
+    dvh_mesh_free(a);
+    dvh_mesh_free(b);
+    dvh_mesh_free(terrain);
+    free(expected);
+    mesh_free(&tm);
+}
+
 int main(void) {
     test_versions_and_names();
     test_defaults();
@@ -2277,5 +2891,9 @@ int main(void) {
     test_continuous_terrains();
     test_self_continuous_collide();
     test_nearest_features();
+    test_scene_continuous();
+    test_scene_continuous_oracle();
+    test_scene_self_contact();
+    test_scene_nearest();
     return finish("test_api");
 }

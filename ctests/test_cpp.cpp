@@ -1160,6 +1160,271 @@ void test_nearest() {
     dvh_mesh_free(c_b);
 }
 
+// ---- scenes over a step ----
+
+bool same(const DvhSceneImpact& x, const DvhSceneImpact& y) {
+    return x.object_a == y.object_a && x.object_b == y.object_b && same(x.impact, y.impact);
+}
+
+// The wrapper's impacts equal the C buffer's, in the same order.
+bool same(const dvh::SceneImpacts& impacts, const DvhSceneImpacts* c) {
+    const dvh::Span<DvhSceneImpact> v = impacts.view();
+    if (v.size() != dvh_scene_impacts_len(c) || impacts.size() != v.size()) return false;
+    if (v.empty()) return v.data() == nullptr && dvh_scene_impacts_data(c) == nullptr;
+    for (std::size_t i = 0; i < v.size(); i++)
+        if (!same(v[i], dvh_scene_impacts_data(c)[i])) return false;
+    return true;
+}
+
+bool same(const dvh::SceneImpacts& impacts, const std::vector<DvhSceneImpact>& expected) {
+    if (impacts.size() != expected.size()) return false;
+    for (std::size_t i = 0; i < expected.size(); i++)
+        if (!same(impacts.view()[i], expected[i])) return false;
+    return true;
+}
+
+// Field by field: DvhNearPair has padding before `distance`.
+bool same_fields(const DvhNearPair& x, const DvhNearPair& y) {
+    return x.kind == y.kind && x.a0 == y.a0 && x.a1 == y.a1 && x.b0 == y.b0 && x.b1 == y.b1 && x.feature_a == y.feature_a &&
+           x.feature_b == y.feature_b && x.distance == y.distance &&
+           std::memcmp(x.closest_a, y.closest_a, sizeof x.closest_a) == 0 && std::memcmp(x.closest_b, y.closest_b, sizeof x.closest_b) == 0 &&
+           std::memcmp(x.weights_a, y.weights_a, sizeof x.weights_a) == 0 && std::memcmp(x.weights_b, y.weights_b, sizeof x.weights_b) == 0;
+}
+
+bool same(const DvhSceneNearPair& x, const DvhSceneNearPair& y) {
+    return x.object_a == y.object_a && x.object_b == y.object_b && same_fields(x.pair, y.pair);
+}
+
+bool same(const dvh::SceneNearPairs& pairs, const DvhSceneNearPairs* c) {
+    const dvh::Span<DvhSceneNearPair> v = pairs.view();
+    if (v.size() != dvh_scene_near_pairs_len(c) || pairs.size() != v.size()) return false;
+    if (v.empty()) return v.data() == nullptr && dvh_scene_near_pairs_data(c) == nullptr;
+    for (std::size_t i = 0; i < v.size(); i++)
+        if (!same(v[i], dvh_scene_near_pairs_data(c)[i])) return false;
+    return true;
+}
+
+DvhSceneImpact scene_impact(std::uint32_t object_a, std::uint32_t object_b, const DvhImpact& impact) {
+    DvhSceneImpact s{};
+    s.object_a = object_a;
+    s.object_b = object_b;
+    s.impact = impact;
+    return s;
+}
+
+void test_scene_owners() {
+    static_assert(move_only<dvh::SceneImpacts>() && move_only<dvh::SceneNearPairs>(), "owners are move-only");
+    static_assert(!std::is_convertible_v<DvhSceneImpacts*, dvh::SceneImpacts> &&
+                      !std::is_convertible_v<DvhSceneNearPairs*, dvh::SceneNearPairs>,
+                  "adopting a handle is explicit");
+    const dvh::Mesh floor(floor_positions, one_triangle), falling(falling_start, one_triangle);
+    dvh::Scene scene;
+    REQUIRE(scene.add_deformable(falling) == 0 && scene.add_rigid(floor) == 1);
+    scene.set_motion(0, falling_start, falling_end);
+
+    dvh::SceneImpacts p;
+    REQUIRE(p && p.empty() && p.size() == 0 && p.view().data() == nullptr && p.begin() == p.end());
+    scene.continuous_collide(dvh::CcdOptions{}, p);
+    REQUIRE(p.size() == 4);
+    const DvhSceneImpact* data = p.view().data();
+    dvh::SceneImpacts q(std::move(p));
+    REQUIRE(q.view().data() == data && q.size() == 4 && !p && p.get() == nullptr && p.size() == 0 && p.begin() == p.end());
+    REQUIRE_ERROR(scene.continuous_collide(dvh::CcdOptions{}, p), DVH_STATUS_NULL_ARGUMENT, "`impacts_out`");
+    p = std::move(q);
+    REQUIRE(p.view().data() == data && !q);
+    dvh::SceneImpacts& alias = p;
+    p = std::move(alias);  // to itself: keeps its buffer
+    REQUIRE(p.view().data() == data);
+    DvhSceneImpacts* raw = p.release();
+    REQUIRE(!p && raw != nullptr);
+    dvh::SceneImpacts adopted(raw);
+    REQUIRE(adopted.size() == 4 && adopted.view().data() == data);
+    adopted = dvh::SceneImpacts();  // releases the filled buffer
+    REQUIRE(adopted && adopted.empty());
+
+    dvh::SceneNearPairs n;
+    REQUIRE(n && n.empty() && n.view().data() == nullptr && n.begin() == n.end());
+    scene.nearest_features(10.0, dvh::QueryOptions{}, n);
+    REQUIRE(!n.empty());
+    const DvhSceneNearPair* first = n.view().data();
+    const std::size_t count = n.size();
+    dvh::SceneNearPairs m(std::move(n));
+    REQUIRE(m.view().data() == first && !n && n.size() == 0 && n.empty());
+    REQUIRE_ERROR(scene.nearest_features(1.0, dvh::QueryOptions{}, n), DVH_STATUS_NULL_ARGUMENT, "`pairs_out`");
+    n = std::move(m);
+    DvhSceneNearPairs* raw_pairs = n.release();
+    dvh::SceneNearPairs adopted_pairs(raw_pairs);
+    REQUIRE(adopted_pairs.size() == count && !n);
+    dvh::SceneNearPairs none(nullptr);
+    REQUIRE(!none && none.size() == 0);
+    // A moved-from scene refuses the new calls too.
+    dvh::Scene moved_to(std::move(scene));
+    REQUIRE_ERROR(scene.set_motion(0, falling_start, falling_end), DVH_STATUS_NULL_ARGUMENT, "`scene`");
+    REQUIRE_ERROR(scene.set_self_contact(0, true), DVH_STATUS_NULL_ARGUMENT, "`scene`");
+    REQUIRE_ERROR(scene.set_pose_motion(1, nullptr, nullptr), DVH_STATUS_NULL_ARGUMENT, "`scene`");
+    REQUIRE_ERROR((void)scene.continuous_collide(), DVH_STATUS_NULL_ARGUMENT, "`scene`");
+    REQUIRE_ERROR((void)scene.nearest_features(1.0), DVH_STATUS_NULL_ARGUMENT, "`scene`");
+    REQUIRE(moved_to.continuous_collide().size() == 4);
+}
+
+void test_scene_step() {
+    // The same scene through the wrappers and through the C API: the falling triangle (0,
+    // deformable), the floor (1, rigid), a hinge folding through itself far away (2, deformable,
+    // self-contact on).
+    const std::vector<double> hinge_start = {100, 0, 0, 100, 4, 0, 104, 2, 0, 98, 2, 2};
+    const std::vector<double> hinge_end = {100, 0, 0, 100, 4, 0, 104, 2, 0, 103, 2, -2};
+    const std::vector<std::uint32_t> hinge_tris = {0, 1, 2, 0, 1, 3};
+    const dvh::Mesh floor(floor_positions, one_triangle), falling(falling_start, one_triangle), hinge(hinge_start, hinge_tris);
+    dvh::Scene scene;
+    DvhScene* c_scene = nullptr;
+    REQUIRE(dvh_scene_create(&c_scene) == DVH_STATUS_OK);
+    std::uint32_t id = 99;
+    REQUIRE(scene.add_deformable(falling) == 0 && dvh_scene_add_deformable(c_scene, falling.get(), 1, 0xffffffffu, &id) == DVH_STATUS_OK);
+    REQUIRE(scene.add_rigid(floor) == 1 && dvh_scene_add_rigid(c_scene, floor.get(), nullptr, 1, 0xffffffffu, &id) == DVH_STATUS_OK);
+    REQUIRE(scene.add_deformable(hinge) == 2 && dvh_scene_add_deformable(c_scene, hinge.get(), 1, 0xffffffffu, &id) == DVH_STATUS_OK);
+    REQUIRE(id == 2);
+    dvh::SceneImpacts impacts;
+    DvhSceneImpacts* c_impacts = dvh_scene_impacts_new();
+    dvh::SceneNearPairs pairs;
+    DvhSceneNearPairs* c_pairs = dvh_scene_near_pairs_new();
+    auto compare = [&](const dvh::CcdOptions& o) {
+        DvhCcdStats c_stats{};
+        REQUIRE(dvh_scene_continuous_collide(c_scene, &o.c(), c_impacts, &c_stats) == DVH_STATUS_OK);
+        const DvhCcdStats stats = scene.continuous_collide(o, impacts);
+        REQUIRE(same(impacts, c_impacts) && same(stats, c_stats));
+        REQUIRE(same(scene.continuous_collide(o), c_impacts));
+    };
+    auto compare_near = [&](double distance, const dvh::QueryOptions& o) {
+        DvhQueryStats c_stats{};
+        REQUIRE(dvh_scene_nearest_features(c_scene, distance, &o.c(), c_pairs, &c_stats) == DVH_STATUS_OK);
+        const DvhQueryStats stats = scene.nearest_features(distance, o, pairs);
+        REQUIRE(same(pairs, c_pairs) && same(stats, c_stats) && stats.pairs == pairs.size());
+        REQUIRE(same(scene.nearest_features(distance, o), c_pairs));
+    };
+
+    // Still: nothing.
+    compare(dvh::CcdOptions{});
+    REQUIRE(impacts.empty());
+
+    // The triangle falls through the floor, which stands still through its pose motion; the
+    // hinge swings through itself.
+    std::vector<DvhSceneImpact> expected;
+    for (const DvhImpact& i : falling_impacts) expected.push_back(scene_impact(0, 1, i));
+    scene.set_motion(0, falling_start, falling_end);
+    REQUIRE(dvh_scene_set_motion(c_scene, 0, falling_start.data(), falling_end.data(), 3) == DVH_STATUS_OK);
+    scene.set_pose_motion(1, nullptr, nullptr);
+    REQUIRE(dvh_scene_set_pose_motion(c_scene, 1, nullptr, nullptr) == DVH_STATUS_OK);
+    scene.set_motion(2, hinge_start.data(), hinge_end.data(), 4);
+    REQUIRE(dvh_scene_set_motion(c_scene, 2, hinge_start.data(), hinge_end.data(), 4) == DVH_STATUS_OK);
+    compare(dvh::CcdOptions{});
+    REQUIRE(same(impacts, expected));
+    scene.set_self_contact(2, true);
+    REQUIRE(dvh_scene_set_self_contact(c_scene, 2, true) == DVH_STATUS_OK);
+    expected.push_back(scene_impact(2, 2, impact(DVH_IMPACT_KIND_VERTEX_FACE, 3, 0, 0, 0, 0.5)));
+    for (const dvh::CcdMode mode : {dvh::CcdMode::exact, dvh::CcdMode::conservative})
+        for (std::uint32_t threads = 0; threads < 3; threads++) {
+            const dvh::CcdOptions o = dvh::CcdOptions{}.mode(mode).threads(threads);
+            compare(o);
+            compare(dvh::CcdOptions(o).earliest_only(true));
+            compare(dvh::CcdOptions(o).max_impacts(2));
+        }
+    compare(dvh::CcdOptions{});
+    REQUIRE(same(impacts, expected));
+    REQUIRE(same(scene.continuous_collide(dvh::CcdOptions{}.earliest_only(true)), std::vector<DvhSceneImpact>{expected[1]}));
+    const DvhCcdStats cut = scene.continuous_collide(dvh::CcdOptions{}.max_impacts(2), impacts);
+    REQUIRE(impacts.size() == 2 && cut.truncated && cut.impacts == 2);
+
+    // Every set_motion overload gives what the C call gives.
+    const std::vector<double> lower_start = moved(Geometry{falling_start, one_triangle}, 0.25, 0, -0.5);
+    const std::vector<double> lower_end = moved(Geometry{falling_end, one_triangle}, 0.25, 0, -0.5);
+    REQUIRE(dvh_scene_set_motion(c_scene, 0, lower_start.data(), lower_end.data(), 3) == DVH_STATUS_OK);
+    auto check_motion = [&](auto&& set) {
+        scene.set_motion(0, falling_start, falling_end);  // away from the C scene's, first
+        set();
+        compare(dvh::CcdOptions{});
+        REQUIRE(!impacts.empty() && !same(impacts, expected));
+    };
+    check_motion([&] { scene.set_motion(0, lower_start, lower_end); });
+    check_motion([&] { scene.set_motion(0, lower_start.data(), lower_end.data(), 3); });
+    check_motion([&] { scene.set_motion(0, to_float(lower_start), to_float(lower_end)); });
+    check_motion([&] { scene.set_motion(0, to_float(lower_start).data(), to_float(lower_end).data(), 3); });
+    check_motion([&] {
+        std::vector<float> s, e;  // x, y, z, w
+        for (std::size_t i = 0; i < 3; i++) {
+            s.insert(s.end(), {(float)lower_start[3 * i], (float)lower_start[3 * i + 1], (float)lower_start[3 * i + 2], 0.0f});
+            e.insert(e.end(), {(float)lower_end[3 * i], (float)lower_end[3 * i + 1], (float)lower_end[3 * i + 2], 0.0f});
+        }
+        scene.set_motion_strided(0, s.data(), e.data(), 4 * sizeof(float), 3);
+    });
+    // A pose motion: the floor rising by 4 over the step.
+    const DvhPose below = translation(0, 0, -2), above = translation(0, 0, 2);
+    scene.set_pose_motion(1, &below, &above);
+    REQUIRE(dvh_scene_set_pose_motion(c_scene, 1, &below, &above) == DVH_STATUS_OK);
+    compare(dvh::CcdOptions{});
+    compare(dvh::CcdOptions{}.earliest_only(true));
+
+    // Stencils: the triangle at the end of its step over the floor, the hinge with itself.
+    for (const double d : {0.0, 0.5, 2.0, 5.0})
+        for (const dvh::QueryOptions& o :
+             {dvh::QueryOptions{}, dvh::QueryOptions{}.threads(1).max_pairs(3), dvh::QueryOptions{}.mode(DVH_QUERY_MODE_FIRST_HIT)})
+            compare_near(d, o);
+    REQUIRE(!scene.nearest_features(5.0).empty());
+    bool self_seen = false;
+    for (const DvhSceneNearPair& p : scene.nearest_features(5.0)) {
+        REQUIRE(p.object_a <= p.object_b && p.pair.distance <= 5.0);
+        self_seen |= p.object_a == 2 && p.object_b == 2;
+    }
+    REQUIRE(self_seen);
+
+    // Errors: the status, the message, and the scene and its last results as they were.
+    compare(dvh::CcdOptions{});
+    compare_near(2.0, dvh::QueryOptions{});
+    const std::vector<DvhSceneImpact> kept(impacts.begin(), impacts.end());
+    const std::size_t kept_pairs = pairs.size();
+    REQUIRE_ERROR(scene.set_motion(1, falling_start, falling_end), DVH_STATUS_INVALID_ARGUMENT, "object 1 is rigid");
+    REQUIRE_ERROR(scene.set_motion(9, falling_start, falling_end), DVH_STATUS_INVALID_ARGUMENT, "object 9 is not in the scene");
+    REQUIRE_ERROR(scene.set_motion(0, falling_start, std::vector<double>(falling_end.begin(), falling_end.end() - 3)),
+                  DVH_STATUS_INVALID_ARGUMENT, "start holds 9 values but end holds 6");
+    REQUIRE_ERROR(scene.set_motion(0, to_float(falling_start), std::vector<float>(8)), DVH_STATUS_INVALID_ARGUMENT,
+                  "end holds 8 values, not a multiple of 3");
+    REQUIRE_ERROR(scene.set_motion(0, falling_start.data(), nullptr, 3), DVH_STATUS_NULL_ARGUMENT, "argument `end` is NULL");
+    REQUIRE_ERROR(scene.set_motion(0, falling_start.data(), falling_end.data(), 2), DVH_STATUS_INVALID_ARGUMENT,
+                  "vertex_count = 2, but object 0 has 3 vertices");
+    std::vector<double> nan_end = falling_end;
+    nan_end[3 * 1 + 1] = std::nan("");
+    REQUIRE_ERROR(scene.set_motion(0, falling_start, nan_end), DVH_STATUS_NON_FINITE_COORDINATE,
+                  "object 0: end positions: vertex 1: coordinate y is NaN");
+    REQUIRE_ERROR(scene.set_motion_strided(0, to_float(falling_start).data(), to_float(falling_end).data(), 8, 3),
+                  DVH_STATUS_INVALID_ARGUMENT, "stride_bytes = 8");
+    REQUIRE_ERROR(scene.set_pose_motion(0, &below, &above), DVH_STATUS_INVALID_ARGUMENT, "object 0 is deformable");
+    DvhPose skewed = above;
+    skewed.rotation[0] = 2.0;
+    REQUIRE_ERROR(scene.set_pose_motion(1, &below, &skewed), DVH_STATUS_NON_RIGID_POSE, "end: ");
+    REQUIRE_ERROR(scene.set_self_contact(1, true), DVH_STATUS_INVALID_ARGUMENT, "object 1 is rigid: self-contact");
+    scene.set_self_contact(1, false);
+    REQUIRE_ERROR(scene.continuous_collide(dvh::CcdOptions{}.mode(7), impacts), DVH_STATUS_INVALID_ARGUMENT, "options->mode = 7");
+    REQUIRE_ERROR((void)scene.continuous_collide(dvh::CcdOptions{}.mode(7)), DVH_STATUS_INVALID_ARGUMENT, "options->mode = 7");
+    REQUIRE_ERROR(scene.nearest_features(-1.0, dvh::QueryOptions{}, pairs), DVH_STATUS_INVALID_ARGUMENT, "distance");
+    REQUIRE_ERROR(scene.nearest_features(1.0, dvh::QueryOptions{}.mode(DVH_QUERY_MODE_BUDGET), pairs), DVH_STATUS_INVALID_ARGUMENT,
+                  "options->budget = 0");
+    REQUIRE(impacts.size() == kept.size() && std::equal(kept.begin(), kept.end(), impacts.begin(),
+                                                        [](const DvhSceneImpact& x, const DvhSceneImpact& y) { return same(x, y); }));
+    REQUIRE(pairs.size() == kept_pairs);
+    compare(dvh::CcdOptions{});
+    compare_near(2.0, dvh::QueryOptions{});
+
+    // Self-contact off: the hinge's own impacts vanish; the frame's contacts see the ends.
+    scene.set_self_contact(2, false);
+    REQUIRE(dvh_scene_set_self_contact(c_scene, 2, false) == DVH_STATUS_OK);
+    compare(dvh::CcdOptions{});
+    for (const DvhSceneImpact& i : impacts) REQUIRE(i.object_a != 2 && i.object_b != 2);
+    REQUIRE(scene.collide().empty());
+
+    dvh_scene_impacts_free(c_impacts);
+    dvh_scene_near_pairs_free(c_pairs);
+    dvh_scene_free(c_scene);
+}
+
 int main() {
     test_version_status_and_messages();
     test_span();
@@ -1173,6 +1438,8 @@ int main() {
     test_impacts_owner();
     test_continuous();
     test_nearest();
+    test_scene_owners();
+    test_scene_step();
     std::printf("test_cpp (C++%ld): all checks passed\n", (long)(__cplusplus / 100 % 100));
     return 0;
 }

@@ -7,9 +7,10 @@
  * - Every fallible call returns a DvhStatus: DVH_STATUS_OK (0) or a DVH_STATUS_* code, and
  *   dvh_last_error_message() then says exactly what was wrong (which argument, index, value).
  * - Out-parameters come last and are written only on success; a failed call changes nothing.
- * - Handles (DvhMesh, DvhPairs, DvhScene, DvhContacts, DvhImpacts, DvhNearPairs) are opaque,
- *   created by dvh_*_create / dvh_*_new, released by dvh_*_free, which accept NULL; each keeps
- *   a tag saying its kind in its first 8 bytes. Input arrays are copied; nothing is
+ * - Handles (DvhMesh, DvhPairs, DvhScene, DvhContacts, DvhImpacts, DvhNearPairs,
+ *   DvhSceneImpacts, DvhSceneNearPairs) are opaque, created by dvh_*_create / dvh_*_new,
+ *   released by dvh_*_free, which accept NULL; each keeps a tag saying its kind in its first
+ *   8 bytes. Input arrays are copied; nothing is
  *   kept after a call returns. A scene object copies what it needs of its mesh: the mesh may be
  *   refit or freed afterwards.
  * - No input makes the library crash: pointers are checked for NULL and alignment, sizes for
@@ -86,6 +87,20 @@ typedef struct DvhPairs DvhPairs;
 typedef struct DvhScene DvhScene;
 
 /**
+ * A reusable result buffer for `dvh_scene_continuous_collide`, with the scratch space of the
+ * threads that fill it. Opaque; created by `dvh_scene_impacts_new`, released by
+ * `dvh_scene_impacts_free`. Use one per thread.
+ */
+typedef struct DvhSceneImpacts DvhSceneImpacts;
+
+/**
+ * A reusable result buffer for `dvh_scene_nearest_features`, with the scratch space of the
+ * threads that fill it. Opaque; created by `dvh_scene_near_pairs_new`, released by
+ * `dvh_scene_near_pairs_free`. Use one per thread.
+ */
+typedef struct DvhSceneNearPairs DvhSceneNearPairs;
+
+/**
  * Result of every fallible call: `DVH_STATUS_OK` (0) or one of the `DVH_STATUS_*` codes.
  * `dvh_last_error_message` gives the details of a failure.
  */
@@ -98,8 +113,8 @@ typedef uint32_t DvhCcdMode;
 
 /**
  * Options for `dvh_ccd_vertex_face`, `dvh_ccd_edge_edge` (which read `mode` only),
- * `dvh_continuous_collide` and `dvh_self_continuous_collide`; start from
- * `dvh_ccd_options_default()` (all fields zero). Grows like `DvhBuildOptions`.
+ * `dvh_continuous_collide`, `dvh_self_continuous_collide` and `dvh_scene_continuous_collide`;
+ * start from `dvh_ccd_options_default()` (all fields zero). Grows like `DvhBuildOptions`.
  */
 typedef struct DvhCcdOptions {
   /**
@@ -188,6 +203,28 @@ typedef struct DvhImpact {
    */
   double toi;
 } DvhImpact;
+
+/**
+ * An impact of a scene's continuous query (`dvh_scene_continuous_collide`): between objects
+ * `object_a` and `object_b`, or within one object with self-contact on when they are equal.
+ * `impact` is as `dvh_continuous_collide` reports it with `object_a`'s mesh first and
+ * `object_b`'s second (as `dvh_self_continuous_collide` reports it for an object with itself),
+ * its indices into those objects' meshes.
+ */
+typedef struct DvhSceneImpact {
+  /**
+   * The object with the lower id.
+   */
+  uint32_t object_a;
+  /**
+   * The object with the higher id (the same, for an impact of an object with itself).
+   */
+  uint32_t object_b;
+  /**
+   * The primitives (`a0, a1` in `object_a`'s mesh, `b0, b1` in `object_b`'s) and the time.
+   */
+  struct DvhImpact impact;
+} DvhSceneImpact;
 
 /**
  * How the hierarchy above the 1-rings is split: a `DVH_TREE_KIND_*` value.
@@ -302,9 +339,11 @@ typedef struct DvhPose {
 typedef uint32_t DvhQueryMode;
 
 /**
- * Options for `dvh_collide`, `dvh_self_collide`, `dvh_proximity`, `dvh_self_proximity` and
- * `dvh_scene_collide`; start from `dvh_query_options_default()` (all fields zero). Grows
- * like `DvhBuildOptions`: appended fields, zero the earlier results.
+ * Options for `dvh_collide`, `dvh_self_collide`, `dvh_proximity`, `dvh_self_proximity`,
+ * `dvh_scene_collide` and the stencil queries (`dvh_nearest_features`,
+ * `dvh_self_nearest_features`, `dvh_scene_nearest_features`); start from
+ * `dvh_query_options_default()` (all fields zero). Grows like `DvhBuildOptions`: appended
+ * fields, zero the earlier results.
  */
 typedef struct DvhQueryOptions {
   /**
@@ -437,6 +476,29 @@ typedef struct DvhNearPair {
 } DvhNearPair;
 
 /**
+ * A stencil of a scene's closest-point query (`dvh_scene_nearest_features`): between objects
+ * `object_a` and `object_b`, or within one object with self-contact on when they are equal.
+ * `pair` is as `dvh_nearest_features` reports it with `object_a`'s mesh (and pose) first and
+ * `object_b`'s second (as `dvh_self_nearest_features` reports it for an object with itself):
+ * its indices into those objects' meshes, its points in world coordinates.
+ */
+typedef struct DvhSceneNearPair {
+  /**
+   * The object with the lower id.
+   */
+  uint32_t object_a;
+  /**
+   * The object with the higher id (the same, for a stencil of an object with itself).
+   */
+  uint32_t object_b;
+  /**
+   * The primitives (`a0, a1` in `object_a`'s mesh, `b0, b1` in `object_b`'s), their distance,
+   * closest points, weights and features.
+   */
+  struct DvhNearPair pair;
+} DvhSceneNearPair;
+
+/**
  * One result: an index into mesh `a` and one into mesh `b` (triangles or nodes, see
  * `dvh_pairs_kind`).
  */
@@ -500,7 +562,9 @@ typedef struct DvhSceneStats {
 
 /**
  * One contact of a scene query: `a` in object `object_a` meets `b` in object `object_b`, with
- * `object_a < object_b` (triangles, or nodes in the coarse modes: see `dvh_contacts_kind`).
+ * `object_a <= object_b` (triangles, or nodes in the coarse modes: see `dvh_contacts_kind`).
+ * `object_a == object_b` for a contact of an object with itself, reported when its self-contact
+ * is on (`dvh_scene_set_self_contact`), with `a < b` as `dvh_self_collide` reports them.
  */
 typedef struct DvhContact {
   /**
@@ -508,7 +572,7 @@ typedef struct DvhContact {
    */
   uint32_t object_a;
   /**
-   * The object with the higher id.
+   * The object with the higher id (the same, for a contact of an object with itself).
    */
   uint32_t object_b;
   /**
@@ -931,6 +995,88 @@ const struct DvhImpact *dvh_impacts_data(const struct DvhImpacts *impacts);
 void dvh_impacts_free(struct DvhImpacts *impacts);
 
 /**
+ * Every impact of a scene's step: for every two objects that the filters allow (groups and
+ * masks, exclusions) and whose boxes over the whole step overlap, exactly what
+ * `dvh_continuous_collide` reports for two stand-alone meshes holding the objects' world
+ * positions and motions, `object_a`'s first (a deformable object moves as
+ * `dvh_scene_set_motion` says, a rigid object's vertices in straight lines between the poses of
+ * `dvh_scene_set_pose_motion`; an object given no step stands still); and for every object with
+ * self-contact on (`dvh_scene_set_self_contact`), what `dvh_self_continuous_collide` reports
+ * for it (`object_a == object_b`). `options` (NULL: the defaults) as for
+ * `dvh_continuous_collide`: exact by default, the result the same for every thread count.
+ *
+ * On success the impacts replace the contents of `impacts_out`, sorted by
+ * `(object_a, object_b)`, then as each pair's own query sorts them, and the counters go to
+ * `*stats_out` unless it is NULL; on failure neither changes. With `earliest_only`, only the
+ * earliest impact of the whole scene (of several at that time, the first in that order). With
+ * `max_impacts`, each pair's query keeps what its own query with that limit keeps, and the
+ * result the first of those in the scene's order, at most the limit (`truncated` says when
+ * anything was left out). The counters are sums over the object pairs queried; `impacts` and
+ * `earliest_toi` describe the result.
+ *
+ * Deformable objects whose positions or motion changed are refit here, whole, and only those
+ * some pair needs. A rigid object that moves or is posed is placed in world coordinates, once
+ * per pose or step, into a copy of its mesh that the scene keeps.
+ *
+ * Errors: NULL_ARGUMENT (`scene`, `impacts_out`); INVALID_ARGUMENT (a mode out of range, a
+ * pointer that is not a live handle of its kind); BUSY; OUT_OF_MEMORY; INTERNAL_PANIC.
+ *
+ * Thread safety: exclusive access to `scene` (the query refits and places objects) and an
+ * `impacts_out` used by no other thread; otherwise refused with BUSY, nothing changed.
+ *
+ * # Safety
+ * `scene` is NULL or a live scene; `options` is NULL or readable; `impacts_out` is NULL or a
+ * live buffer; `stats_out` is NULL or writable.
+ */
+DvhStatus dvh_scene_continuous_collide(struct DvhScene *scene,
+                                       const struct DvhCcdOptions *options,
+                                       struct DvhSceneImpacts *impacts_out,
+                                       struct DvhCcdStats *stats_out);
+
+/**
+ * A new, empty buffer for a scene's impacts, or NULL when memory ran out. Owned by the caller,
+ * released with `dvh_scene_impacts_free`. It keeps the scratch space of the queries that use
+ * it.
+ *
+ * Thread safety: any thread; a buffer must be used by one thread at a time.
+ */
+struct DvhSceneImpacts *dvh_scene_impacts_new(void);
+
+/**
+ * Number of impacts of the last successful query into `impacts` (0 for NULL or a new buffer).
+ *
+ * Thread safety: not alongside a query writing the same buffer (0 then).
+ *
+ * # Safety
+ * `impacts` is NULL or a live buffer.
+ */
+size_t dvh_scene_impacts_len(const struct DvhSceneImpacts *impacts);
+
+/**
+ * The impacts of the last successful query into `impacts`: `dvh_scene_impacts_len(impacts)`
+ * entries, sorted by `(object_a, object_b)`, then by `(kind, a0, a1, b0, b1)`. NULL when there
+ * are none. Owned by the buffer; valid until the next query into it or
+ * `dvh_scene_impacts_free`.
+ *
+ * Thread safety: as `dvh_scene_impacts_len`.
+ *
+ * # Safety
+ * `impacts` is NULL or a live buffer.
+ */
+const struct DvhSceneImpact *dvh_scene_impacts_data(const struct DvhSceneImpacts *impacts);
+
+/**
+ * Releases a buffer of a scene's impacts. NULL is a no-op.
+ *
+ * Thread safety: needs exclusive access; the buffer must not be used afterwards. A buffer in
+ * use by another call is not released (the last error message says so).
+ *
+ * # Safety
+ * `impacts` is NULL or a live buffer from `dvh_scene_impacts_new`, not freed before.
+ */
+void dvh_scene_impacts_free(struct DvhSceneImpacts *impacts);
+
+/**
  * The default build options, the fastest measured for meshes that deform: octree, box volumes
  * (`DVH_VOLUME_KIND_AABB`), layered radii (for sphere volumes), leftover triangles joined to
  * adjacent rings, refits on every core.
@@ -1249,6 +1395,87 @@ const struct DvhNearPair *dvh_near_pairs_data(const struct DvhNearPairs *pairs);
 void dvh_near_pairs_free(struct DvhNearPairs *pairs);
 
 /**
+ * Every stencil of a scene within `distance`: for every two objects that the filters allow
+ * (groups and masks, exclusions) and whose boxes come within `distance`, exactly what
+ * `dvh_nearest_features` reports for the two objects' meshes and poses, `object_a`'s first;
+ * and for every object with self-contact on (`dvh_scene_set_self_contact`), what
+ * `dvh_self_nearest_features` reports for it (`object_a == object_b`). Objects given a step
+ * are seen at its end. `options` (NULL: the defaults) as for `dvh_nearest_features`, applied
+ * to each pair (`DVH_QUERY_MODE_FIRST_HIT`: at most one stencil per object pair); the result
+ * is the same for every thread count.
+ *
+ * On success the stencils replace the contents of `pairs_out`, sorted by
+ * `(object_a, object_b)`, then as each pair's own query sorts them, and the counters go to
+ * `*stats_out` unless it is NULL; on failure neither changes. With `max_pairs`, each pair's
+ * query keeps what its own query with that limit keeps, and the result the first of those in
+ * the scene's order, at most the limit (`truncated` says when anything was left out). The
+ * counters are sums over the object pairs queried; `pairs` counts the stencils reported and
+ * `nodes_refit` the nodes the query's refits recomputed.
+ *
+ * Deformable objects whose positions changed are refit here, whole, and only those some pair
+ * needs.
+ *
+ * Errors: NULL_ARGUMENT (`scene`, `pairs_out`); INVALID_ARGUMENT (a negative, NaN or infinite
+ * `distance`; options out of range; a pointer that is not a live handle of its kind); BUSY;
+ * OUT_OF_MEMORY; INTERNAL_PANIC.
+ *
+ * Thread safety: exclusive access to `scene` (the query refits objects) and a `pairs_out` used
+ * by no other thread; otherwise refused with BUSY, nothing changed.
+ *
+ * # Safety
+ * `scene` is NULL or a live scene; `options` is NULL or readable; `pairs_out` is NULL or a live
+ * buffer; `stats_out` is NULL or writable.
+ */
+DvhStatus dvh_scene_nearest_features(struct DvhScene *scene,
+                                     double distance,
+                                     const struct DvhQueryOptions *options,
+                                     struct DvhSceneNearPairs *pairs_out,
+                                     struct DvhQueryStats *stats_out);
+
+/**
+ * A new, empty buffer for a scene's stencils, or NULL when memory ran out. Owned by the caller,
+ * released with `dvh_scene_near_pairs_free`. It keeps the scratch space of the queries that use
+ * it.
+ *
+ * Thread safety: any thread; a buffer must be used by one thread at a time.
+ */
+struct DvhSceneNearPairs *dvh_scene_near_pairs_new(void);
+
+/**
+ * Number of stencils of the last successful query into `pairs` (0 for NULL or a new buffer).
+ *
+ * Thread safety: not alongside a query writing the same buffer (0 then).
+ *
+ * # Safety
+ * `pairs` is NULL or a live buffer.
+ */
+size_t dvh_scene_near_pairs_len(const struct DvhSceneNearPairs *pairs);
+
+/**
+ * The stencils of the last successful query into `pairs`: `dvh_scene_near_pairs_len(pairs)`
+ * entries, sorted by `(object_a, object_b)`, then by `(kind, a0, a1, b0, b1)`. NULL when there
+ * are none. Owned by the buffer; valid until the next query into it or
+ * `dvh_scene_near_pairs_free`.
+ *
+ * Thread safety: as `dvh_scene_near_pairs_len`.
+ *
+ * # Safety
+ * `pairs` is NULL or a live buffer.
+ */
+const struct DvhSceneNearPair *dvh_scene_near_pairs_data(const struct DvhSceneNearPairs *pairs);
+
+/**
+ * Releases a buffer of a scene's stencils. NULL is a no-op.
+ *
+ * Thread safety: needs exclusive access; the buffer must not be used afterwards. A buffer in
+ * use by another call is not released (the last error message says so).
+ *
+ * # Safety
+ * `pairs` is NULL or a live buffer from `dvh_scene_near_pairs_new`, not freed before.
+ */
+void dvh_scene_near_pairs_free(struct DvhSceneNearPairs *pairs);
+
+/**
  * The default query options: every intersecting triangle pair, no pair limit, every core (all
  * fields zero).
  *
@@ -1504,7 +1731,8 @@ DvhStatus dvh_scene_add_deformable(struct DvhScene *scene,
                                    uint32_t *object_out);
 
 /**
- * Places rigid object `object` by `pose` (NULL: the identity).
+ * Places rigid object `object` by `pose` (NULL: the identity), standing still there: its step
+ * (`dvh_scene_set_pose_motion`), if it had one, ends.
  *
  * Errors: NULL_ARGUMENT (`scene`); INVALID_ARGUMENT (an unknown or removed id, a deformable
  * object); NON_FINITE_COORDINATE and NON_RIGID_POSE (the pose); POSE_OUT_OF_RANGE. On failure
@@ -1519,8 +1747,9 @@ DvhStatus dvh_scene_set_pose(struct DvhScene *scene, uint32_t object, const stru
 
 /**
  * Gives deformable object `object` new world positions (`x, y, z` per vertex, as many vertices
- * as its mesh). They are checked and stored now; its volumes are recomputed by the next
- * `dvh_scene_collide` that needs them.
+ * as its mesh), standing still there: its step (`dvh_scene_set_motion`), if it had one, ends.
+ * They are checked and stored now; its volumes are recomputed by the next query that needs
+ * them.
  *
  * Errors: NULL_ARGUMENT; INVALID_ARGUMENT (an unknown or removed id, a rigid object, a
  * different vertex count, a misaligned array); NON_FINITE_COORDINATE. On failure the scene is
@@ -1554,6 +1783,92 @@ DvhStatus dvh_scene_set_positions_f32(struct DvhScene *scene,
                                       const float *positions,
                                       size_t stride_bytes,
                                       size_t vertex_count);
+
+/**
+ * Turns the self-contact of object `object` on or off (off when added). When on,
+ * `dvh_scene_collide` also reports the object's self-intersecting triangle pairs as
+ * `dvh_self_collide` does (contacts with `object_a == object_b`), `dvh_scene_continuous_collide`
+ * its self impacts and `dvh_scene_nearest_features` its self stencils. Groups, masks and
+ * exclusions do not gate self-contact; this switch does. Only a deformable object can touch
+ * itself: turning it on for a rigid object is refused, turning it off accepted.
+ *
+ * Errors: NULL_ARGUMENT (`scene`); INVALID_ARGUMENT (an unknown or removed id; `on` for a rigid
+ * object). On failure the scene is unchanged.
+ *
+ * Thread safety: exclusive access to `scene`.
+ *
+ * # Safety
+ * `scene` is NULL or a live scene.
+ */
+DvhStatus dvh_scene_set_self_contact(struct DvhScene *scene, uint32_t object, bool on);
+
+/**
+ * Gives deformable object `object` a step: every vertex moves in a straight line from its
+ * position in `start` (t = 0) to its position in `end` (t = 1), `x, y, z` per vertex, as many
+ * vertices as its mesh (as `dvh_mesh_refit_motion` takes them). `dvh_scene_collide` and
+ * `dvh_scene_nearest_features` see the object at `end`; `dvh_scene_continuous_collide` sees the
+ * whole step. The step lasts until the next `dvh_scene_set_motion` or
+ * `dvh_scene_set_positions`. Checked and stored now; the volumes are refit by the next query
+ * that needs the object.
+ *
+ * Errors: NULL_ARGUMENT (`scene`, `start`, `end`); INVALID_ARGUMENT (an unknown or removed id,
+ * a rigid object, a different vertex count, a misaligned array); NON_FINITE_COORDINATE (the
+ * message names the object, the array, the vertex and the axis). On failure the scene is
+ * unchanged (the object keeps its step, or its stillness).
+ *
+ * Thread safety: exclusive access to `scene`.
+ *
+ * # Safety
+ * `scene` is NULL or a live scene; `start` and `end` each point to `3 * vertex_count` readable
+ * doubles.
+ */
+DvhStatus dvh_scene_set_motion(struct DvhScene *scene,
+                               uint32_t object,
+                               const double *start,
+                               const double *end,
+                               size_t vertex_count);
+
+/**
+ * `dvh_scene_set_motion` with `float` positions at a byte stride, the same stride for `start`
+ * and `end` (see `dvh_mesh_create_f32`).
+ *
+ * Errors: as `dvh_scene_set_motion`, plus INVALID_ARGUMENT for a stride below 12 bytes. On
+ * failure the scene is unchanged.
+ *
+ * Thread safety: exclusive access to `scene`.
+ *
+ * # Safety
+ * `scene` is NULL or a live scene; for each `i < vertex_count`, 12 bytes at
+ * `start + i * stride_bytes` and at `end + i * stride_bytes` are readable.
+ */
+DvhStatus dvh_scene_set_motion_f32(struct DvhScene *scene,
+                                   uint32_t object,
+                                   const float *start,
+                                   const float *end,
+                                   size_t stride_bytes,
+                                   size_t vertex_count);
+
+/**
+ * Gives rigid object `object` a step: from pose `start` to pose `end` (NULL: the identity),
+ * each vertex moving in a straight line from where `start` places it to where `end` does.
+ * `dvh_scene_collide` and `dvh_scene_nearest_features` see the object at `end`;
+ * `dvh_scene_continuous_collide` sees the whole step. The step lasts until the next
+ * `dvh_scene_set_pose` or `dvh_scene_set_pose_motion`. Straight paths are not the turn itself:
+ * a large rotation in one step shortens the object midway, so steps should turn little.
+ *
+ * Errors: NULL_ARGUMENT (`scene`); INVALID_ARGUMENT (an unknown or removed id, a deformable
+ * object); NON_FINITE_COORDINATE and NON_RIGID_POSE (either pose, named `start` or `end`);
+ * POSE_OUT_OF_RANGE. On failure the scene is unchanged.
+ *
+ * Thread safety: exclusive access to `scene`.
+ *
+ * # Safety
+ * `scene` is NULL or a live scene; `start` and `end` are NULL or readable.
+ */
+DvhStatus dvh_scene_set_pose_motion(struct DvhScene *scene,
+                                    uint32_t object,
+                                    const struct DvhPose *start,
+                                    const struct DvhPose *end);
 
 /**
  * Removes object `object` and its pair exclusions; its id may be given to a later object.
@@ -1597,16 +1912,19 @@ DvhStatus dvh_scene_set_lazy_refit(struct DvhScene *scene, bool lazy);
 /**
  * Every contact of the frame: for every two objects that the filters allow (groups and masks,
  * exclusions) and whose world boxes overlap, exactly what `dvh_collide` reports for the two
- * objects' current geometry and poses, in the mode `options` asks (NULL: the defaults; in
- * `DVH_QUERY_MODE_FIRST_HIT` at most one contact per object pair). The contacts replace those
- * in `contacts_out`, sorted by `(object_a, object_b, a, b)`; `max_pairs` bounds the whole
- * result. The counters go to `*stats_out` unless it is NULL. Deformable objects whose
- * positions changed are refit here, only those a pair needs (every one in the coarse modes);
- * with box volumes (the default), in the modes that report triangles, only the blocks of their
- * trees that a traversal reaches (the boxes, and so the result, are the eager refit's).
- * Object pairs are shared among `options->threads` threads; the result does not depend on the
- * count (threads reaching one object refit each of its blocks once, under a lock per object).
- * On failure neither `contacts_out` nor `*stats_out` changes.
+ * objects' current geometry and poses, and for every object with self-contact on
+ * (`dvh_scene_set_self_contact`) what `dvh_self_collide` reports for it (contacts with
+ * `object_a == object_b`), in the mode `options` asks (NULL: the defaults; in
+ * `DVH_QUERY_MODE_FIRST_HIT` at most one contact per object pair). Objects given a step are seen
+ * at its end. The contacts replace those in `contacts_out`, sorted by
+ * `(object_a, object_b, a, b)`; `max_pairs` bounds the whole result. The counters go to
+ * `*stats_out` unless it is NULL. Deformable objects whose positions changed are refit here, only
+ * those a pair needs (every one in the coarse modes); with box volumes (the default), in the modes
+ * that report triangles, only the blocks of their trees that a traversal reaches (the boxes, and
+ * so the result, are the eager refit's; objects with self-contact on are refit whole). Object
+ * pairs are shared among `options->threads` threads; the result does not depend on the count
+ * (threads reaching one object refit each of its blocks once, under a lock per object). On failure
+ * neither `contacts_out` nor `*stats_out` changes.
  *
  * Errors: NULL_ARGUMENT (`scene`, `contacts_out`); INVALID_ARGUMENT (options out of range, a
  * budget of 0); OUT_OF_MEMORY (set `max_pairs`).

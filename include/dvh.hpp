@@ -2,8 +2,9 @@
  * dvh.hpp: the C++17 layer over dvh.h, header-only.
  *
  * Owners that release their handle (dvh::Mesh, dvh::Pairs, dvh::Scene, dvh::Contacts,
- * dvh::Impacts, dvh::NearPairs), one exception, dvh::Error, for every failed call, results viewed in place
- * (dvh::Span), and options with named setters that chain. Each wrapper calls the dvh.h function
+ * dvh::Impacts, dvh::NearPairs, dvh::SceneImpacts, dvh::SceneNearPairs), one exception,
+ * dvh::Error, for every failed call, results viewed in place (dvh::Span), and options with named
+ * setters that chain. Each wrapper calls the dvh.h function
  * it names, whose documentation (arguments, errors, thread safety) holds for it too.
  *
  * Conventions
@@ -13,12 +14,14 @@
  *   scene call the scene as they were).
  * - Out of memory is a dvh::Error with DVH_STATUS_OUT_OF_MEMORY, whichever call ran out, the
  *   creation of a result buffer (dvh_pairs_new, dvh_contacts_new, dvh_impacts_new,
- *   dvh_near_pairs_new returning NULL) included.
+ *   dvh_near_pairs_new, dvh_scene_impacts_new, dvh_scene_near_pairs_new returning NULL)
+ *   included.
  * - The owners are move-only. A moved-from or released owner holds no handle: get() is null, its
  *   counts are 0, and a call that needs the handle throws dvh::Error (DVH_STATUS_NULL_ARGUMENT).
  *   get() lends the handle to the C API; release() gives it up.
  * - std::vector overloads take three values per vertex (x, y, z) or per triangle; a size that is
- *   not a multiple of 3 throws dvh::Error (DVH_STATUS_INVALID_ARGUMENT) before any call.
+ *   not a multiple of 3, or a motion whose start and end differ in size, throws dvh::Error
+ *   (DVH_STATUS_INVALID_ARGUMENT) before any call.
  * - Poses are dvh.h's DvhPose (`DvhPose{{1, 0, 0, 0, 1, 0, 0, 0, 1}, {x, y, z}}`), passed by
  *   pointer: nullptr is the identity.
  * - The option and result types are dvh.h's own, as are its DVH_* constants.
@@ -351,6 +354,8 @@ inline void free_handle(DvhScene* handle) noexcept { dvh_scene_free(handle); }
 inline void free_handle(DvhContacts* handle) noexcept { dvh_contacts_free(handle); }
 inline void free_handle(DvhImpacts* handle) noexcept { dvh_impacts_free(handle); }
 inline void free_handle(DvhNearPairs* handle) noexcept { dvh_near_pairs_free(handle); }
+inline void free_handle(DvhSceneImpacts* handle) noexcept { dvh_scene_impacts_free(handle); }
+inline void free_handle(DvhSceneNearPairs* handle) noexcept { dvh_scene_near_pairs_free(handle); }
 
 // A handle from a C function that writes it to its last argument.
 template <typename Handle, typename Create>
@@ -374,6 +379,17 @@ std::size_t triples(const std::vector<T>& values, const char* what) {
         throw Error(DVH_STATUS_INVALID_ARGUMENT,
                     std::string(what) + " holds " + std::to_string(values.size()) + " values, not a multiple of 3");
     return values.size() / 3;
+}
+
+// The number of vertices of a motion from `start` to `end`, which must hold as many whole
+// triples as each other.
+template <typename T>
+std::size_t motion_vertices(const std::vector<T>& start, const std::vector<T>& end) {
+    const std::size_t vertex_count = triples(start, "start");
+    if (triples(end, "end") != vertex_count)
+        throw Error(DVH_STATUS_INVALID_ARGUMENT, "start holds " + std::to_string(start.size()) + " values but end holds " +
+                                                     std::to_string(end.size()) + ": a motion needs as many of each");
+    return vertex_count;
 }
 
 // The elements of `values`, never null: the C API reads a NULL array as a missing argument,
@@ -507,10 +523,7 @@ public:
     /// Gives the mesh the motion from `start` to `end` (x, y, z per vertex each); two vectors of
     /// different sizes throw dvh::Error (DVH_STATUS_INVALID_ARGUMENT) before any call.
     void refit_motion(const std::vector<double>& start, const std::vector<double>& end) {
-        const std::size_t vertex_count = detail::triples(start, "start");
-        if (detail::triples(end, "end") != vertex_count)
-            throw Error(DVH_STATUS_INVALID_ARGUMENT, "start holds " + std::to_string(start.size()) + " values but end holds " +
-                                                         std::to_string(end.size()) + ": a motion needs as many of each");
+        const std::size_t vertex_count = detail::motion_vertices(start, end);
         refit_motion(detail::elements(start), detail::elements(end), vertex_count);
     }
 
@@ -597,8 +610,9 @@ public:
     Contacts& operator=(Contacts&& other) noexcept = default;
 
     /// The contacts of the last successful query into the buffer, sorted by
-    /// `(object_a, object_b, a, b)`; valid until the next query into it (dvh_contacts_data,
-    /// dvh_contacts_len).
+    /// `(object_a, object_b, a, b)`, with `object_a <= object_b` (equal for a contact of an object
+    /// with itself, reported while its self-contact is on); valid until the next query into it
+    /// (dvh_contacts_data, dvh_contacts_len).
     [[nodiscard]] Span<DvhContact> view() const noexcept {
         return Span<DvhContact>(dvh_contacts_data(get()), dvh_contacts_len(get()));
     }
@@ -673,6 +687,66 @@ public:
     [[nodiscard]] const DvhNearPair* end() const noexcept { return view().end(); }
 };
 
+/// A reusable result buffer of a scene's continuous query (DvhSceneImpacts), released by
+/// dvh_scene_impacts_free. Use one per thread.
+class SceneImpacts : public detail::Owner<DvhSceneImpacts> {
+public:
+    /// A new, empty buffer (dvh_scene_impacts_new).
+    SceneImpacts() : Owner(detail::allocated(dvh_scene_impacts_new())) {}
+    /// Takes ownership of `impacts`, a buffer from dvh_scene_impacts_new (or null: an owner of
+    /// none).
+    explicit SceneImpacts(DvhSceneImpacts* impacts) noexcept : Owner(impacts) {}
+    /// Takes `other`'s buffer; `other` holds none afterwards.
+    SceneImpacts(SceneImpacts&& other) noexcept = default;
+    /// Releases the buffer held here, then takes `other`'s.
+    SceneImpacts& operator=(SceneImpacts&& other) noexcept = default;
+
+    /// The impacts of the last successful query into the buffer, sorted by
+    /// `(object_a, object_b)`, then by `(kind, a0, a1, b0, b1)`; valid until the next query into
+    /// it (dvh_scene_impacts_data, dvh_scene_impacts_len).
+    [[nodiscard]] Span<DvhSceneImpact> view() const noexcept {
+        return Span<DvhSceneImpact>(dvh_scene_impacts_data(get()), dvh_scene_impacts_len(get()));
+    }
+    /// The number of impacts (dvh_scene_impacts_len).
+    [[nodiscard]] std::size_t size() const noexcept { return dvh_scene_impacts_len(get()); }
+    /// Are there no impacts?
+    [[nodiscard]] bool empty() const noexcept { return size() == 0; }
+    /// The first impact's position, as view().begin().
+    [[nodiscard]] const DvhSceneImpact* begin() const noexcept { return view().begin(); }
+    /// The position past the last impact, as view().end().
+    [[nodiscard]] const DvhSceneImpact* end() const noexcept { return view().end(); }
+};
+
+/// A reusable result buffer of a scene's closest-point query (DvhSceneNearPairs), released by
+/// dvh_scene_near_pairs_free. Use one per thread.
+class SceneNearPairs : public detail::Owner<DvhSceneNearPairs> {
+public:
+    /// A new, empty buffer (dvh_scene_near_pairs_new).
+    SceneNearPairs() : Owner(detail::allocated(dvh_scene_near_pairs_new())) {}
+    /// Takes ownership of `pairs`, a buffer from dvh_scene_near_pairs_new (or null: an owner of
+    /// none).
+    explicit SceneNearPairs(DvhSceneNearPairs* pairs) noexcept : Owner(pairs) {}
+    /// Takes `other`'s buffer; `other` holds none afterwards.
+    SceneNearPairs(SceneNearPairs&& other) noexcept = default;
+    /// Releases the buffer held here, then takes `other`'s.
+    SceneNearPairs& operator=(SceneNearPairs&& other) noexcept = default;
+
+    /// The stencils of the last successful query into the buffer, sorted by
+    /// `(object_a, object_b)`, then by `(kind, a0, a1, b0, b1)`; valid until the next query into
+    /// it (dvh_scene_near_pairs_data, dvh_scene_near_pairs_len).
+    [[nodiscard]] Span<DvhSceneNearPair> view() const noexcept {
+        return Span<DvhSceneNearPair>(dvh_scene_near_pairs_data(get()), dvh_scene_near_pairs_len(get()));
+    }
+    /// The number of stencils (dvh_scene_near_pairs_len).
+    [[nodiscard]] std::size_t size() const noexcept { return dvh_scene_near_pairs_len(get()); }
+    /// Are there no stencils?
+    [[nodiscard]] bool empty() const noexcept { return size() == 0; }
+    /// The first stencil's position, as view().begin().
+    [[nodiscard]] const DvhSceneNearPair* begin() const noexcept { return view().begin(); }
+    /// The position past the last stencil, as view().end().
+    [[nodiscard]] const DvhSceneNearPair* end() const noexcept { return view().end(); }
+};
+
 /// Objects queried together (DvhScene), released by dvh_scene_free: rigid ones placed by poses,
 /// deformable ones with positions of their own. Each object copies what it needs of its mesh,
 /// which may then be refit or destroyed. Every call needs the scene to itself.
@@ -730,6 +804,44 @@ public:
                                std::size_t vertex_count) {
         check(dvh_scene_set_positions_f32(get(), object, positions, stride_bytes, vertex_count));
     }
+    /// Turns object `object`'s self-contact on or off (off when added): when on, the queries also
+    /// report the object with itself (object_a == object_b). Only a deformable object can touch
+    /// itself: on for a rigid one throws, off is accepted (dvh_scene_set_self_contact).
+    void set_self_contact(std::uint32_t object, bool on) { check(dvh_scene_set_self_contact(get(), object, on)); }
+    /// Gives deformable object `object` a step: every vertex moves in a straight line from `start`
+    /// (t = 0) to `end` (t = 1), x, y, z per vertex, as many vertices as its mesh. collide() and
+    /// nearest_features() see the object at `end`, continuous_collide() the whole step; the step
+    /// lasts until the next set_motion() or set_positions() (dvh_scene_set_motion).
+    void set_motion(std::uint32_t object, const double* start, const double* end, std::size_t vertex_count) {
+        check(dvh_scene_set_motion(get(), object, start, end, vertex_count));
+    }
+    /// Gives deformable object `object` the step from `start` to `end` (x, y, z per vertex each).
+    void set_motion(std::uint32_t object, const std::vector<double>& start, const std::vector<double>& end) {
+        const std::size_t vertex_count = detail::motion_vertices(start, end);
+        set_motion(object, detail::elements(start), detail::elements(end), vertex_count);
+    }
+    /// Gives deformable object `object` a step between packed `float` positions
+    /// (dvh_scene_set_motion_f32 with a 12-byte stride).
+    void set_motion(std::uint32_t object, const float* start, const float* end, std::size_t vertex_count) {
+        set_motion_strided(object, start, end, 3 * sizeof(float), vertex_count);
+    }
+    /// Gives deformable object `object` a step between packed `float` positions.
+    void set_motion(std::uint32_t object, const std::vector<float>& start, const std::vector<float>& end) {
+        const std::size_t vertex_count = detail::motion_vertices(start, end);
+        set_motion(object, detail::elements(start), detail::elements(end), vertex_count);
+    }
+    /// Gives deformable object `object` a step between `float` positions at a byte stride, the
+    /// same for both, as Mesh::from_strided() reads them (dvh_scene_set_motion_f32).
+    void set_motion_strided(std::uint32_t object, const float* start, const float* end, std::size_t stride_bytes,
+                            std::size_t vertex_count) {
+        check(dvh_scene_set_motion_f32(get(), object, start, end, stride_bytes, vertex_count));
+    }
+    /// Gives rigid object `object` a step from pose `start` to pose `end` (nullptr: the
+    /// identity), each vertex moving in a straight line; it lasts until the next set_pose() or
+    /// set_pose_motion() (dvh_scene_set_pose_motion).
+    void set_pose_motion(std::uint32_t object, const DvhPose* start, const DvhPose* end) {
+        check(dvh_scene_set_pose_motion(get(), object, start, end));
+    }
     /// Removes object `object` and its pair exclusions; its id may be given to a later object
     /// (dvh_scene_remove).
     void remove(std::uint32_t object) { check(dvh_scene_remove(get(), object)); }
@@ -742,7 +854,8 @@ public:
     /// contacts are the same either way.
     void set_lazy_refit(bool lazy) { check(dvh_scene_set_lazy_refit(get(), lazy)); }
 
-    /// Every contact of the frame into `contacts`, replacing what it held; returns the counters
+    /// Every contact of the frame, between two objects and of each object with self-contact on
+    /// with itself, into `contacts`, replacing what it held; returns the counters
     /// (dvh_scene_collide). On failure `contacts` is unchanged.
     DvhSceneStats collide(const QueryOptions& options, Contacts& contacts) {
         DvhSceneStats stats{};
@@ -754,6 +867,37 @@ public:
         Contacts contacts;
         collide(options, contacts);
         return contacts;
+    }
+
+    /// Every impact of the step between two objects, and of each object with self-contact on
+    /// with itself, into `impacts`, replacing what it held; returns the counters, sums over the
+    /// object pairs queried (dvh_scene_continuous_collide). On failure `impacts` is unchanged.
+    DvhCcdStats continuous_collide(const CcdOptions& options, SceneImpacts& impacts) {
+        DvhCcdStats stats{};
+        check(dvh_scene_continuous_collide(get(), &options.c(), impacts.get(), &stats));
+        return stats;
+    }
+    /// Every impact of the step, in a new buffer.
+    [[nodiscard]] SceneImpacts continuous_collide(const CcdOptions& options = {}) {
+        SceneImpacts impacts;
+        continuous_collide(options, impacts);
+        return impacts;
+    }
+
+    /// Every stencil within `distance` between two objects, and within each object with
+    /// self-contact on, into `pairs`, replacing what it held; returns the counters, sums over the
+    /// object pairs queried (`pairs`: the stencils reported) (dvh_scene_nearest_features). On
+    /// failure `pairs` is unchanged.
+    DvhQueryStats nearest_features(double distance, const QueryOptions& options, SceneNearPairs& pairs) {
+        DvhQueryStats stats{};
+        check(dvh_scene_nearest_features(get(), distance, &options.c(), pairs.get(), &stats));
+        return stats;
+    }
+    /// Every stencil within `distance`, in a new buffer.
+    [[nodiscard]] SceneNearPairs nearest_features(double distance, const QueryOptions& options = {}) {
+        SceneNearPairs pairs;
+        nearest_features(distance, options, pairs);
+        return pairs;
     }
 };
 

@@ -133,6 +133,12 @@ pub enum Error {
         /// Is it rigid (moved by a pose) rather than deformable (moved by its positions)?
         rigid: bool,
     },
+    /// Self-contact was asked of a rigid object (it cannot touch itself: only deformable objects
+    /// have it).
+    RigidSelfContact {
+        /// The object.
+        object: u32,
+    },
     /// A pair of an object with itself was given where two objects are needed.
     SameObject {
         /// The object.
@@ -246,6 +252,11 @@ impl fmt::Display for Error {
             } => write!(
                 f,
                 "object {object} is deformable: it is moved by its positions, not by a pose"
+            ),
+            Error::RigidSelfContact { object } => write!(
+                f,
+                "object {object} is rigid: self-contact is for deformable objects (a rigid \
+                 object cannot touch itself)"
             ),
             Error::SameObject { object } => write!(
                 f,

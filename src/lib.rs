@@ -96,7 +96,9 @@ pub use query::{
     nearest_features, proximity, self_collide, self_continuous_collide, self_nearest_features,
     self_proximity,
 };
-pub use scene::{Contact, Contacts, Scene, SceneStats};
+pub use scene::{
+    Contact, Contacts, Scene, SceneImpact, SceneImpacts, SceneNearPair, SceneNearPairs, SceneStats,
+};
 pub use tree::TreeKind;
 pub use volume::VolumeKind;
 

@@ -511,3 +511,74 @@ fn every_query_kind_threaded_allocates_only_its_jobs() {
     );
     assert!(calls > 0, "every measured query grew its buffers");
 }
+
+/// A scene over its steps, once warmed up, on one thread: giving a rigid object a pose motion
+/// and a deformable one a motion, and the scene's continuous collision (exact, without impacts;
+/// the conservative mode) and stencils (within a distance where the objects come near), with
+/// self-contact on, allocate nothing.
+#[test]
+fn scene_steps_allocate_nothing() {
+    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
+    use dvh::{SceneImpacts, SceneNearPairs};
+    let ball = icosphere(2);
+    let mesh = Mesh::new(&ball.positions, &ball.triangles, &BuildOptions::default()).unwrap();
+    let mut scene = Scene::new();
+    let rigid = scene.add_rigid(&mesh, None, 1, u32::MAX).unwrap();
+    let soft = scene.add_deformable(&mesh, 1, u32::MAX).unwrap();
+    scene.set_self_contact(soft, true).unwrap();
+    // The soft ball turned about a skew axis (no symmetry shared with the other, whose exact
+    // ties would be decided in big integers), 2.05 to the right, breathing a little.
+    let turn = Pose::from_isometry(&nalgebra::Isometry3::new(
+        nalgebra::Vector3::new(2.05, 0.01, -0.02),
+        nalgebra::Vector3::new(0.3, 0.7, 1.1),
+    ))
+    .unwrap();
+    let at = |step: usize, t: f64| -> Vec<f64> {
+        let s = 1.0 + 0.01 * (step as f64 + t).sin();
+        ball.positions
+            .chunks_exact(3)
+            .flat_map(|p| turn.transform_point(&[s * p[0], s * p[1], s * p[2]]))
+            .collect()
+    };
+    let pose = |step: usize| {
+        let a = 0.01 * step as f64;
+        Pose::new(
+            [
+                [a.cos(), -a.sin(), 0.0],
+                [a.sin(), a.cos(), 0.0],
+                [0.0, 0.0, 1.0],
+            ],
+            [0.0; 3],
+        )
+        .unwrap()
+    };
+    let mut impacts = SceneImpacts::new();
+    let mut near = SceneNearPairs::new();
+    let exact = CcdOptions::default().with_threads(1);
+    let queries = [
+        exact,
+        exact.with_earliest_only(true),
+        exact.with_mode(CcdMode::Conservative),
+    ];
+    let mut found = 0;
+    for step in 0..8 {
+        let (s, e) = (at(step, 0.0), at(step, 1.0));
+        let n = allocations_during(|| {
+            scene
+                .set_pose_motion(rigid, Some(&pose(step)), Some(&pose(step + 1)))
+                .unwrap();
+            scene.set_motion(soft, &s, &e).unwrap();
+            for q in &queries {
+                scene.continuous_collide(q, &mut impacts).unwrap();
+                assert!(impacts.is_empty(), "step {step}: the balls stay apart");
+            }
+            scene
+                .nearest_features(0.2, &QueryOptions::default().with_threads(1), &mut near)
+                .unwrap();
+            found += near.len();
+        });
+        // Two steps to warm up: a result buffer's two halves take turns.
+        assert!(step < 3 || n == 0, "step {step}: {n} allocations");
+    }
+    assert!(found > 0, "stencils between the balls");
+}

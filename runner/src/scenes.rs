@@ -8,6 +8,12 @@
 //!   phase and the filters alone.
 //! - **cloth**: one deforming sheet (cloth-sized) sinking onto 1,000 rigid balls. Pair by pair:
 //!   a refit of the sheet and a query of it against every ball.
+//! - **many, over a step**: the objects of *many* moving from one frame to the next, asked what a
+//!   simulator asks every step: the earliest impact (continuous collision, exact, `earliest_only`)
+//!   and the stencils within 1% of the scene's size. Pair by pair: a motion refit (or a refit) of
+//!   every mesh and the pairwise query of every object pair, the earliest of their earliest
+//!   impacts kept, their stencils joined; the scene takes the motions (positions) and queries
+//!   once, its pairs pruned by the earliest impact found so far in any of them.
 //!
 //! Each frame is run `repeat` times and its fastest time kept; the table gives medians over the
 //! frames. Every frame checks that the scene's contacts are the pairwise ones.
@@ -15,7 +21,11 @@
 use crate::report::median;
 use crate::scene::{self, Size};
 use dvh::fixtures::{MeshData, Rng, grid, icosphere, torus};
-use dvh::{BuildOptions, Contact, Contacts, Mesh, Pairs, Pose, QueryOptions, Scene, collide};
+use dvh::{
+    BuildOptions, CcdOptions, Contact, Contacts, Impacts, Mesh, NearPairs, Pairs, Pose,
+    QueryOptions, Scene, SceneImpact, SceneImpacts, SceneNearPair, SceneNearPairs, collide,
+    continuous_collide, nearest_features,
+};
 use std::fmt::Write;
 use std::time::Instant;
 
@@ -151,6 +161,141 @@ fn many(
     together.memory = Some(scene.memory_bytes());
     eager.memory = Some(eager_scene.memory_bytes());
     rows.extend([pairwise, together, eager]);
+    Ok(())
+}
+
+/// The *many* scene over its steps: the earliest impact and the stencils, pair by pair and by the
+/// scene.
+fn many_steps(
+    size: Size,
+    frames: usize,
+    repeat: usize,
+    threads: u32,
+    rows: &mut Vec<Row>,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let s = scene::make("many", size).expect("a known scene");
+    let options = BuildOptions::default().with_refit_threads(threads);
+    let query = QueryOptions::default().with_threads(threads);
+    let earliest = CcdOptions::default()
+        .with_earliest_only(true)
+        .with_threads(threads);
+    let (mut start, mut end) = (
+        vec![Vec::new(); s.objects.len()],
+        vec![Vec::new(); s.objects.len()],
+    );
+    s.world(0, &mut start);
+    let mut meshes = s
+        .objects
+        .iter()
+        .zip(&start)
+        .map(|(o, w)| Mesh::new(w, &o.rest.triangles, &options))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut scene = Scene::new();
+    for m in &meshes {
+        scene.add_deformable(m, 1, u32::MAX)?;
+    }
+    // 1% of the scene's size: the diagonal of the box of every object at the start.
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for w in &start {
+        for p in w.chunks_exact(3) {
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+    }
+    let d = 0.01 * (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
+    let name = format!("many ({} objects), over a step", meshes.len());
+    let mut rows_here = [
+        Row::new(name.clone(), "earliest impact, pair by pair"),
+        Row::new(name.clone(), "earliest impact, scene"),
+        Row::new(name.clone(), "stencils at 1%, pair by pair"),
+        Row::new(name, "stencils at 1%, scene"),
+    ];
+    let (mut impacts, mut scene_impacts) = (Impacts::new(), SceneImpacts::new());
+    let (mut near, mut scene_near) = (NearPairs::new(), SceneNearPairs::new());
+    for k in 0..frames {
+        let f = k * s.frames / frames.max(1);
+        s.world(f, &mut start);
+        s.world(f + 1, &mut end);
+        // The earliest impact over the step from frame f to frame f + 1.
+        let (ms, first) = fastest(repeat, || -> Result<Option<SceneImpact>, dvh::Error> {
+            for (m, (a, b)) in meshes.iter_mut().zip(start.iter().zip(&end)) {
+                m.refit_motion(a, b)?;
+            }
+            let mut first: Option<SceneImpact> = None;
+            for &(i, j) in &s.pairs {
+                continuous_collide(&meshes[i], &meshes[j], &earliest, &mut impacts)?;
+                if let Some(x) = impacts.iter().next()
+                    && first.is_none_or(|f| x.toi < f.impact.toi)
+                {
+                    first = Some(SceneImpact {
+                        object_a: i as u32,
+                        object_b: j as u32,
+                        impact: *x,
+                    });
+                }
+            }
+            Ok(first)
+        });
+        let first = first?;
+        rows_here[0].ms.push(ms);
+        rows_here[0].pairs_queried += s.pairs.len() as u64;
+        rows_here[0].contacts += u64::from(first.is_some());
+        let (ms, st) = fastest(repeat, || -> Result<dvh::CcdStats, dvh::Error> {
+            for (id, (a, b)) in start.iter().zip(&end).enumerate() {
+                scene.set_motion(id as u32, a, b)?;
+            }
+            scene.continuous_collide(&earliest, &mut scene_impacts)
+        });
+        st?;
+        if scene_impacts.as_slice() != first.as_slice() {
+            return Err(
+                format!("many, step {f}: the scene's earliest impact is not the pairs'").into(),
+            );
+        }
+        rows_here[1].ms.push(ms);
+        rows_here[1].contacts += scene_impacts.len() as u64;
+        // The stencils at the end of the step.
+        let (ms, expected) = fastest(repeat, || -> Result<Vec<SceneNearPair>, dvh::Error> {
+            for (m, w) in meshes.iter_mut().zip(&end) {
+                m.refit(w)?;
+            }
+            let mut all = Vec::new();
+            for &(i, j) in &s.pairs {
+                nearest_features(&meshes[i], None, &meshes[j], None, d, &query, &mut near)?;
+                all.extend(near.iter().map(|&pair| SceneNearPair {
+                    object_a: i as u32,
+                    object_b: j as u32,
+                    pair,
+                }));
+            }
+            Ok(all)
+        });
+        let expected = expected?;
+        rows_here[2].ms.push(ms);
+        rows_here[2].pairs_queried += s.pairs.len() as u64;
+        rows_here[2].contacts += expected.len() as u64;
+        let (ms, st) = fastest(repeat, || -> Result<dvh::QueryStats, dvh::Error> {
+            for (id, w) in end.iter().enumerate() {
+                scene.set_positions(id as u32, w)?;
+            }
+            scene.nearest_features(d, &query, &mut scene_near)
+        });
+        st?;
+        if scene_near.as_slice() != &expected[..] {
+            return Err(format!(
+                "many, step {f}: the scene found {} stencils, pair by pair {}",
+                scene_near.len(),
+                expected.len()
+            )
+            .into());
+        }
+        rows_here[3].ms.push(ms);
+        rows_here[3].contacts += scene_near.len() as u64;
+    }
+    rows.extend(rows_here);
     Ok(())
 }
 
@@ -363,6 +508,7 @@ pub fn run(
 ) -> Result<String, Box<dyn std::error::Error>> {
     let mut rows = Vec::new();
     many(size, frames, repeat, threads, &mut rows)?;
+    many_steps(size, frames, repeat, threads, &mut rows)?;
     static_objects(
         if size.full { 10_000 } else { 1_000 },
         frames,

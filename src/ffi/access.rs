@@ -116,6 +116,8 @@ pub(crate) const PAIRS_TAG: u64 = u64::from_le_bytes(*b"dvh:pair");
 pub(crate) const CONTACTS_TAG: u64 = u64::from_le_bytes(*b"dvh:cont");
 pub(crate) const IMPACTS_TAG: u64 = u64::from_le_bytes(*b"dvh:impa");
 pub(crate) const NEAR_PAIRS_TAG: u64 = u64::from_le_bytes(*b"dvh:near");
+pub(crate) const SCENE_IMPACTS_TAG: u64 = u64::from_le_bytes(*b"dvh:simp");
+pub(crate) const SCENE_NEAR_PAIRS_TAG: u64 = u64::from_le_bytes(*b"dvh:snea");
 const FREED_TAG: u64 = u64::from_le_bytes(*b"dvh:free");
 
 impl Tag {
@@ -284,6 +286,8 @@ fn kind(tag: u64) -> &'static str {
         PAIRS_TAG => "DvhPairs",
         IMPACTS_TAG => "DvhImpacts",
         NEAR_PAIRS_TAG => "DvhNearPairs",
+        SCENE_IMPACTS_TAG => "DvhSceneImpacts",
+        SCENE_NEAR_PAIRS_TAG => "DvhSceneNearPairs",
         _ => "DvhContacts",
     }
 }
@@ -394,5 +398,38 @@ mod tests {
         t.release();
         let e = t.check(MESH_TAG, "mesh").unwrap_err();
         assert!(e.message.contains("already released"), "{}", e.message);
+    }
+
+    #[test]
+    fn every_kind_has_its_own_tag_and_name() {
+        let kinds = [
+            (MESH_TAG, "DvhMesh"),
+            (SCENE_TAG, "DvhScene"),
+            (PAIRS_TAG, "DvhPairs"),
+            (CONTACTS_TAG, "DvhContacts"),
+            (IMPACTS_TAG, "DvhImpacts"),
+            (NEAR_PAIRS_TAG, "DvhNearPairs"),
+            (SCENE_IMPACTS_TAG, "DvhSceneImpacts"),
+            (SCENE_NEAR_PAIRS_TAG, "DvhSceneNearPairs"),
+        ];
+        for (i, &(tag, name)) in kinds.iter().enumerate() {
+            assert_eq!(kind(tag), name);
+            assert_ne!(tag, FREED_TAG);
+            assert!(
+                kinds[i + 1..].iter().all(|&(other, _)| other != tag),
+                "{name}"
+            );
+            let e = Tag::new(tag).check(SCENE_IMPACTS_TAG, "impacts_out");
+            assert_eq!(e.is_ok(), tag == SCENE_IMPACTS_TAG);
+        }
+        let e = Tag::new(IMPACTS_TAG)
+            .check(SCENE_IMPACTS_TAG, "impacts_out")
+            .unwrap_err();
+        assert!(
+            e.message
+                .starts_with("DvhSceneImpacts `impacts_out` is not a live handle"),
+            "{}",
+            e.message
+        );
     }
 }

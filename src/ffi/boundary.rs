@@ -71,9 +71,10 @@ fn status_of(e: &Error) -> DvhStatus {
         Error::PoseOutOfRange { .. } | Error::ObjectPoseOutOfRange { .. } => {
             DVH_STATUS_POSE_OUT_OF_RANGE
         }
-        Error::UnknownObject { .. } | Error::WrongObjectKind { .. } | Error::SameObject { .. } => {
-            DVH_STATUS_INVALID_ARGUMENT
-        }
+        Error::UnknownObject { .. }
+        | Error::WrongObjectKind { .. }
+        | Error::RigidSelfContact { .. }
+        | Error::SameObject { .. } => DVH_STATUS_INVALID_ARGUMENT,
         Error::Object { error, .. } | Error::Motion { error, .. } => status_of(error),
     }
 }

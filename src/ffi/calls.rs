@@ -1,12 +1,13 @@
 //! The shape every query entry point of the C ABI shares: meshes (and poses) read and checked,
-//! options read (NULL: the defaults), the query run into the caller's buffer, its counters
-//! written unless NULL, all inside the guard that turns errors and panics into a status.
+//! or a scene taken for the call, options read (NULL: the defaults), the query run into the
+//! caller's buffer, its counters written unless NULL, all inside the guard that turns errors and
+//! panics into a status.
 
 use super::access::{Handle, read, write};
 use super::boundary::{Failure, guard, write_unless_null};
-use super::handles::DvhMesh;
+use super::handles::{DvhMesh, DvhScene};
 use super::types::{DvhPose, DvhStatus};
-use crate::{Mesh, Pose};
+use crate::{Mesh, Pose, Scene};
 
 /// A mesh and its pose, as the C arguments give them.
 pub(super) type Placed = (*const DvhMesh, *const DvhPose);
@@ -99,6 +100,35 @@ pub(super) unsafe fn one_mesh<H: Handle, O: CallOptions, S, C: for<'s> From<&'s 
         let s = query(&m, &o, &mut out)?;
         // SAFETY: NULL or writable (contract).
         unsafe { write_unless_null(stats_out, C::from(&s)) };
+        Ok(())
+    })
+}
+
+/// A query of a whole scene from C (entry point `call`): the scene taken for the call alone (a
+/// query refits its objects), the options read and checked, `query` run into `out` (argument
+/// `out_name`), its counters `S` written to `stats_out` as the C struct `C` unless NULL.
+///
+/// # Safety
+/// `scene` is NULL or a live scene; otherwise as [`two_meshes`].
+pub(super) unsafe fn whole_scene<H: Handle, O: CallOptions, S, C: for<'s> From<&'s S>>(
+    scene: *mut DvhScene,
+    options: *const O,
+    out: *mut H,
+    out_name: &str,
+    stats_out: *mut C,
+    call: &str,
+    query: impl FnOnce(&mut Scene, &O::Options, &mut H::Inner) -> crate::Result<S>,
+) -> DvhStatus {
+    guard(|| {
+        // SAFETY: NULL or a live scene (contract); BUSY while another call uses it.
+        let mut s = unsafe { write(scene, "scene", call)? };
+        // SAFETY: NULL or a live buffer used by this thread only (contract).
+        let mut out = unsafe { write(out, out_name, call)? };
+        // SAFETY: NULL or readable (contract).
+        let o = unsafe { O::read_or_default(options) }?;
+        let st = query(&mut s, &o, &mut out)?;
+        // SAFETY: NULL or writable (contract).
+        unsafe { write_unless_null(stats_out, C::from(&st)) };
         Ok(())
     })
 }

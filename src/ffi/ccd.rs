@@ -1,10 +1,10 @@
 //! Continuous collision through the C ABI: the primitive tests, the motion refit, the queries
-//! of two meshes and of one, and their result buffer.
+//! of two meshes, of one and of a whole scene, and their result buffers.
 
 use super::boundary::{
     Failure, choice, guard, guard_value, slice_from, times_three, write_unless_null,
 };
-use super::calls::{CallOptions, one_mesh, two_meshes};
+use super::calls::{CallOptions, one_mesh, two_meshes, whole_scene};
 use super::handles::*;
 use super::mesh::refit_guarded;
 use super::results;
@@ -312,4 +312,109 @@ pub unsafe extern "C" fn dvh_impacts_data(impacts: *const DvhImpacts) -> *const 
 pub unsafe extern "C" fn dvh_impacts_free(impacts: *mut DvhImpacts) {
     // SAFETY: the caller's contract is this function's.
     unsafe { results::free(impacts, "dvh_impacts_free") }
+}
+
+/// Every impact of a scene's step: for every two objects that the filters allow (groups and
+/// masks, exclusions) and whose boxes over the whole step overlap, exactly what
+/// `dvh_continuous_collide` reports for two stand-alone meshes holding the objects' world
+/// positions and motions, `object_a`'s first (a deformable object moves as
+/// `dvh_scene_set_motion` says, a rigid object's vertices in straight lines between the poses of
+/// `dvh_scene_set_pose_motion`; an object given no step stands still); and for every object with
+/// self-contact on (`dvh_scene_set_self_contact`), what `dvh_self_continuous_collide` reports
+/// for it (`object_a == object_b`). `options` (NULL: the defaults) as for
+/// `dvh_continuous_collide`: exact by default, the result the same for every thread count.
+///
+/// On success the impacts replace the contents of `impacts_out`, sorted by
+/// `(object_a, object_b)`, then as each pair's own query sorts them, and the counters go to
+/// `*stats_out` unless it is NULL; on failure neither changes. With `earliest_only`, only the
+/// earliest impact of the whole scene (of several at that time, the first in that order). With
+/// `max_impacts`, each pair's query keeps what its own query with that limit keeps, and the
+/// result the first of those in the scene's order, at most the limit (`truncated` says when
+/// anything was left out). The counters are sums over the object pairs queried; `impacts` and
+/// `earliest_toi` describe the result.
+///
+/// Deformable objects whose positions or motion changed are refit here, whole, and only those
+/// some pair needs. A rigid object that moves or is posed is placed in world coordinates, once
+/// per pose or step, into a copy of its mesh that the scene keeps.
+///
+/// Errors: NULL_ARGUMENT (`scene`, `impacts_out`); INVALID_ARGUMENT (a mode out of range, a
+/// pointer that is not a live handle of its kind); BUSY; OUT_OF_MEMORY; INTERNAL_PANIC.
+///
+/// Thread safety: exclusive access to `scene` (the query refits and places objects) and an
+/// `impacts_out` used by no other thread; otherwise refused with BUSY, nothing changed.
+///
+/// # Safety
+/// `scene` is NULL or a live scene; `options` is NULL or readable; `impacts_out` is NULL or a
+/// live buffer; `stats_out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_continuous_collide(
+    scene: *mut DvhScene,
+    options: *const DvhCcdOptions,
+    impacts_out: *mut DvhSceneImpacts,
+    stats_out: *mut DvhCcdStats,
+) -> DvhStatus {
+    // SAFETY: the caller's contract is this function's.
+    unsafe {
+        whole_scene(
+            scene,
+            options,
+            impacts_out,
+            "impacts_out",
+            stats_out,
+            "dvh_scene_continuous_collide",
+            |s, o, out| s.continuous_collide(o, out),
+        )
+    }
+}
+
+/// A new, empty buffer for a scene's impacts, or NULL when memory ran out. Owned by the caller,
+/// released with `dvh_scene_impacts_free`. It keeps the scratch space of the queries that use
+/// it.
+///
+/// Thread safety: any thread; a buffer must be used by one thread at a time.
+#[unsafe(no_mangle)]
+pub extern "C" fn dvh_scene_impacts_new() -> *mut DvhSceneImpacts {
+    results::new()
+}
+
+/// Number of impacts of the last successful query into `impacts` (0 for NULL or a new buffer).
+///
+/// Thread safety: not alongside a query writing the same buffer (0 then).
+///
+/// # Safety
+/// `impacts` is NULL or a live buffer.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_impacts_len(impacts: *const DvhSceneImpacts) -> usize {
+    // SAFETY: the caller's contract is this function's.
+    unsafe { results::len(impacts, "dvh_scene_impacts_len") }
+}
+
+/// The impacts of the last successful query into `impacts`: `dvh_scene_impacts_len(impacts)`
+/// entries, sorted by `(object_a, object_b)`, then by `(kind, a0, a1, b0, b1)`. NULL when there
+/// are none. Owned by the buffer; valid until the next query into it or
+/// `dvh_scene_impacts_free`.
+///
+/// Thread safety: as `dvh_scene_impacts_len`.
+///
+/// # Safety
+/// `impacts` is NULL or a live buffer.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_impacts_data(
+    impacts: *const DvhSceneImpacts,
+) -> *const DvhSceneImpact {
+    // SAFETY: the caller's contract is this function's.
+    unsafe { results::data(impacts, "dvh_scene_impacts_data") }
+}
+
+/// Releases a buffer of a scene's impacts. NULL is a no-op.
+///
+/// Thread safety: needs exclusive access; the buffer must not be used afterwards. A buffer in
+/// use by another call is not released (the last error message says so).
+///
+/// # Safety
+/// `impacts` is NULL or a live buffer from `dvh_scene_impacts_new`, not freed before.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_impacts_free(impacts: *mut DvhSceneImpacts) {
+    // SAFETY: the caller's contract is this function's.
+    unsafe { results::free(impacts, "dvh_scene_impacts_free") }
 }

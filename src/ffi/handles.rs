@@ -2,7 +2,8 @@
 //! and which kind of object each is.
 
 use super::access::{
-    Access, CONTACTS_TAG, Handle, IMPACTS_TAG, MESH_TAG, NEAR_PAIRS_TAG, PAIRS_TAG, SCENE_TAG, Tag,
+    Access, CONTACTS_TAG, Handle, IMPACTS_TAG, MESH_TAG, NEAR_PAIRS_TAG, PAIRS_TAG,
+    SCENE_IMPACTS_TAG, SCENE_NEAR_PAIRS_TAG, SCENE_TAG, Tag,
 };
 use std::cell::UnsafeCell;
 
@@ -52,6 +53,16 @@ pub struct DvhNearPairs(pub(crate) Body<crate::NearPairs>);
 /// released by `dvh_impacts_free`. Use one per thread.
 pub struct DvhImpacts(pub(crate) Body<crate::Impacts>);
 
+/// A reusable result buffer for `dvh_scene_continuous_collide`, with the scratch space of the
+/// threads that fill it. Opaque; created by `dvh_scene_impacts_new`, released by
+/// `dvh_scene_impacts_free`. Use one per thread.
+pub struct DvhSceneImpacts(pub(crate) Body<crate::SceneImpacts>);
+
+/// A reusable result buffer for `dvh_scene_nearest_features`, with the scratch space of the
+/// threads that fill it. Opaque; created by `dvh_scene_near_pairs_new`, released by
+/// `dvh_scene_near_pairs_free`. Use one per thread.
+pub struct DvhSceneNearPairs(pub(crate) Body<crate::SceneNearPairs>);
+
 // The tag check reads the first 8 bytes of whatever a handle pointer points to: every handle
 // keeps its tag there.
 const _: () = {
@@ -62,6 +73,8 @@ const _: () = {
     assert!(offset_of!(DvhContacts, 0.tag) == 0);
     assert!(offset_of!(DvhNearPairs, 0.tag) == 0);
     assert!(offset_of!(DvhImpacts, 0.tag) == 0);
+    assert!(offset_of!(DvhSceneImpacts, 0.tag) == 0);
+    assert!(offset_of!(DvhSceneNearPairs, 0.tag) == 0);
 };
 
 macro_rules! handle {
@@ -82,3 +95,9 @@ handle!(DvhScene, crate::Scene, SCENE_TAG);
 handle!(DvhContacts, crate::Contacts, CONTACTS_TAG);
 handle!(DvhImpacts, crate::Impacts, IMPACTS_TAG);
 handle!(DvhNearPairs, crate::NearPairs, NEAR_PAIRS_TAG);
+handle!(DvhSceneImpacts, crate::SceneImpacts, SCENE_IMPACTS_TAG);
+handle!(
+    DvhSceneNearPairs,
+    crate::SceneNearPairs,
+    SCENE_NEAR_PAIRS_TAG
+);

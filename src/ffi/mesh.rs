@@ -106,16 +106,19 @@ pub(super) struct StridedF32 {
 }
 
 impl StridedF32 {
+    /// A reader of the positions at `base` (argument `name`, for messages).
+    ///
     /// # Safety
     /// If `base` is non-NULL, `vertex_count` vertices of three `f32` each must be readable at
     /// `base + i * stride_bytes` for the duration of the use.
     pub(super) unsafe fn new(
         base: *const f32,
+        name: &str,
         stride_bytes: usize,
         vertex_count: usize,
     ) -> Result<StridedF32, Failure> {
         if base.is_null() {
-            return Err(Failure::null("positions"));
+            return Err(Failure::null(name));
         }
         if stride_bytes < 12 {
             return Err(Failure::invalid(format!(
@@ -343,7 +346,8 @@ pub unsafe extern "C" fn dvh_mesh_create_f32(
         }
         check_counts(vertex_count, triangle_count)?;
         // SAFETY: readable per the contract; NULL, stride and span are checked inside.
-        let reader = unsafe { StridedF32::new(positions, stride_bytes, vertex_count)? };
+        let reader =
+            unsafe { StridedF32::new(positions, "positions", stride_bytes, vertex_count)? };
         // SAFETY: readable per the contract; NULL, alignment and size are checked inside.
         let triangles = unsafe {
             slice_from(
@@ -425,7 +429,8 @@ pub unsafe extern "C" fn dvh_mesh_refit_f32(
     guard(|| {
         refit_guarded(mesh, vertex_count, "dvh_mesh_refit_f32", |m| {
             // SAFETY: readable per the contract; NULL, stride and span are checked inside.
-            let reader = unsafe { StridedF32::new(positions, stride_bytes, vertex_count)? };
+            let reader =
+                unsafe { StridedF32::new(positions, "positions", stride_bytes, vertex_count)? };
             m.refit_with(vertex_count, |i| reader.get(i))?;
             Ok(())
         })

@@ -1,7 +1,7 @@
-//! Closest-point stencils through the C ABI: the queries of two meshes and of one, and their
-//! result buffer.
+//! Closest-point stencils through the C ABI: the queries of two meshes, of one and of a whole
+//! scene, and their result buffers.
 
-use super::calls::{one_mesh, two_meshes};
+use super::calls::{one_mesh, two_meshes, whole_scene};
 use super::handles::*;
 use super::results;
 use super::types::*;
@@ -154,4 +154,108 @@ pub unsafe extern "C" fn dvh_near_pairs_data(pairs: *const DvhNearPairs) -> *con
 pub unsafe extern "C" fn dvh_near_pairs_free(pairs: *mut DvhNearPairs) {
     // SAFETY: the caller's contract is this function's.
     unsafe { results::free(pairs, "dvh_near_pairs_free") }
+}
+
+/// Every stencil of a scene within `distance`: for every two objects that the filters allow
+/// (groups and masks, exclusions) and whose boxes come within `distance`, exactly what
+/// `dvh_nearest_features` reports for the two objects' meshes and poses, `object_a`'s first;
+/// and for every object with self-contact on (`dvh_scene_set_self_contact`), what
+/// `dvh_self_nearest_features` reports for it (`object_a == object_b`). Objects given a step
+/// are seen at its end. `options` (NULL: the defaults) as for `dvh_nearest_features`, applied
+/// to each pair (`DVH_QUERY_MODE_FIRST_HIT`: at most one stencil per object pair); the result
+/// is the same for every thread count.
+///
+/// On success the stencils replace the contents of `pairs_out`, sorted by
+/// `(object_a, object_b)`, then as each pair's own query sorts them, and the counters go to
+/// `*stats_out` unless it is NULL; on failure neither changes. With `max_pairs`, each pair's
+/// query keeps what its own query with that limit keeps, and the result the first of those in
+/// the scene's order, at most the limit (`truncated` says when anything was left out). The
+/// counters are sums over the object pairs queried; `pairs` counts the stencils reported and
+/// `nodes_refit` the nodes the query's refits recomputed.
+///
+/// Deformable objects whose positions changed are refit here, whole, and only those some pair
+/// needs.
+///
+/// Errors: NULL_ARGUMENT (`scene`, `pairs_out`); INVALID_ARGUMENT (a negative, NaN or infinite
+/// `distance`; options out of range; a pointer that is not a live handle of its kind); BUSY;
+/// OUT_OF_MEMORY; INTERNAL_PANIC.
+///
+/// Thread safety: exclusive access to `scene` (the query refits objects) and a `pairs_out` used
+/// by no other thread; otherwise refused with BUSY, nothing changed.
+///
+/// # Safety
+/// `scene` is NULL or a live scene; `options` is NULL or readable; `pairs_out` is NULL or a live
+/// buffer; `stats_out` is NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_nearest_features(
+    scene: *mut DvhScene,
+    distance: f64,
+    options: *const DvhQueryOptions,
+    pairs_out: *mut DvhSceneNearPairs,
+    stats_out: *mut DvhQueryStats,
+) -> DvhStatus {
+    // SAFETY: the caller's contract is this function's.
+    unsafe {
+        whole_scene(
+            scene,
+            options,
+            pairs_out,
+            "pairs_out",
+            stats_out,
+            "dvh_scene_nearest_features",
+            |s, o, out| s.nearest_features(distance, o, out),
+        )
+    }
+}
+
+/// A new, empty buffer for a scene's stencils, or NULL when memory ran out. Owned by the caller,
+/// released with `dvh_scene_near_pairs_free`. It keeps the scratch space of the queries that use
+/// it.
+///
+/// Thread safety: any thread; a buffer must be used by one thread at a time.
+#[unsafe(no_mangle)]
+pub extern "C" fn dvh_scene_near_pairs_new() -> *mut DvhSceneNearPairs {
+    results::new()
+}
+
+/// Number of stencils of the last successful query into `pairs` (0 for NULL or a new buffer).
+///
+/// Thread safety: not alongside a query writing the same buffer (0 then).
+///
+/// # Safety
+/// `pairs` is NULL or a live buffer.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_near_pairs_len(pairs: *const DvhSceneNearPairs) -> usize {
+    // SAFETY: the caller's contract is this function's.
+    unsafe { results::len(pairs, "dvh_scene_near_pairs_len") }
+}
+
+/// The stencils of the last successful query into `pairs`: `dvh_scene_near_pairs_len(pairs)`
+/// entries, sorted by `(object_a, object_b)`, then by `(kind, a0, a1, b0, b1)`. NULL when there
+/// are none. Owned by the buffer; valid until the next query into it or
+/// `dvh_scene_near_pairs_free`.
+///
+/// Thread safety: as `dvh_scene_near_pairs_len`.
+///
+/// # Safety
+/// `pairs` is NULL or a live buffer.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_near_pairs_data(
+    pairs: *const DvhSceneNearPairs,
+) -> *const DvhSceneNearPair {
+    // SAFETY: the caller's contract is this function's.
+    unsafe { results::data(pairs, "dvh_scene_near_pairs_data") }
+}
+
+/// Releases a buffer of a scene's stencils. NULL is a no-op.
+///
+/// Thread safety: needs exclusive access; the buffer must not be used afterwards. A buffer in
+/// use by another call is not released (the last error message says so).
+///
+/// # Safety
+/// `pairs` is NULL or a live buffer from `dvh_scene_near_pairs_new`, not freed before.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_near_pairs_free(pairs: *mut DvhSceneNearPairs) {
+    // SAFETY: the caller's contract is this function's.
+    unsafe { results::free(pairs, "dvh_scene_near_pairs_free") }
 }

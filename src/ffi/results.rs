@@ -1,17 +1,20 @@
-//! The C ABI's result buffers (`DvhPairs`, `DvhContacts`, `DvhImpacts`, `DvhNearPairs`) and the
-//! family of calls on them (`_new`, `_len`, `_data`, `_kind`, `_free`), written once for all. The entry points
-//! themselves are one-line wrappers in `query.rs` and `scene.rs`, written out because cbindgen
-//! reads the sources without expanding macros, and each carries its own documentation into the
-//! header.
+//! The C ABI's result buffers (`DvhPairs`, `DvhContacts`, `DvhImpacts`, `DvhNearPairs`,
+//! `DvhSceneImpacts`, `DvhSceneNearPairs`) and the family of calls on them (`_new`, `_len`,
+//! `_data`, `_free`, and `_kind` for the buffers whose indices may be nodes), written once for
+//! all. The entry points themselves are one-line wrappers in `query.rs`, `scene.rs`, `ccd.rs` and
+//! `nearest.rs`, written out because cbindgen reads the sources without expanding macros, and
+//! each carries its own documentation into the header.
 
 use super::access::{Handle, Read, read, release};
 use super::boundary::{guard_value, set_last_error, try_box};
-use super::handles::{Body, DvhContacts, DvhImpacts, DvhNearPairs, DvhPairs};
+use super::handles::{
+    Body, DvhContacts, DvhImpacts, DvhNearPairs, DvhPairs, DvhSceneImpacts, DvhSceneNearPairs,
+};
 use super::types::{
     DVH_PAIR_KIND_NODES, DVH_PAIR_KIND_TRIANGLES, DvhContact, DvhImpact, DvhNearPair, DvhPair,
-    DvhPairKind,
+    DvhPairKind, DvhSceneImpact, DvhSceneNearPair,
 };
-use crate::{Contacts, Impacts, NearPairs, PairKind, Pairs};
+use crate::{Contacts, Impacts, NearPairs, PairKind, Pairs, SceneImpacts, SceneNearPairs};
 
 /// A result buffer of the C ABI.
 pub(crate) trait Results: Handle + Sized {
@@ -25,7 +28,12 @@ pub(crate) trait Results: Handle + Sized {
     fn len(inner: &Self::Inner) -> usize;
     /// The first of them.
     fn data(inner: &Self::Inner) -> *const Self::Item;
-    /// What their indices refer to.
+}
+
+/// A result buffer whose indices are triangles or nodes, as the query's mode says (`_kind`).
+/// Impacts and stencils say their kind one by one.
+pub(crate) trait Kinded: Results {
+    /// What the results' indices refer to.
     fn kind(inner: &Self::Inner) -> PairKind;
 }
 
@@ -45,7 +53,9 @@ impl Results for DvhPairs {
         // `DvhPair` has `Pair`'s layout (checked in `types`).
         inner.as_slice().as_ptr().cast()
     }
+}
 
+impl Kinded for DvhPairs {
     fn kind(inner: &Pairs) -> PairKind {
         inner.kind()
     }
@@ -67,7 +77,9 @@ impl Results for DvhContacts {
         // `DvhContact` has `Contact`'s layout (checked in `types`).
         inner.as_slice().as_ptr().cast()
     }
+}
 
+impl Kinded for DvhContacts {
     fn kind(inner: &Contacts) -> PairKind {
         inner.kind()
     }
@@ -89,11 +101,6 @@ impl Results for DvhImpacts {
         // `DvhImpact` has `Impact`'s layout (checked in `types`).
         inner.as_slice().as_ptr().cast()
     }
-
-    fn kind(_: &Impacts) -> PairKind {
-        // Impacts say their kind one by one; no accessor asks.
-        PairKind::Triangles
-    }
 }
 
 impl Results for DvhNearPairs {
@@ -112,10 +119,41 @@ impl Results for DvhNearPairs {
         // `DvhNearPair` has `NearPair`'s layout (checked in `types`).
         inner.as_slice().as_ptr().cast()
     }
+}
 
-    fn kind(_: &NearPairs) -> PairKind {
-        // Stencils say their kind one by one; no accessor asks.
-        PairKind::Triangles
+impl Results for DvhSceneImpacts {
+    type Item = DvhSceneImpact;
+    const ARGUMENT: &'static str = "impacts";
+
+    fn empty() -> DvhSceneImpacts {
+        DvhSceneImpacts(Body::new(Self::TAG, SceneImpacts::new()))
+    }
+
+    fn len(inner: &SceneImpacts) -> usize {
+        inner.len()
+    }
+
+    fn data(inner: &SceneImpacts) -> *const DvhSceneImpact {
+        // `DvhSceneImpact` has `SceneImpact`'s layout (checked in `types`).
+        inner.as_slice().as_ptr().cast()
+    }
+}
+
+impl Results for DvhSceneNearPairs {
+    type Item = DvhSceneNearPair;
+    const ARGUMENT: &'static str = "pairs";
+
+    fn empty() -> DvhSceneNearPairs {
+        DvhSceneNearPairs(Body::new(Self::TAG, SceneNearPairs::new()))
+    }
+
+    fn len(inner: &SceneNearPairs) -> usize {
+        inner.len()
+    }
+
+    fn data(inner: &SceneNearPairs) -> *const DvhSceneNearPair {
+        // `DvhSceneNearPair` has `SceneNearPair`'s layout (checked in `types`).
+        inner.as_slice().as_ptr().cast()
     }
 }
 
@@ -167,7 +205,7 @@ pub(super) unsafe fn data<R: Results>(r: *const R, call: &str) -> *const R::Item
 ///
 /// # Safety
 /// `r` is NULL or a live buffer.
-pub(super) unsafe fn kind<R: Results>(r: *const R, call: &str) -> DvhPairKind {
+pub(super) unsafe fn kind<R: Kinded>(r: *const R, call: &str) -> DvhPairKind {
     guard_value(DVH_PAIR_KIND_TRIANGLES, || {
         // SAFETY: per the contract.
         match unsafe { contents(r, call) }.map(|c| R::kind(&c)) {

@@ -1,10 +1,11 @@
-//! Scenes through the C ABI: objects, filters, the frame's query and its contact buffer.
+//! Scenes through the C ABI: objects, filters, self-contact, steps (motions and pose motions),
+//! the frame's query and its contact buffer. The queries over a step are beside the mesh
+//! queries they extend: `dvh_scene_continuous_collide` in `ccd.rs`,
+//! `dvh_scene_nearest_features` in `nearest.rs`.
 
 use super::access::{SCENE_TAG, Write, read, release, write};
-use super::boundary::{
-    Failure, guard, guard_value, slice_from, times_three, try_box, write_unless_null,
-};
-use super::calls::{CallOptions, pose};
+use super::boundary::{Failure, guard, guard_value, slice_from, times_three, try_box};
+use super::calls::{pose, whole_scene};
 use super::handles::*;
 use super::mesh::StridedF32;
 use super::results;
@@ -146,7 +147,8 @@ pub unsafe extern "C" fn dvh_scene_add_deformable(
     }
 }
 
-/// Places rigid object `object` by `pose` (NULL: the identity).
+/// Places rigid object `object` by `pose` (NULL: the identity), standing still there: its step
+/// (`dvh_scene_set_pose_motion`), if it had one, ends.
 ///
 /// Errors: NULL_ARGUMENT (`scene`); INVALID_ARGUMENT (an unknown or removed id, a deformable
 /// object); NON_FINITE_COORDINATE and NON_RIGID_POSE (the pose); POSE_OUT_OF_RANGE. On failure
@@ -186,8 +188,9 @@ fn check_vertex_count(s: &Scene, object: u32, vertex_count: usize) -> Result<(),
 }
 
 /// Gives deformable object `object` new world positions (`x, y, z` per vertex, as many vertices
-/// as its mesh). They are checked and stored now; its volumes are recomputed by the next
-/// `dvh_scene_collide` that needs them.
+/// as its mesh), standing still there: its step (`dvh_scene_set_motion`), if it had one, ends.
+/// They are checked and stored now; its volumes are recomputed by the next query that needs
+/// them.
 ///
 /// Errors: NULL_ARGUMENT; INVALID_ARGUMENT (an unknown or removed id, a rigid object, a
 /// different vertex count, a misaligned array); NON_FINITE_COORDINATE. On failure the scene is
@@ -240,8 +243,149 @@ pub unsafe extern "C" fn dvh_scene_set_positions_f32(
         let mut s = unsafe { scene_mut(scene, "dvh_scene_set_positions_f32")? };
         check_vertex_count(&s, object, vertex_count)?;
         // SAFETY: readable per the contract; NULL, stride and span are checked inside.
-        let reader = unsafe { StridedF32::new(positions, stride_bytes, vertex_count)? };
+        let reader =
+            unsafe { StridedF32::new(positions, "positions", stride_bytes, vertex_count)? };
         s.set_positions_with(object, vertex_count, |i| reader.get(i))?;
+        Ok(())
+    })
+}
+
+/// Turns the self-contact of object `object` on or off (off when added). When on,
+/// `dvh_scene_collide` also reports the object's self-intersecting triangle pairs as
+/// `dvh_self_collide` does (contacts with `object_a == object_b`), `dvh_scene_continuous_collide`
+/// its self impacts and `dvh_scene_nearest_features` its self stencils. Groups, masks and
+/// exclusions do not gate self-contact; this switch does. Only a deformable object can touch
+/// itself: turning it on for a rigid object is refused, turning it off accepted.
+///
+/// Errors: NULL_ARGUMENT (`scene`); INVALID_ARGUMENT (an unknown or removed id; `on` for a rigid
+/// object). On failure the scene is unchanged.
+///
+/// Thread safety: exclusive access to `scene`.
+///
+/// # Safety
+/// `scene` is NULL or a live scene.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_set_self_contact(
+    scene: *mut DvhScene,
+    object: u32,
+    on: bool,
+) -> DvhStatus {
+    guard(|| {
+        // SAFETY: per the contract.
+        unsafe { scene_mut(scene, "dvh_scene_set_self_contact")? }.set_self_contact(object, on)?;
+        Ok(())
+    })
+}
+
+/// Gives deformable object `object` a step: every vertex moves in a straight line from its
+/// position in `start` (t = 0) to its position in `end` (t = 1), `x, y, z` per vertex, as many
+/// vertices as its mesh (as `dvh_mesh_refit_motion` takes them). `dvh_scene_collide` and
+/// `dvh_scene_nearest_features` see the object at `end`; `dvh_scene_continuous_collide` sees the
+/// whole step. The step lasts until the next `dvh_scene_set_motion` or
+/// `dvh_scene_set_positions`. Checked and stored now; the volumes are refit by the next query
+/// that needs the object.
+///
+/// Errors: NULL_ARGUMENT (`scene`, `start`, `end`); INVALID_ARGUMENT (an unknown or removed id,
+/// a rigid object, a different vertex count, a misaligned array); NON_FINITE_COORDINATE (the
+/// message names the object, the array, the vertex and the axis). On failure the scene is
+/// unchanged (the object keeps its step, or its stillness).
+///
+/// Thread safety: exclusive access to `scene`.
+///
+/// # Safety
+/// `scene` is NULL or a live scene; `start` and `end` each point to `3 * vertex_count` readable
+/// doubles.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_set_motion(
+    scene: *mut DvhScene,
+    object: u32,
+    start: *const f64,
+    end: *const f64,
+    vertex_count: usize,
+) -> DvhStatus {
+    guard(|| {
+        // SAFETY: per the contract.
+        let mut s = unsafe { scene_mut(scene, "dvh_scene_set_motion")? };
+        check_vertex_count(&s, object, vertex_count)?;
+        let len = times_three(vertex_count, "vertex_count")?;
+        // SAFETY: readable per the contract; NULL, alignment and size are checked inside.
+        let (start, end) = unsafe {
+            (
+                slice_from(start, len, "start")?,
+                slice_from(end, len, "end")?,
+            )
+        };
+        s.set_motion(object, start, end)?;
+        Ok(())
+    })
+}
+
+/// `dvh_scene_set_motion` with `float` positions at a byte stride, the same stride for `start`
+/// and `end` (see `dvh_mesh_create_f32`).
+///
+/// Errors: as `dvh_scene_set_motion`, plus INVALID_ARGUMENT for a stride below 12 bytes. On
+/// failure the scene is unchanged.
+///
+/// Thread safety: exclusive access to `scene`.
+///
+/// # Safety
+/// `scene` is NULL or a live scene; for each `i < vertex_count`, 12 bytes at
+/// `start + i * stride_bytes` and at `end + i * stride_bytes` are readable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_set_motion_f32(
+    scene: *mut DvhScene,
+    object: u32,
+    start: *const f32,
+    end: *const f32,
+    stride_bytes: usize,
+    vertex_count: usize,
+) -> DvhStatus {
+    guard(|| {
+        // SAFETY: per the contract.
+        let mut s = unsafe { scene_mut(scene, "dvh_scene_set_motion_f32")? };
+        check_vertex_count(&s, object, vertex_count)?;
+        // SAFETY: readable per the contract; NULL, stride and span are checked inside.
+        let (first, last) = unsafe {
+            (
+                StridedF32::new(start, "start", stride_bytes, vertex_count)?,
+                StridedF32::new(end, "end", stride_bytes, vertex_count)?,
+            )
+        };
+        s.set_motion_with(object, vertex_count, |i| first.get(i), |i| last.get(i))?;
+        Ok(())
+    })
+}
+
+/// Gives rigid object `object` a step: from pose `start` to pose `end` (NULL: the identity),
+/// each vertex moving in a straight line from where `start` places it to where `end` does.
+/// `dvh_scene_collide` and `dvh_scene_nearest_features` see the object at `end`;
+/// `dvh_scene_continuous_collide` sees the whole step. The step lasts until the next
+/// `dvh_scene_set_pose` or `dvh_scene_set_pose_motion`. Straight paths are not the turn itself:
+/// a large rotation in one step shortens the object midway, so steps should turn little.
+///
+/// Errors: NULL_ARGUMENT (`scene`); INVALID_ARGUMENT (an unknown or removed id, a deformable
+/// object); NON_FINITE_COORDINATE and NON_RIGID_POSE (either pose, named `start` or `end`);
+/// POSE_OUT_OF_RANGE. On failure the scene is unchanged.
+///
+/// Thread safety: exclusive access to `scene`.
+///
+/// # Safety
+/// `scene` is NULL or a live scene; `start` and `end` are NULL or readable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_scene_set_pose_motion(
+    scene: *mut DvhScene,
+    object: u32,
+    start: *const DvhPose,
+    end: *const DvhPose,
+) -> DvhStatus {
+    guard(|| {
+        // SAFETY: per the contract.
+        let mut s = unsafe { scene_mut(scene, "dvh_scene_set_pose_motion")? };
+        // SAFETY: NULL or readable (contract).
+        let (start, end) = unsafe { (start.as_ref(), end.as_ref()) };
+        let first: Option<Pose> = start.map(|p| pose(p, "start")).transpose()?;
+        let last: Option<Pose> = end.map(|p| pose(p, "end")).transpose()?;
+        s.set_pose_motion(object, first.as_ref(), last.as_ref())?;
         Ok(())
     })
 }
@@ -306,16 +450,19 @@ pub unsafe extern "C" fn dvh_scene_set_lazy_refit(scene: *mut DvhScene, lazy: bo
 
 /// Every contact of the frame: for every two objects that the filters allow (groups and masks,
 /// exclusions) and whose world boxes overlap, exactly what `dvh_collide` reports for the two
-/// objects' current geometry and poses, in the mode `options` asks (NULL: the defaults; in
-/// `DVH_QUERY_MODE_FIRST_HIT` at most one contact per object pair). The contacts replace those
-/// in `contacts_out`, sorted by `(object_a, object_b, a, b)`; `max_pairs` bounds the whole
-/// result. The counters go to `*stats_out` unless it is NULL. Deformable objects whose
-/// positions changed are refit here, only those a pair needs (every one in the coarse modes);
-/// with box volumes (the default), in the modes that report triangles, only the blocks of their
-/// trees that a traversal reaches (the boxes, and so the result, are the eager refit's).
-/// Object pairs are shared among `options->threads` threads; the result does not depend on the
-/// count (threads reaching one object refit each of its blocks once, under a lock per object).
-/// On failure neither `contacts_out` nor `*stats_out` changes.
+/// objects' current geometry and poses, and for every object with self-contact on
+/// (`dvh_scene_set_self_contact`) what `dvh_self_collide` reports for it (contacts with
+/// `object_a == object_b`), in the mode `options` asks (NULL: the defaults; in
+/// `DVH_QUERY_MODE_FIRST_HIT` at most one contact per object pair). Objects given a step are seen
+/// at its end. The contacts replace those in `contacts_out`, sorted by
+/// `(object_a, object_b, a, b)`; `max_pairs` bounds the whole result. The counters go to
+/// `*stats_out` unless it is NULL. Deformable objects whose positions changed are refit here, only
+/// those a pair needs (every one in the coarse modes); with box volumes (the default), in the modes
+/// that report triangles, only the blocks of their trees that a traversal reaches (the boxes, and
+/// so the result, are the eager refit's; objects with self-contact on are refit whole). Object
+/// pairs are shared among `options->threads` threads; the result does not depend on the count
+/// (threads reaching one object refit each of its blocks once, under a lock per object). On failure
+/// neither `contacts_out` nor `*stats_out` changes.
 ///
 /// Errors: NULL_ARGUMENT (`scene`, `contacts_out`); INVALID_ARGUMENT (options out of range, a
 /// budget of 0); OUT_OF_MEMORY (set `max_pairs`).
@@ -334,18 +481,18 @@ pub unsafe extern "C" fn dvh_scene_collide(
     contacts_out: *mut DvhContacts,
     stats_out: *mut DvhSceneStats,
 ) -> DvhStatus {
-    guard(|| {
-        // SAFETY: per the contract.
-        let mut s = unsafe { scene_mut(scene, "dvh_scene_collide")? };
-        // SAFETY: NULL or a live buffer used by this thread only (contract).
-        let mut out = unsafe { write(contacts_out, "contacts_out", "dvh_scene_collide")? };
-        // SAFETY: NULL or readable (contract).
-        let o = unsafe { DvhQueryOptions::read_or_default(options) }?;
-        let st = s.collide(&o, &mut out)?;
-        // SAFETY: NULL or writable (contract).
-        unsafe { write_unless_null(stats_out, DvhSceneStats::from(&st)) };
-        Ok(())
-    })
+    // SAFETY: the caller's contract is this function's.
+    unsafe {
+        whole_scene(
+            scene,
+            options,
+            contacts_out,
+            "contacts_out",
+            stats_out,
+            "dvh_scene_collide",
+            |s, o, out| s.collide(o, out),
+        )
+    }
 }
 
 /// A new, empty contact buffer, or NULL when memory ran out. Owned by the caller, released with

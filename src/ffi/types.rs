@@ -115,9 +115,11 @@ pub struct DvhBuildOptions {
     pub refit_threads: u32,
 }
 
-/// Options for `dvh_collide`, `dvh_self_collide`, `dvh_proximity`, `dvh_self_proximity` and
-/// `dvh_scene_collide`; start from `dvh_query_options_default()` (all fields zero). Grows
-/// like `DvhBuildOptions`: appended fields, zero the earlier results.
+/// Options for `dvh_collide`, `dvh_self_collide`, `dvh_proximity`, `dvh_self_proximity`,
+/// `dvh_scene_collide` and the stencil queries (`dvh_nearest_features`,
+/// `dvh_self_nearest_features`, `dvh_scene_nearest_features`); start from
+/// `dvh_query_options_default()` (all fields zero). Grows like `DvhBuildOptions`: appended
+/// fields, zero the earlier results.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct DvhQueryOptions {
@@ -220,13 +222,15 @@ const _: () = {
 };
 
 /// One contact of a scene query: `a` in object `object_a` meets `b` in object `object_b`, with
-/// `object_a < object_b` (triangles, or nodes in the coarse modes: see `dvh_contacts_kind`).
+/// `object_a <= object_b` (triangles, or nodes in the coarse modes: see `dvh_contacts_kind`).
+/// `object_a == object_b` for a contact of an object with itself, reported when its self-contact
+/// is on (`dvh_scene_set_self_contact`), with `a < b` as `dvh_self_collide` reports them.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct DvhContact {
     /// The object with the lower id.
     pub object_a: u32,
-    /// The object with the higher id.
+    /// The object with the higher id (the same, for a contact of an object with itself).
     pub object_b: u32,
     /// Index in `object_a`'s mesh.
     pub a: u32,
@@ -283,8 +287,8 @@ pub const DVH_CCD_MODE_EXACT: DvhCcdMode = 0;
 pub const DVH_CCD_MODE_CONSERVATIVE: DvhCcdMode = 1;
 
 /// Options for `dvh_ccd_vertex_face`, `dvh_ccd_edge_edge` (which read `mode` only),
-/// `dvh_continuous_collide` and `dvh_self_continuous_collide`; start from
-/// `dvh_ccd_options_default()` (all fields zero). Grows like `DvhBuildOptions`.
+/// `dvh_continuous_collide`, `dvh_self_continuous_collide` and `dvh_scene_continuous_collide`;
+/// start from `dvh_ccd_options_default()` (all fields zero). Grows like `DvhBuildOptions`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct DvhCcdOptions {
@@ -436,6 +440,64 @@ const _: () = {
     assert!(Feature::Interior as u32 == DVH_FEATURE_INTERIOR);
 };
 
+/// An impact of a scene's continuous query (`dvh_scene_continuous_collide`): between objects
+/// `object_a` and `object_b`, or within one object with self-contact on when they are equal.
+/// `impact` is as `dvh_continuous_collide` reports it with `object_a`'s mesh first and
+/// `object_b`'s second (as `dvh_self_continuous_collide` reports it for an object with itself),
+/// its indices into those objects' meshes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DvhSceneImpact {
+    /// The object with the lower id.
+    pub object_a: u32,
+    /// The object with the higher id (the same, for an impact of an object with itself).
+    pub object_b: u32,
+    /// The primitives (`a0, a1` in `object_a`'s mesh, `b0, b1` in `object_b`'s) and the time.
+    pub impact: DvhImpact,
+}
+
+// `dvh_scene_impacts_data` hands out the library's own `SceneImpact` array as `DvhSceneImpact`:
+// same fields, same order, both `repr(C)`, the impact itself `DvhImpact`'s twin (checked above).
+const _: () = {
+    use crate::SceneImpact;
+    use std::mem::{align_of, offset_of, size_of};
+    assert!(size_of::<DvhSceneImpact>() == size_of::<SceneImpact>());
+    assert!(align_of::<DvhSceneImpact>() == align_of::<SceneImpact>());
+    assert!(offset_of!(DvhSceneImpact, object_a) == offset_of!(SceneImpact, object_a));
+    assert!(offset_of!(DvhSceneImpact, object_b) == offset_of!(SceneImpact, object_b));
+    assert!(offset_of!(DvhSceneImpact, impact) == offset_of!(SceneImpact, impact));
+};
+
+/// A stencil of a scene's closest-point query (`dvh_scene_nearest_features`): between objects
+/// `object_a` and `object_b`, or within one object with self-contact on when they are equal.
+/// `pair` is as `dvh_nearest_features` reports it with `object_a`'s mesh (and pose) first and
+/// `object_b`'s second (as `dvh_self_nearest_features` reports it for an object with itself):
+/// its indices into those objects' meshes, its points in world coordinates.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DvhSceneNearPair {
+    /// The object with the lower id.
+    pub object_a: u32,
+    /// The object with the higher id (the same, for a stencil of an object with itself).
+    pub object_b: u32,
+    /// The primitives (`a0, a1` in `object_a`'s mesh, `b0, b1` in `object_b`'s), their distance,
+    /// closest points, weights and features.
+    pub pair: DvhNearPair,
+}
+
+// `dvh_scene_near_pairs_data` hands out the library's own `SceneNearPair` array as
+// `DvhSceneNearPair`: same fields, same order, both `repr(C)`, the stencil itself
+// `DvhNearPair`'s twin (checked above).
+const _: () = {
+    use crate::SceneNearPair;
+    use std::mem::{align_of, offset_of, size_of};
+    assert!(size_of::<DvhSceneNearPair>() == size_of::<SceneNearPair>());
+    assert!(align_of::<DvhSceneNearPair>() == align_of::<SceneNearPair>());
+    assert!(offset_of!(DvhSceneNearPair, object_a) == offset_of!(SceneNearPair, object_a));
+    assert!(offset_of!(DvhSceneNearPair, object_b) == offset_of!(SceneNearPair, object_b));
+    assert!(offset_of!(DvhSceneNearPair, pair) == offset_of!(SceneNearPair, pair));
+};
+
 /// Counters of one continuous query.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -585,5 +647,7 @@ mod tests {
         assert_layout!(DvhNearPair, size 136, align 8,
             kind 0, a0 4, a1 8, b0 12, b1 16, feature_a 20, feature_b 24, distance 32,
             closest_a 40, closest_b 64, weights_a 88, weights_b 112);
+        assert_layout!(DvhSceneImpact, size 40, align 8, object_a 0, object_b 4, impact 8);
+        assert_layout!(DvhSceneNearPair, size 144, align 8, object_a 0, object_b 4, pair 8);
     }
 }

@@ -356,6 +356,12 @@ impl Mesh {
     pub(crate) fn drop_spare(&mut self) {
         self.spare = Vec::new();
     }
+
+    /// Gives back the room for new positions that [`Mesh::drop_spare`] took, for a copy that is
+    /// refit after all.
+    pub(crate) fn keep_spare(&mut self) {
+        self.spare.resize(self.positions.len(), [0.0; 3]);
+    }
 }
 
 /// A state never given before (see [`Mesh::state`]).

@@ -106,9 +106,17 @@ impl Mesh {
         self.volumes.refit(&input, &mut self.scratch)
     }
 
-    /// Recomputes every volume from the current positions and records the counters.
+    /// Recomputes every volume from the current positions, grown to hold the motion's start
+    /// positions when the mesh was given a motion, and records the counters.
     pub(crate) fn refit_volumes(&mut self) -> RefitStats {
         let stats = self.update_volumes();
+        if self.motion.moving {
+            let input = self
+                .topology
+                .refit_input(self.options.radius, &self.positions);
+            self.volumes
+                .hold_start(&input, &self.motion.start, &mut self.motion.scratch);
+        }
         self.last_refit = stats;
         stats
     }

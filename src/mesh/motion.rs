@@ -2,9 +2,10 @@
 //! Its volumes hold the whole motion, so the traversal that serves the discrete queries finds
 //! the candidates of continuous collision; its positions are the end positions.
 
-use super::input::store_positions;
+use super::input::{Extent, store_points, store_positions};
 use super::mesh::Mesh;
 use crate::error::{Error, Instant, Result};
+use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::Point;
 use crate::volume::RefitStats;
 
@@ -45,6 +46,16 @@ impl Mesh {
     /// Cost: a refit to `end`, then one pass over the tree growing each volume by the start
     /// positions. Allocates only on the first motion (the room for the start positions).
     pub fn refit_motion(&mut self, start: &[f64], end: &[f64]) -> Result<RefitStats> {
+        self.take_motion(start, end)?;
+        let stats = self.refit_volumes();
+        Ok(stats)
+    }
+
+    /// [`Mesh::refit_motion`]'s first half: checks the motion and stores it, leaving every
+    /// volume as it was until [`Mesh::refit_volumes`] (a scene refits an object only when a
+    /// query needs it). Returns the boxes of the start and the end positions. The same errors;
+    /// on error the mesh is exactly as it was.
+    pub(crate) fn take_motion(&mut self, start: &[f64], end: &[f64]) -> Result<(Aabb, Aabb)> {
         let expected = self.positions.len();
         let check = |p: &[f64], instant: Instant| -> Result<()> {
             let error = if !p.len().is_multiple_of(3) {
@@ -65,6 +76,44 @@ impl Mesh {
         check(start, Instant::Start)?;
         check(end, Instant::End)?;
         let threads = self.scratch.len();
+        self.store_motion(
+            |room| store_positions(start, room, threads),
+            |spare| store_positions(end, spare, threads),
+        )
+    }
+
+    /// [`Mesh::take_motion`] with each vertex's coordinates at the start and the end given by
+    /// `start(i)` and `end(i)` for `i` in `0..vertex_count`, for positions stored in another
+    /// layout (`f32`, a stride).
+    pub(crate) fn take_motion_with(
+        &mut self,
+        vertex_count: usize,
+        start: impl Fn(usize) -> Point,
+        end: impl Fn(usize) -> Point,
+    ) -> Result<(Aabb, Aabb)> {
+        let expected = self.positions.len();
+        if vertex_count != expected {
+            return Err(Error::Motion {
+                instant: Instant::Start,
+                error: Box::new(Error::VertexCountMismatch {
+                    expected,
+                    got: vertex_count,
+                }),
+            });
+        }
+        self.store_motion(
+            |room| store_points(&start, room),
+            |spare| store_points(&end, spare),
+        )
+    }
+
+    /// Stores a motion's start (into the room kept for it) and end (into the spare positions),
+    /// each checked by its `store`; makes both current only when both are valid.
+    fn store_motion(
+        &mut self,
+        store_start: impl FnOnce(&mut [Point]) -> Result<Extent>,
+        store_end: impl FnOnce(&mut [Point]) -> Result<Extent>,
+    ) -> Result<(Aabb, Aabb)> {
         let wrap = |instant| {
             move |error| Error::Motion {
                 instant,
@@ -72,13 +121,15 @@ impl Mesh {
             }
         };
         let mut room = std::mem::take(&mut self.motion.spare);
-        room.resize(expected, [0.0; 3]);
-        let checked = store_positions(start, &mut room, threads).map_err(wrap(Instant::Start));
-        if let Err(e) = checked {
-            self.motion.spare = room;
-            return Err(e);
-        }
-        let extent = match store_positions(end, &mut self.spare, threads) {
+        room.resize(self.positions.len(), [0.0; 3]);
+        let first = match store_start(&mut room) {
+            Ok(extent) => extent,
+            Err(e) => {
+                self.motion.spare = room;
+                return Err(wrap(Instant::Start)(e));
+            }
+        };
+        let extent = match store_end(&mut self.spare) {
             Ok(extent) => extent,
             Err(e) => {
                 self.motion.spare = room;
@@ -88,14 +139,7 @@ impl Mesh {
         self.install(extent);
         self.motion.spare = std::mem::replace(&mut self.motion.start, room);
         self.motion.moving = true;
-        let stats = self.update_volumes();
-        let input = self
-            .topology
-            .refit_input(self.options.radius, &self.positions);
-        self.volumes
-            .hold_start(&input, &self.motion.start, &mut self.motion.scratch);
-        self.last_refit = stats;
-        Ok(stats)
+        Ok((first.bounds, extent.bounds))
     }
 
     /// [`Mesh::refit_motion`] from points.

@@ -18,6 +18,7 @@ mod testing;
 pub use brute_force::brute_force;
 pub use collide::collide;
 pub(crate) use collide::collide_lazy;
+pub(crate) use continuous::impacts_sharing;
 pub use continuous::{
     CcdOptions, CcdStats, Impact, ImpactKind, Impacts, continuous_collide, self_continuous_collide,
 };
@@ -25,5 +26,6 @@ pub use nearest::{NearPair, NearPairs, nearest_features, self_nearest_features};
 pub use options::{QueryMode, QueryOptions};
 pub(crate) use pairs::result_buffer;
 pub use pairs::{Pair, PairKind, Pairs, QueryStats};
+pub(crate) use proximity::check_distance;
 pub use proximity::{proximity, self_proximity};
 pub use self_collide::self_collide;

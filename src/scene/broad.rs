@@ -46,6 +46,12 @@ impl SweepAndPrune {
         self.touch(id);
     }
 
+    /// Every box may have changed (the boxes compared are other ones): the next
+    /// [`SweepAndPrune::update`] sweeps them all.
+    pub fn forget(&mut self) {
+        self.known = false;
+    }
+
     /// Object `id`'s box changed.
     pub fn touch(&mut self, id: u32) {
         let i = id as usize;

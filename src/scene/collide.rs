@@ -1,26 +1,30 @@
-//! The scene's query: the broad phase and the filters choose the object pairs, the deformable
-//! objects among them are refit, and the pairs are queried on the threads allowed, their
-//! contacts merged in order.
+//! The scene's intersection query: the broad phase and the filters choose the object pairs,
+//! the deformable objects among them are refit, and the pairs are queried on the threads
+//! allowed, their contacts merged in order.
 
+use super::select::{Reach, WITH_ITSELF, marks};
+use super::share::Shared;
 use super::{Apart, Body, Object, Scene, volume_box};
 use crate::error::{Error, Result};
 use crate::geometry::aabb::Aabb;
 use crate::mesh::Mesh;
-use crate::query::{PairKind, Pairs, QueryMode, QueryOptions, collide_lazy, result_buffer};
+use crate::query::{
+    PairKind, Pairs, QueryMode, QueryOptions, collide_lazy, result_buffer, self_collide,
+};
 use crate::threads;
 use crate::volume::LazyBoxes;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// A contact between two objects of a scene: `a` of object `object_a` meets `b` of object
-/// `object_b`, with `object_a < object_b`. Triangle indices, or node indices in the coarse modes
-/// ([`Contacts::kind`]).
+/// A contact between two objects of a scene, or of one object with itself: `a` of object
+/// `object_a` meets `b` of object `object_b`, with `object_a <= object_b` (equal for an object
+/// with self-contact on, `a < b` then, as [`crate::self_collide`] reports them). Triangle
+/// indices, or node indices in the coarse modes ([`Contacts::kind`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
 #[repr(C)]
 pub struct Contact {
     /// The object with the lower id.
     pub object_a: u32,
-    /// The object with the higher id.
+    /// The object with the higher id (the same, for a contact of an object with itself).
     pub object_b: u32,
     /// Index in `object_a`'s mesh.
     pub a: u32,
@@ -34,9 +38,10 @@ pub struct Contact {
 pub struct SceneStats {
     /// Objects in the scene.
     pub objects: u64,
-    /// Object pairs that passed the broad phase and the filters, and were queried. A pair that
-    /// an earlier query found without contact is not queried again while neither object has
-    /// changed (nor the options): it is not counted.
+    /// Object pairs that passed the broad phase and the filters, and were queried, each object
+    /// with self-contact on counted as a pair with itself. A pair that an earlier query found
+    /// without contact is not queried again while neither object has changed (nor the
+    /// options): it is not counted.
     pub object_pairs_tested: u64,
     /// Object pairs with at least one contact.
     pub object_pairs_colliding: u64,
@@ -62,39 +67,15 @@ pub struct Contacts {
     /// Where a query merges its contacts; swapped with `items` when it succeeds.
     spare: Vec<Contact>,
     kind: PairKind,
-    workers: Vec<Worker>,
-    /// Per object pair of the last query: the worker that queried it and where its contacts are.
-    spans: Vec<Span>,
+    shared: Shared<Work, Contact>,
 }
 
-/// One thread's share of a query: its result buffer and the contacts it found, in the order of
-/// the object pairs it took.
+/// One thread's scratch: the pair queries' result buffer and its counters.
 #[derive(Debug, Default)]
-struct Worker {
+struct Work {
     pairs: Pairs,
-    found: Vec<Contact>,
-    /// The object pairs it took (their index among the candidates) and where their contacts are.
-    taken: Vec<(usize, Span)>,
     bv_tests: u64,
     triangle_tests: u64,
-    error: Option<Error>,
-}
-
-/// One thread's part of the refits a query makes.
-#[derive(Default)]
-struct Share<'s> {
-    objects: Vec<&'s mut Object>,
-    vertices: usize,
-    nodes: u64,
-}
-
-#[derive(Clone, Copy, Debug, Default)]
-struct Span {
-    worker: u32,
-    start: usize,
-    len: usize,
-    /// Did `max_pairs` cut this pair's query short?
-    truncated: bool,
 }
 
 result_buffer!(
@@ -105,25 +86,24 @@ result_buffer!(
     kind: "What `a` and `b` of each contact index: triangles, or nodes in the coarse modes."
 );
 
-impl Worker {
-    /// Queries object pair `(i, j)` and appends its contacts; returns where they are.
-    fn query(
-        &mut self,
-        objects: &[Option<Object>],
-        lazy: &[Option<LazyBoxes>],
-        (i, j): (u32, u32),
-        opts: &QueryOptions,
-    ) -> Span {
-        let start = self.found.len();
-        let mut truncated = false;
-        if self.error.is_some() {
-            return Span::default();
-        }
-        let (oa, ob) = (
-            objects[i as usize].as_ref().expect("a candidate is live"),
-            objects[j as usize].as_ref().expect("a candidate is live"),
-        );
-        match collide_lazy(
+/// Object pair `(i, j)`'s contacts, appended to `found` (an object with itself when `i == j`).
+fn query_pair(
+    work: &mut Work,
+    objects: &[Option<Object>],
+    lazy: &[Option<LazyBoxes>],
+    (i, j): (u32, u32),
+    opts: &QueryOptions,
+    found: &mut Vec<Contact>,
+) -> Result<bool> {
+    let (oa, ob) = (
+        objects[i as usize].as_ref().expect("a candidate is live"),
+        objects[j as usize].as_ref().expect("a candidate is live"),
+    );
+    let stats = if i == j {
+        // Refit whole before the query (see `Scene::collide`): no lazy view.
+        self_collide(&oa.mesh, opts, &mut work.pairs)?
+    } else {
+        collide_lazy(
             (
                 &oa.mesh,
                 oa.pose(),
@@ -135,52 +115,43 @@ impl Worker {
                 lazy.get(j as usize).and_then(Option::as_ref),
             ),
             opts,
-            &mut self.pairs,
-        ) {
-            Ok(stats) => {
-                self.bv_tests += stats.bv_tests;
-                self.triangle_tests += stats.triangle_tests;
-                truncated = stats.truncated;
-                if self.found.try_reserve(self.pairs.len()).is_err() {
-                    self.error = Some(Error::OutOfMemory {
-                        bytes: self.pairs.len() * std::mem::size_of::<Contact>(),
-                    });
-                    return Span::default();
-                }
-                self.found.extend(self.pairs.iter().map(|p| Contact {
-                    object_a: i,
-                    object_b: j,
-                    a: p.a,
-                    b: p.b,
-                }));
-            }
-            Err(e) => self.error = Some(e),
-        }
-        Span {
-            worker: 0,
-            start,
-            len: self.found.len() - start,
-            truncated,
-        }
-    }
+            &mut work.pairs,
+        )?
+    };
+    work.bv_tests += stats.bv_tests;
+    work.triangle_tests += stats.triangle_tests;
+    found
+        .try_reserve(work.pairs.len())
+        .map_err(|_| Error::OutOfMemory {
+            bytes: work.pairs.len() * std::mem::size_of::<Contact>(),
+        })?;
+    found.extend(work.pairs.iter().map(|p| Contact {
+        object_a: i,
+        object_b: j,
+        a: p.a,
+        b: p.b,
+    }));
+    Ok(stats.truncated)
 }
 
 impl Scene {
     /// Every contact between two objects that the filters allow (groups and masks, exclusions)
     /// and whose world boxes overlap, as [`QueryOptions::mode`] asks: for each such pair, exactly
     /// what [`collide`](crate::collide) reports for the two objects' current geometry and poses
-    /// ([`QueryMode::FirstHit`]: at most one contact per object pair). The result replaces the
-    /// contents of `out`, sorted by `(object_a, object_b, a, b)`; [`QueryOptions::max_pairs`]
-    /// bounds the whole result (some of the contacts, still sorted, and
-    /// [`SceneStats::truncated`]).
+    /// ([`QueryMode::FirstHit`]: at most one contact per object pair); and for each object with
+    /// self-contact on ([`Scene::set_self_contact`]), what [`crate::self_collide`] reports for
+    /// it. Objects given a step are seen at its end. The result replaces the contents of `out`,
+    /// sorted by `(object_a, object_b, a, b)`; [`QueryOptions::max_pairs`] bounds the whole
+    /// result (the first contacts in that order, and [`SceneStats::truncated`]).
     ///
     /// Deformable objects whose positions changed are refit here, and only those that some
     /// object pair needs. With box volumes (the default) and a mode that reports triangles the
     /// refit is lazy: the nodes above a cut through the tree come from one pass over the
     /// positions, and each block below the cut (about 32 rings) is refit when a traversal first
     /// opens its root, so the parts of an object no other one comes near are never refit. The
-    /// boxes are exactly the eager refit's, so is the result. The other volume kinds, and the
-    /// coarse modes (which report nodes wherever volumes overlap), refit the objects whole.
+    /// boxes are exactly the eager refit's, so is the result. The other volume kinds, the
+    /// coarse modes (which report nodes wherever volumes overlap), and objects with
+    /// self-contact on are refit whole.
     ///
     /// Object pairs are shared among [`QueryOptions::threads`] threads (the result does not
     /// depend on the count); a single pair gets all of them. Two threads may reach one object's
@@ -203,19 +174,17 @@ impl Scene {
             // Node pairs are reported wherever the volumes overlap, the roots' included, and
             // the volumes are known only once refit: every object is refit, and the broad phase
             // compares boxes around the root volumes.
-            stats.nodes_refit = self.refit_stale(|_| true, options.threads, false);
+            stats.nodes_refit = self.refit_stale(|_| true, options.threads, |_| false);
             let boxes: Vec<_> = self
                 .objects
                 .iter()
                 .map(|o| o.as_ref().map_or(Aabb::EMPTY, volume_box))
                 .collect();
             self.broad.overlapping(&boxes, &mut candidates);
+            self.filter_and_add_self(&mut candidates);
         } else {
-            candidates.clear();
-            candidates.extend(self.broad.update(&self.boxes).iter().copied());
+            self.select(Reach::End, &mut candidates);
         }
-        candidates.retain(|&(i, j)| self.allowed(i, j));
-        candidates.sort_unstable();
         // Pairs found apart before, unchanged since, are not queried again.
         let key = QueryOptions {
             threads: 0,
@@ -234,16 +203,18 @@ impl Scene {
             }
             !unchanged
         });
-        let mut needed = vec![false; self.objects.len()];
-        for &(i, j) in &candidates {
-            needed[i as usize] = true;
-            needed[j as usize] = true;
-        }
+        let mut needed = std::mem::take(&mut self.marks);
+        marks(&candidates, self.objects.len(), &mut needed);
         let result = if options.mode.reports_nodes() {
             self.query_pairs(&candidates, &[], options, out, &mut stats)
         } else {
+            // An object with itself is refit whole (`self_collide` reads no lazy view).
             let lazy = !self.eager;
-            stats.nodes_refit = self.refit_stale(|id| needed[id], options.threads, lazy);
+            stats.nodes_refit = self.refit_stale(
+                |id| needed[id] != 0,
+                options.threads,
+                |id| lazy && needed[id] & WITH_ITSELF == 0,
+            );
             let boxes = self.lazy_boxes(&needed);
             // SAFETY: nothing but the views reads those boxes until they are dropped below.
             let lazy = unsafe { self.lazy_views(&boxes) };
@@ -258,7 +229,7 @@ impl Scene {
             result
         };
         if result.is_ok() {
-            for (&(i, j), span) in candidates.iter().zip(&out.spans) {
+            for (&(i, j), span) in candidates.iter().zip(out.shared.spans()) {
                 if span.len == 0 && !span.truncated {
                     let now = Apart {
                         stamps: (stamp(&self.objects, i), stamp(&self.objects, j)),
@@ -271,74 +242,18 @@ impl Scene {
         }
         self.apart_next = apart_next;
         self.candidates = candidates;
+        self.marks = needed;
         result.map(|()| stats)
-    }
-
-    /// Do the filters let objects `i` and `j` be tested?
-    fn allowed(&self, i: u32, j: u32) -> bool {
-        let (Some(Some(a)), Some(Some(b))) =
-            (self.objects.get(i as usize), self.objects.get(j as usize))
-        else {
-            return false;
-        };
-        a.group & b.mask != 0 && b.group & a.mask != 0 && !self.excluded.contains(&(i, j))
-    }
-
-    /// Refits the stale deformable objects for which `needed(id)` holds, on up to `threads`
-    /// threads, each given a share of about equal vertex count (largest meshes first). With
-    /// `lazy`, objects with box volumes get only their top refit (the query refits their blocks
-    /// as it reaches them); the others are refit whole. Returns the nodes recomputed by whole
-    /// refits.
-    fn refit_stale(&mut self, needed: impl Fn(usize) -> bool, threads: u32, lazy: bool) -> u64 {
-        let mut stale: Vec<&mut Object> = self
-            .objects
-            .iter_mut()
-            .enumerate()
-            .filter_map(|(id, o)| o.as_mut().filter(|_| needed(id)))
-            .filter(|o| match &o.body {
-                Body::Deformable { fresh } => !(fresh.is_current() || lazy && fresh.is_partial()),
-                Body::Rigid { .. } => false,
-            })
-            .collect();
-        let workers = threads::resolve(threads).min(stale.len()).max(1);
-        stale.sort_by_key(|o| std::cmp::Reverse(o.mesh.vertex_count()));
-        let mut shares: Vec<Share> = (0..workers).map(|_| Share::default()).collect();
-        for o in stale {
-            let share = shares
-                .iter_mut()
-                .min_by_key(|s| s.vertices)
-                .expect("at least one share");
-            share.vertices += o.mesh.vertex_count();
-            share.objects.push(o);
-        }
-        threads::on_each(
-            threads::Step::SceneRefit,
-            &mut shares,
-            &|share: &mut Share, _| {
-                for o in &mut share.objects {
-                    let Body::Deformable { fresh } = &mut o.body else {
-                        unreachable!("only deformable objects are refit");
-                    };
-                    let mesh = Arc::make_mut(&mut o.mesh);
-                    if !(lazy && mesh.refit_top(fresh)) {
-                        let s = mesh.refit_volumes();
-                        fresh.refit();
-                        share.nodes += s.nodes_refit;
-                    }
-                }
-            },
-        );
-        shares.iter().map(|s| s.nodes).sum()
     }
 
     /// Per object: the boxes a query reads lazily, for the objects `needed` whose top is current
     /// and some block not (each such mesh made this scene's own first).
-    fn lazy_boxes(&mut self, needed: &[bool]) -> Vec<Option<*mut [Aabb]>> {
+    fn lazy_boxes(&mut self, needed: &[u8]) -> Vec<Option<*mut [Aabb]>> {
         self.objects
             .iter_mut()
             .zip(needed)
             .map(|(o, &needed)| {
-                let o = o.as_mut().filter(|_| needed)?;
+                let o = o.as_mut().filter(|_| needed != 0)?;
                 match &o.body {
                     Body::Deformable { fresh } if fresh.is_partial() => {}
                     _ => return None,
@@ -385,82 +300,32 @@ impl Scene {
         out: &mut Contacts,
         stats: &mut SceneStats,
     ) -> Result<()> {
-        let threads = threads::resolve(options.threads)
-            .min(candidates.len())
-            .max(1);
         let mut opts = *options;
         if candidates.len() > 1 {
             // The pairs share the threads; each pair's query runs on the thread that took it.
             opts.threads = 1;
         }
-        if out.workers.len() < threads {
-            out.workers.resize_with(threads, Worker::default);
-        }
-        for w in &mut out.workers {
-            w.found.clear();
-            w.taken.clear();
-            w.bv_tests = 0;
-            w.triangle_tests = 0;
-            w.error = None;
-        }
-        out.spans.clear();
-        out.spans.resize(candidates.len(), Span::default());
         let objects = &self.objects[..];
-        if threads == 1 {
-            let w = &mut out.workers[0];
-            for (span, &pair) in out.spans.iter_mut().zip(candidates) {
-                *span = w.query(objects, lazy, pair, &opts);
-            }
-        } else {
-            // Pairs are handed out one at a time: their costs differ by orders of magnitude.
-            let next = AtomicUsize::new(0);
-            threads::on_each(
-                threads::Step::ScenePairs,
-                &mut out.workers[..threads],
-                &|w: &mut Worker, index| {
-                    loop {
-                        let k = next.fetch_add(1, Ordering::Relaxed);
-                        let Some(&pair) = candidates.get(k) else {
-                            break;
-                        };
-                        let mut span = w.query(objects, lazy, pair, &opts);
-                        span.worker = index as u32;
-                        w.taken.push((k, span));
-                    }
-                },
-            );
-            for w in &out.workers[..threads] {
-                for &(k, span) in &w.taken {
-                    out.spans[k] = span;
-                }
-            }
-        }
-        if let Some(e) = out.workers.iter_mut().find_map(|w| w.error.take()) {
-            return Err(e);
-        }
-        // Merge in candidate order (the pairs are sorted, and so is each pair's result).
+        out.shared.run(
+            candidates,
+            threads::resolve(options.threads),
+            |w| {
+                w.bv_tests = 0;
+                w.triangle_tests = 0;
+            },
+            &|w, pair, found| query_pair(w, objects, lazy, pair, &opts, found),
+        )?;
         let limit = options.max_pairs.unwrap_or(usize::MAX);
-        let found: usize = out.spans.iter().map(|s| s.len).sum();
-        let keep = found.min(limit);
-        let merged = &mut out.spare;
-        merged.clear();
-        merged.try_reserve(keep).map_err(|_| Error::OutOfMemory {
-            bytes: keep * std::mem::size_of::<Contact>(),
-        })?;
-        for s in &out.spans {
+        stats.truncated |= out.shared.merge(limit, &mut out.spare)?;
+        for s in out.shared.spans() {
             stats.object_pairs_colliding += u64::from(s.len > 0);
-            stats.truncated |= s.truncated;
-            let room = keep - merged.len();
-            let w = &out.workers[s.worker as usize];
-            merged.extend_from_slice(&w.found[s.start..s.start + s.len.min(room)]);
         }
-        for w in &out.workers[..threads] {
+        for w in out.shared.works() {
             stats.bv_tests += w.bv_tests;
             stats.triangle_tests += w.triangle_tests;
         }
-        stats.truncated |= found > limit;
         stats.object_pairs_tested = candidates.len() as u64;
-        stats.contacts = merged.len() as u64;
+        stats.contacts = out.spare.len() as u64;
         std::mem::swap(&mut out.items, &mut out.spare);
         out.kind = if options.mode.reports_nodes() {
             PairKind::Nodes

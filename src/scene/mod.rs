@@ -1,16 +1,27 @@
-//! Scenes: many objects, rigid or deformable, sharing meshes, with one query for every contact of
-//! a frame.
+//! Scenes: many objects, rigid or deformable, sharing meshes, with one query per question a
+//! simulator asks of a whole frame or step: which triangles intersect ([`Scene::collide`]), when
+//! primitives first meet during the step ([`Scene::continuous_collide`]), which features are
+//! within a distance ([`Scene::nearest_features`]).
 //!
 //! An object is a copy of a mesh's state (positions and volumes) that shares the mesh's topology,
 //! rings and tree ([`Mesh`] clones share them), with a pose (rigid) or positions of its own
-//! (deformable). The scene spends work where contact is possible: a broad phase
-//! ([`broad::SweepAndPrune`]) over the objects' world boxes, collision filters, and refits of
-//! deformable objects put off until a query needs their volumes.
+//! (deformable), and a step it moves through (a start and an end pose, or start and end
+//! positions). The scene spends work where contact is possible: a broad phase
+//! ([`broad::SweepAndPrune`]) over the objects' world boxes (at the end of the step for the
+//! discrete queries, over the whole step for continuous collision), collision filters, and
+//! refits of deformable objects put off until a query needs their volumes.
 
 mod broad;
 mod collide;
+mod continuous;
+mod nearest;
+mod refit;
+mod select;
+mod share;
 
 pub use collide::{Contact, Contacts, SceneStats};
+pub use continuous::{SceneImpact, SceneImpacts};
+pub use nearest::{SceneNearPair, SceneNearPairs};
 
 use crate::error::{Error, Result};
 use crate::geometry::MAX_POSED_MAGNITUDE;
@@ -26,10 +37,17 @@ use std::sync::{Arc, Weak};
 /// What an object is: a rigid body placed by a pose, or a deformable one with positions of its
 /// own.
 #[derive(Clone, Debug)]
+// Objects are few and read on every query: the rigid variant's two poses stay inline.
+#[allow(clippy::large_enum_variant)]
 enum Body {
     /// Its mesh's positions at the time it was added, as local coordinates, placed by a pose;
-    /// never refit. `local` bounds those positions.
-    Rigid { pose: Pose, local: LocalBounds },
+    /// never refit. `local` bounds those positions. `start`: the pose at the start of its
+    /// step, when it was given one (`pose` is the end's).
+    Rigid {
+        pose: Pose,
+        local: LocalBounds,
+        start: Option<Pose>,
+    },
     /// Positions of its own, in world coordinates. `fresh`: which of its volumes are current
     /// (none after new positions; boxes are then refit lazily, block by block).
     Deformable { fresh: Freshness },
@@ -46,6 +64,24 @@ struct Object {
     /// Changes whenever the object's geometry or pose does (drawn from [`Scene::stamps`], so an
     /// object that takes a removed one's id never has its stamp).
     stamp: u64,
+    /// Are the object's contacts with itself wanted? (Deformable objects only.)
+    self_contact: bool,
+    /// A posed rigid object's vertices in world coordinates over its step, for continuous
+    /// collision (whose primitive tests take world positions), made when a query first needs
+    /// them at the object's current stamp.
+    world: Option<Box<WorldCopy>>,
+}
+
+/// A rigid object's mesh with world positions: at the start and the end of its step (its volumes
+/// holding the motion), or at its pose when it has no step.
+#[derive(Clone, Debug)]
+struct WorldCopy {
+    /// The object's stamp when it was made.
+    stamp: u64,
+    mesh: Mesh,
+    /// The world positions at the start and the end of the step, kept for the next placing.
+    start: Vec<[f64; 3]>,
+    end: Vec<[f64; 3]>,
 }
 
 impl Object {
@@ -54,6 +90,24 @@ impl Object {
         match &self.body {
             Body::Rigid { pose, .. } => Some(pose),
             Body::Deformable { .. } => None,
+        }
+    }
+
+    /// The mesh whose positions (and start positions) are the object's in world coordinates
+    /// over its step: a deformable object's own, a rigid object's world copy (its own mesh when
+    /// it stands still at the identity). The world copy must be current
+    /// ([`Scene::place_rigid`]).
+    fn world_mesh(&self) -> &Mesh {
+        match &self.body {
+            Body::Rigid {
+                pose, start: None, ..
+            } if pose.is_identity() => &self.mesh,
+            Body::Rigid { .. } => {
+                let copy = self.world.as_ref().expect("the world copy was made");
+                debug_assert_eq!(copy.stamp, self.stamp);
+                &copy.mesh
+            }
+            Body::Deformable { .. } => &self.mesh,
         }
     }
 }
@@ -74,13 +128,25 @@ pub struct Scene {
     objects: Vec<Option<Object>>,
     /// Removed ids, reused last removed first.
     free: Vec<u32>,
-    /// World boxes by id (empty for free ids).
+    /// World boxes by id at the end of each object's step (empty for free ids).
     boxes: Vec<Aabb>,
     broad: SweepAndPrune,
+    /// World boxes by id over each object's whole step (equal to `boxes` for an object without
+    /// one), and their broad phase.
+    swept: Vec<Aabb>,
+    broad_swept: SweepAndPrune,
+    /// The end boxes grown by half the distance of the last nearness query (which the bits of
+    /// `near_distance` hold), and their broad phase.
+    near_boxes: Vec<Aabb>,
+    near: SweepAndPrune,
+    near_distance: Option<u64>,
     /// Pairs `(lower id, higher id)` never tested.
     excluded: HashSet<(u32, u32)>,
     /// Candidate pairs of the last query (kept so that queries reuse its memory).
     candidates: Vec<(u32, u32)>,
+    /// Per object, what the last query's candidates asked of it (`select::marks`; kept for
+    /// its memory).
+    marks: Vec<u8>,
     /// The last stamp given to an object.
     stamps: u64,
     /// Object pairs the last query found without contact, with what they were then: such a pair
@@ -173,10 +239,16 @@ impl Scene {
         Ok(self.insert(
             Object {
                 mesh,
-                body: Body::Rigid { pose, local },
+                body: Body::Rigid {
+                    pose,
+                    local,
+                    start: None,
+                },
                 group,
                 mask,
                 stamp: 0,
+                self_contact: false,
+                world: None,
             },
             world,
         ))
@@ -200,6 +272,8 @@ impl Scene {
                 group,
                 mask,
                 stamp: 0,
+                self_contact: false,
+                world: None,
             },
             world,
         ))
@@ -213,6 +287,7 @@ impl Scene {
         if self.free.is_empty() {
             self.objects.try_reserve(1).map_err(|_| oom(1))?;
             self.boxes.try_reserve(1).map_err(|_| oom(1))?;
+            self.swept.try_reserve(1).map_err(|_| oom(1))?;
         }
         let mut probe: Vec<u8> = Vec::new();
         probe.try_reserve_exact(bytes).map_err(|_| oom(bytes))
@@ -229,15 +304,19 @@ impl Scene {
             Some(id) => {
                 self.objects[id as usize] = Some(object);
                 self.boxes[id as usize] = world;
+                self.swept[id as usize] = world;
                 id
             }
             None => {
                 self.objects.push(Some(object));
                 self.boxes.push(world);
+                self.swept.push(world);
                 (self.objects.len() - 1) as u32
             }
         };
         self.broad.insert(id);
+        self.broad_swept.insert(id);
+        self.near.insert(id);
         id
     }
 
@@ -274,7 +353,8 @@ impl Scene {
             .map(|o| matches!(o.body, Body::Rigid { .. }))
     }
 
-    /// Places rigid object `id` by `pose` (`None`: the identity).
+    /// Places rigid object `id` by `pose` (`None`: the identity), standing still there: its step,
+    /// if it had one, ends.
     ///
     /// Errors: [`Error::UnknownObject`]; [`Error::WrongObjectKind`] for a deformable object;
     /// [`Error::Object`] wrapping [`Error::ObjectPoseOutOfRange`] as for [`Scene::add_rigid`].
@@ -283,7 +363,7 @@ impl Scene {
         let stamp = self.stamps + 1;
         let object = self.object_mut(id)?;
         let max_abs = object.mesh.max_abs_coordinate();
-        let Body::Rigid { pose, local } = &mut object.body else {
+        let Body::Rigid { pose, local, start } = &mut object.body else {
             return Err(Error::WrongObjectKind {
                 object: id,
                 rigid: false,
@@ -294,21 +374,72 @@ impl Scene {
             error: Box::new(e),
         })?;
         *pose = new;
+        *start = None;
         object.stamp = stamp;
-        self.moved(id, stamp, world);
+        self.moved(id, stamp, world, world);
+        Ok(())
+    }
+
+    /// Gives rigid object `id` a step: from pose `start` to pose `end` (`None`: the identity),
+    /// each vertex moving in a straight line from its start-pose to its end-pose world
+    /// position, each computed as [`Scene::collide`] places a vertex
+    /// ([`Pose::transform_point`]). The discrete queries see the object at `end`;
+    /// [`Scene::continuous_collide`] sees the whole step. The step lasts until the next
+    /// [`Scene::set_pose`] or `set_pose_motion`.
+    ///
+    /// Straight paths are what simulators of the IPC kind assume; they are not the turn itself:
+    /// a large rotation in one step shortens the object midway (a half turn passes every vertex
+    /// through the axis), so steps should turn little.
+    ///
+    /// Errors: [`Error::UnknownObject`]; [`Error::WrongObjectKind`] for a deformable object;
+    /// [`Error::Object`] wrapping [`Error::ObjectPoseOutOfRange`] for either pose, as for
+    /// [`Scene::add_rigid`].
+    pub fn set_pose_motion(
+        &mut self,
+        id: u32,
+        start: Option<&Pose>,
+        end: Option<&Pose>,
+    ) -> Result<()> {
+        let (first, last) = (
+            start.copied().unwrap_or_default(),
+            end.copied().unwrap_or_default(),
+        );
+        let stamp = self.stamps + 1;
+        let object = self.object_mut(id)?;
+        let max_abs = object.mesh.max_abs_coordinate();
+        let Body::Rigid { pose, local, start } = &mut object.body else {
+            return Err(Error::WrongObjectKind {
+                object: id,
+                rigid: false,
+            });
+        };
+        let wrap = |e| Error::Object {
+            object: id,
+            error: Box::new(e),
+        };
+        let at_start = local.posed(&first, max_abs).map_err(wrap)?;
+        let world = local.posed(&last, max_abs).map_err(wrap)?;
+        *pose = last;
+        *start = Some(first);
+        object.stamp = stamp;
+        let mut swept = at_start;
+        swept.merge(&world);
+        self.moved(id, stamp, world, swept);
         Ok(())
     }
 
     /// Gives deformable object `id` new world positions (`x, y, z` per vertex, as many vertices
-    /// as its mesh). They are checked and stored now; the volumes are recomputed by the next
-    /// [`Scene::collide`] that needs them, so an object that no overlapping pair reaches costs no
-    /// more than taking its positions.
+    /// as its mesh), standing still there: its step, if it had one, ends. They are checked and
+    /// stored now; the volumes are recomputed by the next query that needs them, so an object
+    /// that no overlapping pair reaches costs no more than taking its positions.
     ///
     /// Errors: [`Error::UnknownObject`]; [`Error::WrongObjectKind`] for a rigid object;
     /// [`Error::Object`] wrapping the errors of [`Mesh::refit`] (a wrong length or vertex count,
     /// a non-finite coordinate).
     pub fn set_positions(&mut self, id: u32, positions: &[f64]) -> Result<()> {
-        self.take_positions(id, |mesh| mesh.take_positions(positions))
+        self.take_positions(id, |mesh| {
+            mesh.take_positions(positions).map(|world| (world, world))
+        })
     }
 
     /// [`Scene::set_positions`] with each vertex's coordinates given by `position(i)` for `i` in
@@ -319,13 +450,45 @@ impl Scene {
         vertex_count: usize,
         position: impl Fn(usize) -> [f64; 3],
     ) -> Result<()> {
-        self.take_positions(id, |mesh| mesh.take_points_with(vertex_count, position))
+        self.take_positions(id, |mesh| {
+            mesh.take_points_with(vertex_count, position)
+                .map(|world| (world, world))
+        })
     }
 
+    /// Gives deformable object `id` a step: every vertex moves in a straight line from its
+    /// position in `start` to its position in `end` (`x, y, z` per vertex, as many vertices as
+    /// its mesh), as [`Mesh::refit_motion`] takes them. The discrete queries see the object at
+    /// `end`; [`Scene::continuous_collide`] sees the whole step. The step lasts until the next
+    /// `set_motion` or [`Scene::set_positions`]. Checked and stored now, refit when a query
+    /// needs the object.
+    ///
+    /// Errors: [`Error::UnknownObject`]; [`Error::WrongObjectKind`] for a rigid object;
+    /// [`Error::Object`] wrapping the errors of [`Mesh::refit_motion`] ([`Error::Motion`],
+    /// saying which positions and what was wrong with them).
+    pub fn set_motion(&mut self, id: u32, start: &[f64], end: &[f64]) -> Result<()> {
+        self.take_positions(id, |mesh| mesh.take_motion(start, end))
+    }
+
+    /// [`Scene::set_motion`] with each vertex's coordinates at the start and the end given by
+    /// `start(i)` and `end(i)` for `i` in `0..vertex_count`, for positions stored in another
+    /// layout (`f32`, a stride).
+    pub fn set_motion_with(
+        &mut self,
+        id: u32,
+        vertex_count: usize,
+        start: impl Fn(usize) -> [f64; 3],
+        end: impl Fn(usize) -> [f64; 3],
+    ) -> Result<()> {
+        self.take_positions(id, |mesh| mesh.take_motion_with(vertex_count, start, end))
+    }
+
+    /// Stores what `take` checks into deformable object `id`'s mesh; `take` returns the boxes
+    /// of the positions at the start and the end of the step (equal when there is no step).
     fn take_positions(
         &mut self,
         id: u32,
-        take: impl FnOnce(&mut Mesh) -> Result<Aabb>,
+        take: impl FnOnce(&mut Mesh) -> Result<(Aabb, Aabb)>,
     ) -> Result<()> {
         let stamp = self.stamps + 1;
         let object = self.object_mut(id)?;
@@ -335,21 +498,50 @@ impl Scene {
                 rigid: true,
             });
         };
-        let world = take(Arc::make_mut(&mut object.mesh)).map_err(|e| Error::Object {
-            object: id,
-            error: Box::new(e),
-        })?;
+        let (at_start, world) =
+            take(Arc::make_mut(&mut object.mesh)).map_err(|e| Error::Object {
+                object: id,
+                error: Box::new(e),
+            })?;
         fresh.stale();
         object.stamp = stamp;
-        self.moved(id, stamp, world);
+        let mut swept = at_start;
+        swept.merge(&world);
+        self.moved(id, stamp, world, swept);
         Ok(())
     }
 
-    /// Records that object `id` now has stamp `stamp` and world box `world`.
-    fn moved(&mut self, id: u32, stamp: u64, world: Aabb) {
+    /// Records that object `id` now has stamp `stamp`, world box `world` at the end of its
+    /// step and `swept` over the step.
+    fn moved(&mut self, id: u32, stamp: u64, world: Aabb, swept: Aabb) {
         self.stamps = stamp;
         self.boxes[id as usize] = world;
         self.broad.touch(id);
+        self.swept[id as usize] = swept;
+        self.broad_swept.touch(id);
+        self.near.touch(id);
+    }
+
+    /// Turns object `id`'s self-contact on or off (off when added): when on,
+    /// [`Scene::collide`] also reports the object's self-intersecting triangle pairs (as
+    /// [`crate::self_collide`] does, with `object_a == object_b`), and
+    /// [`Scene::continuous_collide`] and [`Scene::nearest_features`] its self impacts and self
+    /// stencils. Groups, masks and exclusions do not gate self-contact; this switch does.
+    ///
+    /// Errors: [`Error::UnknownObject`]; [`Error::RigidSelfContact`] when turning it on for a
+    /// rigid object (turning it off is accepted).
+    pub fn set_self_contact(&mut self, id: u32, on: bool) -> Result<()> {
+        let object = self.object_mut(id)?;
+        if on && matches!(object.body, Body::Rigid { .. }) {
+            return Err(Error::RigidSelfContact { object: id });
+        }
+        object.self_contact = on;
+        Ok(())
+    }
+
+    /// Is object `id`'s self-contact on? (`None` for an unknown id.)
+    pub fn self_contact(&self, id: u32) -> Option<bool> {
+        self.object(id).ok().map(|o| o.self_contact)
     }
 
     /// Removes object `id` (and its pair exclusions); its id may be given to a later object.
@@ -359,8 +551,11 @@ impl Scene {
         self.object(id)?;
         self.objects[id as usize] = None;
         self.boxes[id as usize] = Aabb::EMPTY;
+        self.swept[id as usize] = Aabb::EMPTY;
         self.free.push(id);
         self.broad.remove(id);
+        self.broad_swept.remove(id);
+        self.near.remove(id);
         self.excluded.retain(|&(i, j)| i != id && j != id);
         self.snapshots
             .retain(|_, (copy, _)| copy.strong_count() > 0);
@@ -391,8 +586,15 @@ impl Scene {
             .filter(|o| seen.insert(Arc::as_ptr(&o.mesh)))
             .map(|o| o.mesh.state_bytes())
             .sum::<usize>()
+            + self
+                .objects
+                .iter()
+                .flatten()
+                .filter_map(|o| o.world.as_ref())
+                .map(|w| w.mesh.state_bytes())
+                .sum::<usize>()
             + self.objects.capacity() * std::mem::size_of::<Option<Object>>()
-            + self.boxes.capacity() * std::mem::size_of::<Aabb>()
+            + (self.boxes.capacity() + self.swept.capacity()) * std::mem::size_of::<Aabb>()
     }
 }
 
@@ -506,5 +708,7 @@ fn volume_box(o: &Object) -> Aabb {
     }
 }
 
+#[cfg(test)]
+mod step_tests;
 #[cfg(test)]
 mod tests;

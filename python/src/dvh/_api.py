@@ -975,7 +975,7 @@ class Scene:
     deformable one is refit from :meth:`set_positions`. The scene copies what it needs: the mesh
     may be refit or dropped afterwards."""
 
-    __slots__ = ("_ptr", "_vertices", "_contacts")
+    __slots__ = ("_ptr", "_vertices", "_contacts", "_impacts", "_near")
 
     def __init__(self):
         out = ffi.new("DvhScene **")
@@ -985,6 +985,9 @@ class Scene:
         self._contacts = _Results(lib.dvh_contacts_new, lib.dvh_contacts_free, lib.dvh_contacts_len,
                                   lib.dvh_contacts_data, CONTACT_DTYPE, 1,
                                   "dvh_contacts_new")
+        # Made on first use: their dtypes are defined after this class.
+        self._impacts = None
+        self._near = None
 
     def add_rigid(self, mesh: Mesh, pose=None, group: int = 1, mask: int = _U32_MAX) -> int:
         """Adds a rigid object placed by ``pose`` (4x4 or 3x4; None: the identity); returns its id."""
@@ -1021,6 +1024,97 @@ class Scene:
         else:
             status = lib.dvh_scene_set_positions(self._ptr, obj, pptr, pos.shape[0])
         _raise_for(status)
+
+    def set_self_contact(self, obj: int, on: bool) -> None:
+        """Turns deformable object ``obj``'s self-contact on or off (off when added): when on,
+        :meth:`collide`, :meth:`continuous_collide` and :meth:`nearest_features` also report the
+        object's pairs with itself (``object_a == object_b``), as :func:`self_collide`,
+        :func:`self_continuous_collide` and :func:`self_nearest_features` do. Groups and masks do
+        not gate it. Turning it on for a rigid object is a :class:`DvhError`
+        (``INVALID_ARGUMENT``); turning it off is accepted."""
+        if not isinstance(on, (bool, np.bool_)):
+            raise TypeError(f"on must be a bool; got {on!r}")
+        _raise_for(lib.dvh_scene_set_self_contact(self._ptr, _count("obj", obj, _U32_MAX), bool(on)))
+
+    def set_motion(self, obj: int, start: npt.ArrayLike, end: npt.ArrayLike) -> None:
+        """Gives deformable object ``obj`` a step: every vertex moves in a straight line from its
+        row of ``start`` to its row of ``end`` (``(n, 3)`` arrays of the object's vertex count;
+        float64, or float32 and integers, widened exactly). The discrete queries see ``end``;
+        :meth:`continuous_collide` the whole step. The step lasts until the next
+        :meth:`set_motion` or :meth:`set_positions`. Errors as :meth:`Mesh.refit_motion`; a
+        rigid object is a :class:`DvhError` (``INVALID_ARGUMENT``)."""
+        obj = _count("obj", obj, _U32_MAX)
+        # A rigid or unknown object is the library's to refuse, naming it.
+        n = self._vertices.get(obj)
+        st, sptr = _positions64("start", start, len(np.asarray(start)) if n is None else n)
+        en, eptr = _positions64("end", end, len(np.asarray(end)) if n is None else n)
+        if st.shape != en.shape:
+            raise ValueError(f"start and end must have the same shape; got {st.shape} and {en.shape}")
+        _raise_for(lib.dvh_scene_set_motion(self._ptr, obj, sptr, eptr, st.shape[0]))
+
+    def set_pose_motion(self, obj: int, start=None, end=None) -> None:
+        """Gives rigid object ``obj`` a step from pose ``start`` to pose ``end`` (4x4 or 3x4;
+        None: the identity): each vertex moves in a straight line from its start-pose to its
+        end-pose world position. A large rotation in one step shortens the object midway (a half
+        turn passes every vertex through the axis): steps should turn little. The discrete
+        queries see ``end``. The step lasts until the next :meth:`set_pose_motion` or
+        :meth:`set_pose`. A deformable object is a :class:`DvhError` (``INVALID_ARGUMENT``)."""
+        k0, k1 = _pose("start", start), _pose("end", end)
+        _raise_for(lib.dvh_scene_set_pose_motion(self._ptr, _count("obj", obj, _U32_MAX), k0, k1))
+
+    def continuous_collide(
+        self,
+        mode: str = "exact",
+        threads: int = 0,
+        max_impacts: Optional[int] = None,
+        earliest_only: bool = False,
+        stats: bool = False,
+    ):
+        """Every impact during the objects' steps between two objects the filters allow, and
+        within each object with self-contact on, as a structured array of
+        :data:`SCENE_IMPACT_DTYPE`, sorted by ``(object_a, object_b)`` then as
+        :func:`continuous_collide` sorts: for each pair exactly what :func:`continuous_collide`
+        reports on stand-alone meshes holding the objects' world positions and motions (an
+        object given no step stands still). ``earliest_only=True``: only the scene's earliest
+        impact (of several at that time, the first in that order), every pair searching only up
+        to the earliest found so far in any pair. Options as :func:`continuous_collide`; with
+        ``stats=True`` returns ``(impacts, CcdStats)``, the counters summed over the pairs."""
+        if self._impacts is None:
+            self._impacts = _Results(lib.dvh_scene_impacts_new, lib.dvh_scene_impacts_free,
+                                     lib.dvh_scene_impacts_len, lib.dvh_scene_impacts_data,
+                                     SCENE_IMPACT_DTYPE, 1, "dvh_scene_impacts_new")
+        o = _ccd_options(mode, threads, max_impacts, earliest_only)
+        s = ffi.new("DvhCcdStats *") if stats else ffi.NULL
+        impacts = self._impacts.run(lib.dvh_scene_continuous_collide, (self._ptr, o), s)
+        return _finish(impacts, s, CcdStats)
+
+    def nearest_features(
+        self,
+        distance: float,
+        mode: str = "triangles",
+        max_pairs: int = 0,
+        threads: int = 0,
+        max_depth: int = 0,
+        budget: int = 0,
+        stats: bool = False,
+    ):
+        """Every vertex-face and edge-edge stencil within ``distance`` between two objects the
+        filters allow, and within each object with self-contact on, at the objects' current
+        geometry (the end of their steps), as a structured array of
+        :data:`SCENE_NEAR_PAIR_DTYPE`, sorted by ``(object_a, object_b)`` then as
+        :func:`nearest_features` sorts: for each pair exactly what :func:`nearest_features` (or
+        :func:`self_nearest_features`) reports. Options as :func:`nearest_features`; with
+        ``stats=True`` returns ``(stencils, QueryStats)``, the counters summed over the pairs
+        (``pairs``: the stencils reported)."""
+        if self._near is None:
+            self._near = _Results(lib.dvh_scene_near_pairs_new, lib.dvh_scene_near_pairs_free,
+                                  lib.dvh_scene_near_pairs_len, lib.dvh_scene_near_pairs_data,
+                                  SCENE_NEAR_PAIR_DTYPE, 1, "dvh_scene_near_pairs_new")
+        d = _distance(distance)
+        o = _options(mode, max_pairs, threads, max_depth, budget)
+        s = _stats_out(stats)
+        near = self._near.run(lib.dvh_scene_nearest_features, (self._ptr, d, o), s)
+        return _finish(near, s, QueryStats)
 
     def remove(self, obj: int) -> None:
         """Removes object ``obj``; its id may be given to a later object."""
@@ -1114,6 +1208,37 @@ NEAR_PAIR_DTYPE = np.dtype(
 
 
 _NearResult = Union[np.ndarray, Tuple[np.ndarray, QueryStats]]
+
+
+def _scene_dtype(struct: str, inner: str, inner_type: str, fields) -> np.dtype:
+    """A flat dtype over the C `struct`: `object_a`, `object_b`, then the fields of its
+    `inner` member (of C type `inner_type`), at the C offsets."""
+    base = ffi.offsetof(struct, inner)
+    names = ["object_a", "object_b"] + [f[0] for f in fields]
+    formats = ["=u4", "=u4"] + [(f[1], f[2]) if f[2] else f[1] for f in fields]
+    offsets = [ffi.offsetof(struct, "object_a"), ffi.offsetof(struct, "object_b")] + [
+        base + ffi.offsetof(inner_type, f[0]) for f in fields
+    ]
+    return np.dtype(
+        {"names": names, "formats": formats, "offsets": offsets, "itemsize": ffi.sizeof(struct)}
+    )
+
+
+#: The dtype of :meth:`Scene.continuous_collide`'s impacts, the layout of the C
+#: ``DvhSceneImpact`` with its ``impact`` member's fields flattened: ``object_a <= object_b``
+#: (equal for an object's impact with itself), then ``kind, a0, a1, b0, b1, toi`` as in
+#: :data:`IMPACT_DTYPE`, the first mesh ``object_a``'s.
+SCENE_IMPACT_DTYPE = _scene_dtype(
+    "DvhSceneImpact",
+    "impact",
+    "DvhImpact",
+    [(f, "=f8" if f == "toi" else "=u4", ()) for f in ("kind", "a0", "a1", "b0", "b1", "toi")],
+)
+
+#: The dtype of :meth:`Scene.nearest_features`' stencils, the layout of the C
+#: ``DvhSceneNearPair`` with its ``pair`` member's fields flattened: ``object_a <= object_b``,
+#: then the fields of :data:`NEAR_PAIR_DTYPE`.
+SCENE_NEAR_PAIR_DTYPE = _scene_dtype("DvhSceneNearPair", "pair", "DvhNearPair", _NEAR_FIELDS)
 
 
 def nearest_features(

@@ -32,7 +32,8 @@ pub fn continuous_collide(
     options: &CcdOptions,
     out: &mut Impacts,
 ) -> Result<CcdStats> {
-    impacts(a, Some(b), options, out)
+    let best = AtomicU64::new(1.0f64.to_bits());
+    impacts(a, Some(b), options, out, &best)
 }
 
 /// Every pair of one mesh's primitives that meets during its last motion, with the earliest
@@ -44,7 +45,24 @@ pub fn self_continuous_collide(
     options: &CcdOptions,
     out: &mut Impacts,
 ) -> Result<CcdStats> {
-    impacts(mesh, None, options, out)
+    let best = AtomicU64::new(1.0f64.to_bits());
+    impacts(mesh, None, options, out, &best)
+}
+
+/// [`continuous_collide`] of `a` and `b`, or [`self_continuous_collide`] of `a` (`b` is `None`),
+/// as part of a larger query: with [`CcdOptions::earliest_only`], `best` holds the bits of the
+/// earliest impact time that query has found so far (1 at first), and is lowered by this one
+/// (each primitive test searches only up to it, ties included). The impact reported is then the
+/// earliest of this pair's at or before the time `best` held when its primitives were tested:
+/// the pair's own earliest whenever that is no later than the whole query's.
+pub(crate) fn impacts_sharing(
+    a: &Mesh,
+    b: Option<&Mesh>,
+    options: &CcdOptions,
+    out: &mut Impacts,
+    best: &AtomicU64,
+) -> Result<CcdStats> {
+    impacts(a, b, options, out, best)
 }
 
 /// The traversal over the motion: leaf pairs whose volumes overlap (the volumes of a moving
@@ -74,6 +92,7 @@ fn impacts(
     b: Option<&Mesh>,
     options: &CcdOptions,
     out: &mut Impacts,
+    best: &AtomicU64,
 ) -> Result<CcdStats> {
     let one_mesh = b.is_none();
     let b = b.unwrap_or(a);
@@ -107,7 +126,6 @@ fn impacts(
         std::mem::swap(items, spare);
         return Ok(stats);
     }
-    let best = AtomicU64::new(1.0f64.to_bits());
     let narrow = Narrow {
         a: Owners::new(a),
         b: Owners::new(b),
@@ -117,7 +135,7 @@ fn impacts(
             b: VertexPaths::new(b),
             mode: options.mode,
             earliest_only: options.earliest_only,
-            best: &best,
+            best,
         },
     };
     let joined = primitives::test_leaf_pairs(
