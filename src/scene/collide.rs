@@ -3,7 +3,7 @@
 //! allowed, their contacts merged in order.
 
 use super::select::{Reach, WITH_ITSELF, marks};
-use super::share::Shared;
+use super::share::{Shared, append};
 use super::{Apart, Body, Object, Scene, volume_box};
 use crate::error::{Error, Result};
 use crate::geometry::aabb::Aabb;
@@ -120,17 +120,15 @@ fn query_pair(
     };
     work.bv_tests += stats.bv_tests;
     work.triangle_tests += stats.triangle_tests;
-    found
-        .try_reserve(work.pairs.len())
-        .map_err(|_| Error::OutOfMemory {
-            bytes: work.pairs.len() * std::mem::size_of::<Contact>(),
-        })?;
-    found.extend(work.pairs.iter().map(|p| Contact {
-        object_a: i,
-        object_b: j,
-        a: p.a,
-        b: p.b,
-    }));
+    append(
+        found,
+        work.pairs.iter().map(|p| Contact {
+            object_a: i,
+            object_b: j,
+            a: p.a,
+            b: p.b,
+        }),
+    )?;
     Ok(stats.truncated)
 }
 

@@ -3,7 +3,7 @@
 //! positions, the earliest impact found so far shared by all of them.
 
 use super::select::{Reach, marks};
-use super::share::Shared;
+use super::share::{Shared, append};
 use super::{Body, Scene, WorldCopy};
 use crate::error::{Error, Result};
 use crate::query::{CcdOptions, CcdStats, Impact, Impacts, impacts_sharing, result_buffer};
@@ -201,16 +201,14 @@ impl Scene {
                 let s = impacts_sharing(a, b, &opts, &mut w.impacts, &best)?;
                 w.bv_tests += s.bv_tests;
                 w.primitive_tests += s.primitive_tests;
-                found
-                    .try_reserve(w.impacts.len())
-                    .map_err(|_| Error::OutOfMemory {
-                        bytes: w.impacts.len() * std::mem::size_of::<SceneImpact>(),
-                    })?;
-                found.extend(w.impacts.iter().map(|&impact| SceneImpact {
-                    object_a: i,
-                    object_b: j,
-                    impact,
-                }));
+                append(
+                    found,
+                    w.impacts.iter().map(|&impact| SceneImpact {
+                        object_a: i,
+                        object_b: j,
+                        impact,
+                    }),
+                )?;
                 Ok(s.truncated)
             },
         )?;

@@ -359,25 +359,7 @@ impl Scene {
     /// Errors: [`Error::UnknownObject`]; [`Error::WrongObjectKind`] for a deformable object;
     /// [`Error::Object`] wrapping [`Error::ObjectPoseOutOfRange`] as for [`Scene::add_rigid`].
     pub fn set_pose(&mut self, id: u32, pose: Option<&Pose>) -> Result<()> {
-        let new = pose.copied().unwrap_or_default();
-        let stamp = self.stamps + 1;
-        let object = self.object_mut(id)?;
-        let max_abs = object.mesh.max_abs_coordinate();
-        let Body::Rigid { pose, local, start } = &mut object.body else {
-            return Err(Error::WrongObjectKind {
-                object: id,
-                rigid: false,
-            });
-        };
-        let world = local.posed(&new, max_abs).map_err(|e| Error::Object {
-            object: id,
-            error: Box::new(e),
-        })?;
-        *pose = new;
-        *start = None;
-        object.stamp = stamp;
-        self.moved(id, stamp, world, world);
-        Ok(())
+        self.place(id, None, pose.copied().unwrap_or_default())
     }
 
     /// Gives rigid object `id` a step: from pose `start` to pose `end` (`None`: the identity),
@@ -400,10 +382,13 @@ impl Scene {
         start: Option<&Pose>,
         end: Option<&Pose>,
     ) -> Result<()> {
-        let (first, last) = (
-            start.copied().unwrap_or_default(),
-            end.copied().unwrap_or_default(),
-        );
+        let first = start.copied().unwrap_or_default();
+        self.place(id, Some(first), end.copied().unwrap_or_default())
+    }
+
+    /// Places rigid object `id` at pose `end`, with a step from `first` when given (standing
+    /// still otherwise): [`Scene::set_pose`] and [`Scene::set_pose_motion`].
+    fn place(&mut self, id: u32, first: Option<Pose>, end: Pose) -> Result<()> {
         let stamp = self.stamps + 1;
         let object = self.object_mut(id)?;
         let max_abs = object.mesh.max_abs_coordinate();
@@ -417,12 +402,16 @@ impl Scene {
             object: id,
             error: Box::new(e),
         };
-        let at_start = local.posed(&first, max_abs).map_err(wrap)?;
-        let world = local.posed(&last, max_abs).map_err(wrap)?;
-        *pose = last;
-        *start = Some(first);
+        let at_start = first
+            .as_ref()
+            .map(|p| local.posed(p, max_abs))
+            .transpose()
+            .map_err(wrap)?;
+        let world = local.posed(&end, max_abs).map_err(wrap)?;
+        *pose = end;
+        *start = first;
         object.stamp = stamp;
-        let mut swept = at_start;
+        let mut swept = at_start.unwrap_or(world);
         swept.merge(&world);
         self.moved(id, stamp, world, swept);
         Ok(())

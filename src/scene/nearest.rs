@@ -3,7 +3,7 @@
 
 use super::Scene;
 use super::select::{Reach, marks};
-use super::share::Shared;
+use super::share::{Shared, append};
 use crate::error::{Error, Result};
 use crate::query::{
     NearPair, NearPairs, QueryMode, QueryOptions, QueryStats, check_distance, nearest_features,
@@ -141,16 +141,14 @@ impl Scene {
                     )?
                 };
                 w.stats.add(&s);
-                found
-                    .try_reserve(w.near.len())
-                    .map_err(|_| Error::OutOfMemory {
-                        bytes: w.near.len() * std::mem::size_of::<SceneNearPair>(),
-                    })?;
-                found.extend(w.near.iter().map(|&pair| SceneNearPair {
-                    object_a: i,
-                    object_b: j,
-                    pair,
-                }));
+                append(
+                    found,
+                    w.near.iter().map(|&pair| SceneNearPair {
+                        object_a: i,
+                        object_b: j,
+                        pair,
+                    }),
+                )?;
                 Ok(s.truncated)
             },
         )?;

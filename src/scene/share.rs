@@ -59,6 +59,17 @@ impl<W, T> Default for Shared<W, T> {
 /// What one object pair's query gives: whether a limit cut it short.
 pub(super) type Truncated = bool;
 
+/// Appends a pair's `items` to `found`, failing with [`Error::OutOfMemory`] (and appending
+/// nothing) when `found` cannot grow.
+pub(super) fn append<T>(found: &mut Vec<T>, items: impl ExactSizeIterator<Item = T>) -> Result<()> {
+    let n = items.len();
+    found.try_reserve(n).map_err(|_| Error::OutOfMemory {
+        bytes: n * std::mem::size_of::<T>(),
+    })?;
+    found.extend(items);
+    Ok(())
+}
+
 impl<W: Default + Send, T: Copy + Send> Shared<W, T> {
     /// Runs `query` on every object pair of `candidates`, on up to `threads` threads (one pair
     /// at a time each: pairs' costs differ by orders of magnitude). `query(work, pair, found)`
