@@ -477,8 +477,10 @@ fn allowed(
     out
 }
 
-/// A scene's impacts against the pairwise and self queries on stand-alone meshes (every one, the
-/// earliest, or each pair's truncated list cut at the limit).
+/// A scene's impacts against the pairwise and self queries on stand-alone meshes: every one, or
+/// the earliest, equal; under a limit, as many as it allows, each one of them. (Which impacts a
+/// limit keeps depends on the hierarchy's order, and the stand-alone meshes are built with the
+/// default options, the objects' meshes with any.)
 fn judge_impacts(
     made: &[Made],
     objects: &std::collections::BTreeMap<u32, Object>,
@@ -494,9 +496,7 @@ fn judge_impacts(
     let mut expected = Vec::new();
     let mut pair_options = *options;
     pair_options.earliest_only = false;
-    if options.earliest_only {
-        pair_options.max_impacts = 0;
-    }
+    pair_options.max_impacts = 0;
     for (i, j) in allowed(objects, excluded) {
         // SAFETY: live handles, one thread.
         unsafe {
@@ -528,7 +528,14 @@ fn judge_impacts(
         }
         expected = first.into_iter().collect();
     } else if options.max_impacts > 0 {
-        expected.truncate(options.max_impacts as usize);
+        let limit = (options.max_impacts as usize).min(expected.len());
+        assert_eq!(got.len(), limit, "a limit kept too few or too many impacts");
+        assert!(
+            got.iter().all(|x| expected.contains(x)),
+            "a limited query reported an impact the pairs do not have"
+        );
+        assert!(got.is_sorted_by_key(|x| (x.0, x.1)), "impacts out of order");
+        expected = got.to_vec();
     }
     assert_eq!(
         got,
@@ -544,7 +551,9 @@ fn judge_impacts(
     }
 }
 
-/// A scene's stencils against the pairwise and self queries on stand-alone meshes.
+/// A scene's stencils against the pairwise and self queries on stand-alone meshes: equal, but
+/// where a limit or the first-hit mode chooses (by the hierarchy's order, as for impacts): then
+/// as many as they allow, each one of them.
 fn judge_stencils(
     made: &[Made],
     objects: &std::collections::BTreeMap<u32, Object>,
@@ -561,6 +570,12 @@ fn judge_stencils(
     let mut expected = Vec::new();
     let mut pair_options = *options;
     pair_options.threads = 1;
+    pair_options.max_pairs = 0;
+    let first_hit = options.mode == DVH_QUERY_MODE_FIRST_HIT;
+    if first_hit {
+        pair_options.mode = DVH_QUERY_MODE_TRIANGLES;
+    }
+    let mut allowed_count = 0;
     for (i, j) in allowed(objects, excluded) {
         // SAFETY: live handles, one thread.
         unsafe {
@@ -586,7 +601,9 @@ fn judge_stencils(
             };
             assert_eq!(st, DVH_STATUS_OK);
             let data = dvh_near_pairs_data(buffer);
-            for k in 0..dvh_near_pairs_len(buffer) {
+            let n = dvh_near_pairs_len(buffer);
+            allowed_count += if first_hit { n.min(1) } else { n };
+            for k in 0..n {
                 let bytes = std::slice::from_raw_parts(
                     data.add(k).cast::<u8>(),
                     std::mem::size_of::<DvhNearPair>(),
@@ -595,8 +612,26 @@ fn judge_stencils(
             }
         }
     }
-    if options.max_pairs > 0 {
-        expected.truncate(options.max_pairs as usize);
+    if first_hit || options.max_pairs > 0 {
+        let limit = if options.max_pairs > 0 {
+            (options.max_pairs as usize).min(allowed_count)
+        } else {
+            allowed_count
+        };
+        assert_eq!(
+            got.len(),
+            limit,
+            "a limit kept too few or too many stencils"
+        );
+        assert!(
+            got.iter().all(|x| expected.contains(x)),
+            "a limited query reported a stencil the pairs do not have"
+        );
+        assert!(
+            got.is_sorted_by_key(|x| (x.0, x.1)),
+            "stencils out of order"
+        );
+        expected = got.to_vec();
     }
     assert!(
         got == &expected[..],
