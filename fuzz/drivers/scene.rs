@@ -672,6 +672,63 @@ fn judge_scene(
     // SAFETY: a live buffer.
     let kind = unsafe { dvh_contacts_kind(contacts) };
     let mut judged = 0;
+    // An object with self-contact on: its contacts with itself are `dvh_self_collide`'s on a
+    // stand-alone mesh holding its world positions (triangle pairs do not depend on the tree;
+    // the coarse modes' node pairs do, and are only counted).
+    for (&i, oi) in objects.iter().filter(|(_, o)| o.self_contact) {
+        let mine: Vec<(u32, u32)> = got
+            .iter()
+            .filter(|c| (c.0, c.1) == (i, i))
+            .map(|c| (c.2, c.3))
+            .collect();
+        judged += mine.len();
+        if mode != DVH_QUERY_MODE_TRIANGLES && mode != DVH_QUERY_MODE_FIRST_HIT {
+            continue;
+        }
+        let (_, end) = oi.world();
+        let tris = &made[oi.mesh].triangles;
+        let mut mesh = std::ptr::null_mut();
+        let buffer = dvh_pairs_new();
+        let mut expected = Vec::new();
+        // SAFETY: arrays of the counts given; live handles, released once.
+        unsafe {
+            let st = dvh_mesh_create(
+                end.as_ptr(),
+                end.len() / 3,
+                tris.as_ptr(),
+                tris.len() / 3,
+                std::ptr::null(),
+                &mut mesh,
+            );
+            if st == DVH_STATUS_OK {
+                let all = dvh_query_options_default();
+                assert_eq!(
+                    dvh_self_collide(mesh, &all, buffer, std::ptr::null_mut()),
+                    DVH_STATUS_OK
+                );
+                let data = dvh_pairs_data(buffer);
+                expected = (0..dvh_pairs_len(buffer))
+                    .map(|k| ((*data.add(k)).a, (*data.add(k)).b))
+                    .collect();
+                dvh_mesh_free(mesh);
+            }
+            dvh_pairs_free(buffer);
+            if st != DVH_STATUS_OK {
+                continue;
+            }
+        }
+        if mode == DVH_QUERY_MODE_FIRST_HIT || truncated {
+            assert!(
+                mine.iter().all(|p| expected.contains(p)),
+                "object {i}'s contacts with itself are not its self-intersections"
+            );
+            if mode == DVH_QUERY_MODE_FIRST_HIT && !truncated {
+                assert_eq!(mine.len(), expected.len().min(1), "object {i}: first hit");
+            }
+        } else {
+            assert_eq!(mine, expected, "object {i}'s contacts with itself");
+        }
+    }
     for (&i, oi) in objects {
         for (&j, oj) in objects.range(i + 1..) {
             let allowed =
