@@ -343,6 +343,48 @@ def main():
     check("object 0 is deformable" in last_error(), "deformable message: " + last_error())
     check(lib.dvh_scene_remove(scene, 2) == DVH_STATUS_OK and lib.dvh_scene_remove(scene, 2) == DVH_STATUS_INVALID_ARGUMENT, "remove once")
     check("object 2 is not in the scene" in last_error(), "removed object message: " + last_error())
+    # Over a step: self-contact, motions, the scene's continuous collision and stencils.
+    for name, args in (("dvh_scene_set_self_contact", [ScenePtr, ctypes.c_uint32, ctypes.c_bool]),
+                       ("dvh_scene_set_motion", [ScenePtr, ctypes.c_uint32, ctypes.POINTER(ctypes.c_double),
+                                                 ctypes.POINTER(ctypes.c_double), ctypes.c_size_t]),
+                       ("dvh_scene_set_motion_f32", [ScenePtr, ctypes.c_uint32, ctypes.POINTER(ctypes.c_float),
+                                                     ctypes.POINTER(ctypes.c_float), ctypes.c_size_t, ctypes.c_size_t]),
+                       ("dvh_scene_set_pose_motion", [ScenePtr, ctypes.c_uint32, ctypes.POINTER(DvhPose), ctypes.POINTER(DvhPose)]),
+                       ("dvh_scene_continuous_collide", [ScenePtr, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]),
+                       ("dvh_scene_nearest_features", [ScenePtr, ctypes.c_double, ctypes.c_void_p, ctypes.c_void_p,
+                                                       ctypes.POINTER(DvhQueryStats)])):
+        getattr(lib, name).restype = DvhStatus
+        getattr(lib, name).argtypes = args
+    for name in ("dvh_scene_impacts_new", "dvh_scene_near_pairs_new"):
+        getattr(lib, name).restype = ctypes.c_void_p
+    for name in ("dvh_scene_impacts_len", "dvh_scene_near_pairs_len"):
+        getattr(lib, name).restype = ctypes.c_size_t
+        getattr(lib, name).argtypes = [ctypes.c_void_p]
+    for name in ("dvh_scene_impacts_free", "dvh_scene_near_pairs_free"):
+        getattr(lib, name).argtypes = [ctypes.c_void_p]
+    check(lib.dvh_scene_set_self_contact(scene, 1, True) == DVH_STATUS_INVALID_ARGUMENT, "self-contact of a rigid refused")
+    check("rigid" in last_error(), "rigid self-contact message: " + last_error())
+    check(lib.dvh_scene_set_self_contact(scene, 1, False) == DVH_STATUS_OK
+          and lib.dvh_scene_set_self_contact(scene, 0, True) == DVH_STATUS_OK, "self-contact set")
+    down = (ctypes.c_double * len(sheet_pos))(*sheet_pos)
+    up_sheet = (ctypes.c_double * len(lifted_sheet))(*lifted_sheet)
+    check(lib.dvh_scene_set_motion(scene, 1, up_sheet, down, n) == DVH_STATUS_INVALID_ARGUMENT, "motion of a rigid refused")
+    check(lib.dvh_scene_set_motion_f32(scene, 0, None, None, 12, n) == DVH_STATUS_NULL_ARGUMENT, "NULL motion refused")
+    check(lib.dvh_scene_set_pose_motion(scene, 0, None, None) == DVH_STATUS_INVALID_ARGUMENT, "pose motion of a deformable refused")
+    check(lib.dvh_scene_set_pose_motion(scene, 1, ctypes.byref(up), ctypes.byref(up)) == DVH_STATUS_OK, "pose motion")
+    check(lib.dvh_scene_set_motion(scene, 0, up_sheet, down, n) == DVH_STATUS_OK, "motion")
+    scene_impacts = lib.dvh_scene_impacts_new()
+    check(lib.dvh_scene_continuous_collide(scene, None, scene_impacts, None) == DVH_STATUS_OK, "scene continuous collide")
+    # The pair is excluded and the flat sheet does not meet itself while it moves down.
+    check(lib.dvh_scene_impacts_len(scene_impacts) == 0, "no impact of an excluded pair")
+    scene_near = lib.dvh_scene_near_pairs_new()
+    near_stats = DvhQueryStats()
+    check(lib.dvh_scene_nearest_features(scene, -1.0, None, scene_near, None) == DVH_STATUS_INVALID_ARGUMENT,
+          "negative distance refused")
+    check(lib.dvh_scene_nearest_features(scene, 0.5, None, scene_near, ctypes.byref(near_stats)) == DVH_STATUS_OK
+          and near_stats.pairs == lib.dvh_scene_near_pairs_len(scene_near), "scene stencils")
+    lib.dvh_scene_impacts_free(scene_impacts)
+    lib.dvh_scene_near_pairs_free(scene_near)
     lib.dvh_contacts_free(contacts)
     lib.dvh_scene_free(scene)
 
