@@ -427,34 +427,44 @@ fn standalone(
 ) -> Option<Vec<(u32, *mut DvhMesh)>> {
     let mut out: Vec<(u32, *mut DvhMesh)> = Vec::new();
     for (&id, o) in objects {
-        let (start, end) = o.world();
-        let tris = &made[o.mesh].triangles;
-        let mut mesh = std::ptr::null_mut();
-        // SAFETY: arrays of the counts given.
-        unsafe {
-            let st = dvh_mesh_create(
-                end.as_ptr(),
-                end.len() / 3,
-                tris.as_ptr(),
-                tris.len() / 3,
-                std::ptr::null(),
-                &mut mesh,
-            );
-            let moved = st == DVH_STATUS_OK
-                && (o.start.is_none()
-                    || dvh_mesh_refit_motion(mesh, start.as_ptr(), end.as_ptr(), end.len() / 3)
-                        == DVH_STATUS_OK);
-            if !moved {
-                dvh_mesh_free(mesh);
-                for (_, m) in out {
-                    dvh_mesh_free(m);
-                }
-                return None;
+        let Some(mesh) = standalone_one(made, o) else {
+            for (_, m) in out {
+                // SAFETY: live handles, released once.
+                unsafe { dvh_mesh_free(m) };
             }
-        }
+            return None;
+        };
         out.push((id, mesh));
     }
     Some(out)
+}
+
+/// A stand-alone mesh holding object `o`'s world positions and motion (`None` when a new mesh
+/// refuses them); the caller frees it.
+fn standalone_one(made: &[Made], o: &Object) -> Option<*mut DvhMesh> {
+    let (start, end) = o.world();
+    let tris = &made[o.mesh].triangles;
+    let mut mesh = std::ptr::null_mut();
+    // SAFETY: arrays of the counts given; a mesh that failed is freed (NULL is a no-op).
+    unsafe {
+        let st = dvh_mesh_create(
+            end.as_ptr(),
+            end.len() / 3,
+            tris.as_ptr(),
+            tris.len() / 3,
+            std::ptr::null(),
+            &mut mesh,
+        );
+        let moved = st == DVH_STATUS_OK
+            && (o.start.is_none()
+                || dvh_mesh_refit_motion(mesh, start.as_ptr(), end.as_ptr(), end.len() / 3)
+                    == DVH_STATUS_OK);
+        if !moved {
+            dvh_mesh_free(mesh);
+            return None;
+        }
+    }
+    Some(mesh)
 }
 
 /// The object pairs the filters allow, and the objects with self-contact on paired with
@@ -685,38 +695,32 @@ fn judge_scene(
         if mode != DVH_QUERY_MODE_TRIANGLES && mode != DVH_QUERY_MODE_FIRST_HIT {
             continue;
         }
-        let (_, end) = oi.world();
-        let tris = &made[oi.mesh].triangles;
-        let mut mesh = std::ptr::null_mut();
+        // The end of the step is what the discrete query sees: its positions alone.
+        let still = Object {
+            start: None,
+            positions: oi.positions.clone(),
+            pose: oi.pose,
+            ..*oi
+        };
+        let Some(mesh) = standalone_one(made, &still) else {
+            continue;
+        };
         let buffer = dvh_pairs_new();
-        let mut expected = Vec::new();
-        // SAFETY: arrays of the counts given; live handles, released once.
-        unsafe {
-            let st = dvh_mesh_create(
-                end.as_ptr(),
-                end.len() / 3,
-                tris.as_ptr(),
-                tris.len() / 3,
-                std::ptr::null(),
-                &mut mesh,
+        // SAFETY: live handles, released once.
+        let expected: Vec<(u32, u32)> = unsafe {
+            let all = dvh_query_options_default();
+            assert_eq!(
+                dvh_self_collide(mesh, &all, buffer, std::ptr::null_mut()),
+                DVH_STATUS_OK
             );
-            if st == DVH_STATUS_OK {
-                let all = dvh_query_options_default();
-                assert_eq!(
-                    dvh_self_collide(mesh, &all, buffer, std::ptr::null_mut()),
-                    DVH_STATUS_OK
-                );
-                let data = dvh_pairs_data(buffer);
-                expected = (0..dvh_pairs_len(buffer))
-                    .map(|k| ((*data.add(k)).a, (*data.add(k)).b))
-                    .collect();
-                dvh_mesh_free(mesh);
-            }
+            let data = dvh_pairs_data(buffer);
+            let found = (0..dvh_pairs_len(buffer))
+                .map(|k| ((*data.add(k)).a, (*data.add(k)).b))
+                .collect();
+            dvh_mesh_free(mesh);
             dvh_pairs_free(buffer);
-            if st != DVH_STATUS_OK {
-                continue;
-            }
-        }
+            found
+        };
         if mode == DVH_QUERY_MODE_FIRST_HIT || truncated {
             assert!(
                 mine.iter().all(|p| expected.contains(p)),
