@@ -72,10 +72,11 @@ impl Sweeps<'_, '_> {
 impl PrimitiveTest for Sweeps<'_, '_> {
     type Found = Impact;
 
-    /// The earliest impact alone, exact: the boxes end at the earliest time found so far.
+    /// The earliest impact alone, exact: the boxes end at the earliest time found so far,
+    /// which only comes earlier.
     #[inline]
-    fn fixed_boxes(&self) -> bool {
-        !(self.earliest_only && self.mode == CcdMode::Exact)
+    fn box_epoch(&self) -> u64 {
+        self.box_cut().to_bits()
     }
 
     #[inline(always)]

@@ -111,7 +111,10 @@ pub(crate) fn test_leaf_pairs<T: PrimitiveTest>(
         chunks: finished,
         chunk_counts,
     } = space;
-    let tables = if narrow.test.fixed_boxes() {
+    let tables: Tables = {
+        // Read before the boxes are made: a test that tightens them meanwhile makes them
+        // tighter than this says, and its node pairs build their own.
+        let epoch = narrow.test.box_epoch();
         let [box_a, box_b] = boxes;
         let (a, b) = (&narrow.a, &narrow.b);
         let filled = if narrow.one_mesh {
@@ -124,9 +127,7 @@ pub(crate) fn test_leaf_pairs<T: PrimitiveTest>(
         };
         filled.map_err(|bytes| Error::OutOfMemory { bytes })?;
         let b = if narrow.one_mesh { &*box_a } else { &*box_b };
-        Some(Tables { a: box_a, b })
-    } else {
-        None
+        Tables { a: box_a, b, epoch }
     };
     let sort_threads = threads::resolve(threads);
     let threads = if pairs.len() < PARALLEL_MIN_PAIRS {
@@ -220,7 +221,7 @@ pub(crate) fn test_leaf_pairs<T: PrimitiveTest>(
 /// (`counts`, on several workers: room for each chunk's count, at least `chunks`).
 fn in_chunks<T: PrimitiveTest>(
     narrow: &Narrow<T>,
-    tables: Option<Tables>,
+    tables: Tables,
     pairs: &[Pair],
     chunks: usize,
     limit: usize,

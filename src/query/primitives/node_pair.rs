@@ -63,27 +63,29 @@ pub(crate) struct Narrow<'m, T> {
 }
 
 /// Each side's boxes of its owned primitives, computed once for the query (one table for
-/// both sides of a self query).
+/// both sides of a self query), as the test made them at [`PrimitiveTest::box_epoch`] `epoch`.
 #[derive(Clone, Copy)]
 pub(crate) struct Tables<'b> {
     pub a: &'b OwnedBoxes,
     pub b: &'b OwnedBoxes,
+    pub epoch: u64,
 }
 
 impl<T: PrimitiveTest> Narrow<'_, T> {
     /// Tests the primitive pairs of node `na` of `a` and `nb` of `b` (of one mesh, `na <= nb`,
     /// the two equal or with no ring in common) into `w`, stopping once `w.out` holds `limit`
     /// results. Returns whether it stopped. The primitives' boxes come from `tables`, filled
-    /// for both nodes, or are built here when the test's boxes change during the query
-    /// ([`PrimitiveTest::fixed_boxes`]).
+    /// for both nodes, or are built here once the test's boxes have become tighter than the
+    /// tables' ([`PrimitiveTest::box_epoch`]).
     pub fn node_pair(
         &self,
-        tables: Option<Tables>,
+        tables: Tables,
         w: &mut Worker<T::Found>,
         na: u32,
         nb: u32,
         limit: usize,
     ) -> bool {
+        let tables = Some(tables).filter(|t| t.epoch == self.test.box_epoch());
         let mut scratch = w.scratch.take().unwrap_or_default();
         let stopped = self.node_pair_in(tables, w, &mut scratch, na, nb, limit);
         w.scratch = Some(scratch);

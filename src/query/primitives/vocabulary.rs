@@ -43,12 +43,14 @@ pub(crate) trait PrimitiveTest: Sync {
     /// Grows `b` by vertex `v` of `side` as the test sees it (its sweep, its placed position).
     fn grow(&self, side: Side, v: u32, b: &mut Aabb);
 
-    /// Do the boxes [`PrimitiveTest::grow`] makes stay the same for the whole query? Then
-    /// they are computed once per query; otherwise (a test that shrinks them as it finds
-    /// results) for each node pair.
+    /// Which boxes [`PrimitiveTest::grow`] makes now: a number that changes whenever they
+    /// become tighter (a test that shrinks them as it finds results), never looser. The boxes
+    /// are computed once per query, marked with this; a node pair whose test has moved on
+    /// builds its own, tighter boxes (the older ones still hold what it needs, but keep
+    /// more).
     #[inline(always)]
-    fn fixed_boxes(&self) -> bool {
-        true
+    fn box_epoch(&self) -> u64 {
+        0
     }
 
     /// How near primitives must come to be tested: their boxes are compared within this
