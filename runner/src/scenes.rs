@@ -205,14 +205,29 @@ fn many_steps(
             }
         }
     }
-    let d = 0.01 * (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
+    let diagonal = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
+    // Stencils at 1% (millions of them: result handling dominates) and at 0.1% (the search).
+    let distances = [
+        (
+            0.01,
+            "stencils at 1%, pair by pair",
+            "stencils at 1%, scene",
+        ),
+        (
+            0.001,
+            "stencils at 0.1%, pair by pair",
+            "stencils at 0.1%, scene",
+        ),
+    ];
     let name = format!("many ({} objects), over a step", meshes.len());
-    let mut rows_here = [
+    let mut rows_here = vec![
         Row::new(name.clone(), "earliest impact, pair by pair"),
         Row::new(name.clone(), "earliest impact, scene"),
-        Row::new(name.clone(), "stencils at 1%, pair by pair"),
-        Row::new(name, "stencils at 1%, scene"),
     ];
+    for (_, pairwise, together) in distances {
+        rows_here.push(Row::new(name.clone(), pairwise));
+        rows_here.push(Row::new(name.clone(), together));
+    }
     let (mut impacts, mut scene_impacts) = (Impacts::new(), SceneImpacts::new());
     let (mut near, mut scene_near) = (NearPairs::new(), SceneNearPairs::new());
     for k in 0..frames {
@@ -258,42 +273,46 @@ fn many_steps(
         rows_here[1].ms.push(ms);
         rows_here[1].contacts += scene_impacts.len() as u64;
         // The stencils at the end of the step.
-        let (ms, expected) = fastest(repeat, || -> Result<Vec<SceneNearPair>, dvh::Error> {
-            for (m, w) in meshes.iter_mut().zip(&end) {
-                m.refit(w)?;
+        for (n, &(fraction, _, _)) in distances.iter().enumerate() {
+            let d = fraction * diagonal;
+            let (pairwise_row, scene_row) = (2 + 2 * n, 3 + 2 * n);
+            let (ms, expected) = fastest(repeat, || -> Result<Vec<SceneNearPair>, dvh::Error> {
+                for (m, w) in meshes.iter_mut().zip(&end) {
+                    m.refit(w)?;
+                }
+                let mut all = Vec::new();
+                for &(i, j) in &s.pairs {
+                    nearest_features(&meshes[i], None, &meshes[j], None, d, &query, &mut near)?;
+                    all.extend(near.iter().map(|&pair| SceneNearPair {
+                        object_a: i as u32,
+                        object_b: j as u32,
+                        pair,
+                    }));
+                }
+                Ok(all)
+            });
+            let expected = expected?;
+            rows_here[pairwise_row].ms.push(ms);
+            rows_here[pairwise_row].pairs_queried += s.pairs.len() as u64;
+            rows_here[pairwise_row].contacts += expected.len() as u64;
+            let (ms, st) = fastest(repeat, || -> Result<dvh::QueryStats, dvh::Error> {
+                for (id, w) in end.iter().enumerate() {
+                    scene.set_positions(id as u32, w)?;
+                }
+                scene.nearest_features(d, &query, &mut scene_near)
+            });
+            st?;
+            if scene_near.as_slice() != &expected[..] {
+                return Err(format!(
+                    "many, step {f}: the scene found {} stencils, pair by pair {}",
+                    scene_near.len(),
+                    expected.len()
+                )
+                .into());
             }
-            let mut all = Vec::new();
-            for &(i, j) in &s.pairs {
-                nearest_features(&meshes[i], None, &meshes[j], None, d, &query, &mut near)?;
-                all.extend(near.iter().map(|&pair| SceneNearPair {
-                    object_a: i as u32,
-                    object_b: j as u32,
-                    pair,
-                }));
-            }
-            Ok(all)
-        });
-        let expected = expected?;
-        rows_here[2].ms.push(ms);
-        rows_here[2].pairs_queried += s.pairs.len() as u64;
-        rows_here[2].contacts += expected.len() as u64;
-        let (ms, st) = fastest(repeat, || -> Result<dvh::QueryStats, dvh::Error> {
-            for (id, w) in end.iter().enumerate() {
-                scene.set_positions(id as u32, w)?;
-            }
-            scene.nearest_features(d, &query, &mut scene_near)
-        });
-        st?;
-        if scene_near.as_slice() != &expected[..] {
-            return Err(format!(
-                "many, step {f}: the scene found {} stencils, pair by pair {}",
-                scene_near.len(),
-                expected.len()
-            )
-            .into());
+            rows_here[scene_row].ms.push(ms);
+            rows_here[scene_row].contacts += scene_near.len() as u64;
         }
-        rows_here[3].ms.push(ms);
-        rows_here[3].contacts += scene_near.len() as u64;
     }
     rows.extend(rows_here);
     Ok(())
