@@ -79,6 +79,12 @@ pub struct Report {
     pub held: usize,
     /// Seconds spent in the scene's queries and setters, and in the rest.
     pub collision_seconds: f64,
+    /// Of those, in the stencils of the repel rounds.
+    pub stencil_seconds: f64,
+    /// Of those, in continuous collision (the motions set for it included).
+    pub ccd_seconds: f64,
+    /// Of those, in the end-of-step check (the exact discrete query and the least distance).
+    pub check_seconds: f64,
     /// Seconds spent in the dynamics (prediction, constraints, pushes).
     pub dynamics_seconds: f64,
     /// The cloth's positions after each step (with `keep_frames` or an output directory).
@@ -361,6 +367,7 @@ pub fn simulate(settings: &Settings) -> Result<Report, Box<dyn std::error::Error
         scene.set_pose_motion(paddle, Some(&paddle_pose(t0)), Some(&paddle_pose(t1)))?;
         pillow_at(&pillow_rest, t1, &mut pillow_next);
         scene.set_motion(pillow, flat(&pillow_p), flat(&pillow_next))?;
+        report.ccd_seconds += clock.elapsed().as_secs_f64();
         report.collision_seconds += clock.elapsed().as_secs_f64();
 
         // 1. Predict.
@@ -388,6 +395,7 @@ pub fn simulate(settings: &Settings) -> Result<Report, Box<dyn std::error::Error
                 let clock = Instant::now();
                 scene.set_positions(cloth, flat(&pred))?;
                 scene.nearest_features(thickness, &query, &mut near)?;
+                report.stencil_seconds += clock.elapsed().as_secs_f64();
                 report.collision_seconds += clock.elapsed().as_secs_f64();
                 if round == 0 && rounds == 0 {
                     report.stencils.push(near.len());
@@ -402,6 +410,7 @@ pub fn simulate(settings: &Settings) -> Result<Report, Box<dyn std::error::Error
             let clock = Instant::now();
             scene.set_motion(cloth, flat(&cloth_p), flat(&pred))?;
             let stats = scene.continuous_collide(&earliest, &mut impacts)?;
+            report.ccd_seconds += clock.elapsed().as_secs_f64();
             report.collision_seconds += clock.elapsed().as_secs_f64();
             if impacts.is_empty() || !settings.cut {
                 break;
@@ -505,6 +514,7 @@ pub fn simulate(settings: &Settings) -> Result<Report, Box<dyn std::error::Error
             eprintln!("step {step}: kept {kept:.3}, rounds {rounds}, contacts {by:?}");
         }
         scene.nearest_features(thickness, &query, &mut near)?;
+        report.check_seconds += clock.elapsed().as_secs_f64();
         report.collision_seconds += clock.elapsed().as_secs_f64();
         let least = near
             .iter()
@@ -801,12 +811,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let steps = report.kept.len() as f64;
     let bad: usize = report.intersecting.iter().sum();
     println!(
-        "{} triangles, {} steps in {:.1} s: scene queries {:.2} ms a step, the rest {:.2} ms; \
+        "{} triangles, {} steps in {:.1} s: scene queries {:.2} ms a step (stencils {:.2}, \
+         continuous collision {:.2}, the check {:.2}), the rest {:.2} ms; \
          {} steps cut by an impact, {} held corners; {} intersecting pairs at the ends of steps",
         report.triangles,
         report.kept.len(),
         clock.elapsed().as_secs_f64(),
         1e3 * report.collision_seconds / steps,
+        1e3 * report.stencil_seconds / steps,
+        1e3 * report.ccd_seconds / steps,
+        1e3 * report.check_seconds / steps,
         1e3 * report.dynamics_seconds / steps,
         report.kept.iter().filter(|&&k| k < 1.0).count(),
         report.held,
