@@ -66,6 +66,7 @@ use super::tri_tri::{Triangle, triangles_intersect};
 use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{ToPrimitive, Zero};
+use std::cell::Cell;
 
 /// Which features of the two triangles hold an end of their segment of intersection. Corners
 /// are local indices `0..3`; an edge is its two corners, the lower first.
@@ -237,6 +238,8 @@ struct Pair<'t> {
     sa: [Sign; 3],
     /// Sides of `b`'s corners relative to `a`'s plane.
     sb: [Sign; 3],
+    plane_a: PlaneOf<'t>,
+    plane_b: PlaneOf<'t>,
 }
 
 impl Pair<'_> {
@@ -284,7 +287,14 @@ fn pair<O: Orient>(a: &Triangle, b: &Triangle) -> PairIntersection {
             PairIntersection::Coplanar
         };
     }
-    let pair = Pair { a, b, sa, sb };
+    let pair = Pair {
+        a,
+        b,
+        sa,
+        sb,
+        plane_a: PlaneOf::new(a),
+        plane_b: PlaneOf::new(b),
+    };
     let [a_lo, a_hi] = interval(sa, true);
     let [b_lo, b_hi] = interval(sb, false);
     let start = match pair.compare::<O>(a_lo, b_lo) {
@@ -372,11 +382,11 @@ impl Pair<'_> {
             EndFeature::EdgeOfA { i, j } | EndFeature::Edges { a: (i, j), .. }
                 if self.sa[usize::from(i)] != 0 || self.sa[usize::from(j)] != 0 =>
             {
-                edge_meets_plane(&self.a[usize::from(i)], &self.a[usize::from(j)], self.b)
+                (self.plane_b).meet(&self.a[usize::from(i)], &self.a[usize::from(j)])
             }
             EndFeature::EdgeOfA { .. } => unreachable!("an edge of a crossing b's interior"),
             EndFeature::EdgeOfB { i, j } | EndFeature::Edges { b: (i, j), .. } => {
-                edge_meets_plane(&self.b[usize::from(i)], &self.b[usize::from(j)], self.a)
+                (self.plane_a).meet(&self.b[usize::from(i)], &self.b[usize::from(j)])
             }
         };
         SegmentEnd { feature, point }
@@ -387,36 +397,66 @@ impl Pair<'_> {
 /// point (`p` and `q` on different sides, at most one in the plane), meets it, each coordinate
 /// rounded to the nearest double.
 pub(crate) fn edge_meets_plane(p: &Point, q: &Point, t: &Triangle) -> Point {
-    let x = if [p, q].into_iter().chain(t).all(is_safe_point)
-        && let Some(x) = edge_meets_plane_fast(p, q, t)
-    {
-        x
-    } else {
-        edge_meets_plane_exact(p, q, t)
-    };
-    // One zero for both signs, whichever way the arithmetic reached it.
-    x.map(|c| c + 0.0)
+    PlaneOf::new(t).meet(p, q)
 }
 
-/// [`edge_meets_plane`] in double-double intervals, when every coordinate's enclosure rounds to
-/// one double; `None` otherwise. Only for safe coordinates (products of up to three
-/// differences then stay in the intervals' range).
-fn edge_meets_plane_fast(p: &Point, q: &Point, t: &Triangle) -> Option<Point> {
-    let n = cross(&difference(&t[1], &t[0]), &difference(&t[2], &t[0]));
-    let op = DdInterval::dot::<Plain>(&n, &difference(p, &t[0]));
-    let oq = DdInterval::dot::<Plain>(&n, &difference(q, &t[0]));
-    let (num, den) = if op.hi >= oq.hi {
-        (op, op - oq)
-    } else {
-        (-op, oq - op)
-    };
-    let s = num.divide::<Plain>(&den)?;
-    let pq = difference(q, p);
-    let mut x = [0.0; 3];
-    for k in 0..3 {
-        x[k] = nearest(&(DdInterval::point(p[k]) + s.times::<Plain>(pq[k])))?;
+/// A triangle's plane, for rounding where edges meet it: its normal in double-double intervals
+/// is computed on first use and kept for the segment's other end.
+struct PlaneOf<'t> {
+    t: &'t Triangle,
+    safe: bool,
+    normal: Cell<Option<V<DdInterval>>>,
+}
+
+impl<'t> PlaneOf<'t> {
+    fn new(t: &'t Triangle) -> PlaneOf<'t> {
+        PlaneOf {
+            t,
+            safe: t.iter().all(is_safe_point),
+            normal: Cell::new(None),
+        }
     }
-    Some(x)
+
+    /// [`edge_meets_plane`] for this plane.
+    fn meet(&self, p: &Point, q: &Point) -> Point {
+        let x = if self.safe
+            && is_safe_point(p)
+            && is_safe_point(q)
+            && let Some(x) = self.meet_fast(p, q)
+        {
+            x
+        } else {
+            edge_meets_plane_exact(p, q, self.t)
+        };
+        // One zero for both signs, whichever way the arithmetic reached it.
+        x.map(|c| c + 0.0)
+    }
+
+    /// [`edge_meets_plane`] in double-double intervals, when every coordinate's enclosure rounds
+    /// to one double; `None` otherwise. Only for safe coordinates (products of up to three
+    /// differences then stay in the intervals' range).
+    fn meet_fast(&self, p: &Point, q: &Point) -> Option<Point> {
+        let t = self.t;
+        let n = self.normal.get().unwrap_or_else(|| {
+            let n = cross(&difference(&t[1], &t[0]), &difference(&t[2], &t[0]));
+            self.normal.set(Some(n));
+            n
+        });
+        let op = DdInterval::dot::<Plain>(&n, &difference(p, &t[0]));
+        let oq = DdInterval::dot::<Plain>(&n, &difference(q, &t[0]));
+        let (num, den) = if op.hi >= oq.hi {
+            (op, op - oq)
+        } else {
+            (-op, oq - op)
+        };
+        let s = num.divide::<Plain>(&den)?;
+        let pq = difference(q, p);
+        let mut x = [0.0; 3];
+        for k in 0..3 {
+            x[k] = nearest(&(DdInterval::point(p[k]) + s.times::<Plain>(pq[k])))?;
+        }
+        Some(x)
+    }
 }
 
 /// `a - b` exactly, as double-doubles.

@@ -353,6 +353,19 @@ fn check_all(a: &Triangle, b: &Triangle, tally: &mut Tally) {
     check_symmetry(a, b);
 }
 
+/// [`check_all`] for slow (big-number) cases, leaving most of the symmetries to the others.
+fn check_some(a: &Triangle, b: &Triangle, tally: &mut Tally, case: usize) {
+    tally.add(check(a, b));
+    if case % 8 == 0 {
+        check_symmetry(a, b);
+    } else {
+        assert_eq!(
+            triangle_pair_intersection(b, a),
+            triangle_pair_intersection(a, b).mirrored()
+        );
+    }
+}
+
 fn small_point(rng: &mut Rng, n: u64) -> Point {
     std::array::from_fn(|_| rng.below(2 * n + 1) as f64 - n as f64)
 }
@@ -446,7 +459,7 @@ fn around(rng: &mut Rng, c: Point, size: f64) -> Triangle {
 fn crossing_float_triangles_agree_with_the_judge() {
     let mut rng = Rng::new(5);
     let mut tally = Tally::default();
-    for _ in 0..4000 {
+    for _ in 0..1500 {
         let a: Triangle = std::array::from_fn(|_| std::array::from_fn(|_| rng.range(-1.0, 1.0)));
         let c: Point = std::array::from_fn(|k| {
             let w = [rng.unit(), rng.unit(), rng.unit()];
@@ -456,29 +469,47 @@ fn crossing_float_triangles_agree_with_the_judge() {
         let b = around(&mut rng, c, size);
         check_all(&a, &b, &mut tally);
     }
-    assert!(tally.0[Kind::Segment as usize] > 3000, "{tally:?}");
+    assert!(tally.0[Kind::Segment as usize] > 1100, "{tally:?}");
 }
 
 #[test]
 fn extreme_scales_and_offsets_agree_with_the_judge() {
     let mut rng = Rng::new(9);
     let mut tally = Tally::default();
-    for case in 0..3000 {
+    // `x 2^k`, exactly where the result is representable (two steps reach the subnormals).
+    let scaled = |x: f64, k: i32| x * 2f64.powi(k / 2) * 2f64.powi(k - k / 2);
+    for case in 0..2000 {
         let a: Triangle = std::array::from_fn(|_| std::array::from_fn(|_| rng.range(-1.0, 1.0)));
         let c: Point = std::array::from_fn(|k| (a[0][k] + a[1][k] + a[2][k]) / 3.0);
         let b = around(&mut rng, c, 1.0);
-        let (a, b) = if case % 2 == 0 {
-            // Powers of two keep the geometry exactly, down to where coordinates turn subnormal.
-            let s = 2f64.powi(rng.below(1801) as i32 - 900);
-            (a.map(|p| p.map(|x| x * s)), b.map(|p| p.map(|x| x * s)))
-        } else {
-            let o: Point = std::array::from_fn(|_| rng.range(-1e6, 1e6));
-            let moved = |t: Triangle| t.map(|p| std::array::from_fn(|k| p[k] + o[k]));
-            (moved(a), moved(b))
+        let (mut a, b) = match case % 4 {
+            0 | 1 => {
+                // Powers of two keep the geometry exactly, until coordinates turn subnormal;
+                // then rounded inputs make it nearly degenerate.
+                let k = if case % 4 == 0 {
+                    rng.below(1801) as i32 - 900
+                } else if rng.below(2) == 0 {
+                    rng.below(75) as i32 - 1074
+                } else {
+                    rng.below(63) as i32 + 960
+                };
+                let s = |t: Triangle| t.map(|p| p.map(|x| scaled(x, k)));
+                (s(a), s(b))
+            }
+            2 => {
+                let o: Point = std::array::from_fn(|_| rng.range(-1e6, 1e6));
+                let moved = |t: Triangle| t.map(|p| std::array::from_fn(|k| p[k] + o[k]));
+                (moved(a), moved(b))
+            }
+            _ => (a, b),
         };
-        check_all(&a, &b, &mut tally);
+        if case % 4 == 3 {
+            // One coordinate outside the predicates' safe range, in otherwise plain input.
+            a[rng.below(3) as usize][rng.below(3) as usize] = 1e-250;
+        }
+        check_some(&a, &b, &mut tally, case);
     }
-    assert!(tally.0[Kind::Segment as usize] > 2000, "{tally:?}");
+    assert!(tally.0[Kind::Segment as usize] > 1200, "{tally:?}");
 }
 
 #[test]
@@ -639,7 +670,7 @@ fn fast_rounding_agrees_with_the_exact_one() {
         for k in 0..3 {
             assert!(is_nearest(&x[k], exact[k]));
         }
-        if let Some(f) = edge_meets_plane_fast(&p, &q, &t) {
+        if let Some(f) = PlaneOf::new(&t).meet_fast(&p, &q) {
             fast += 1;
             assert_eq!(
                 f.map(f64::to_bits),
@@ -674,6 +705,27 @@ fn time_crossing_pairs() {
             }
         }
         let took = start.elapsed();
+        let rounding = std::time::Instant::now();
+        let mut sum = 0.0;
+        for (a, b) in &pairs {
+            // The line through the edge meets the plane: the same arithmetic as a crossing.
+            let x = edge_meets_plane(&a[0], &a[1], b);
+            sum += x[0];
+        }
+        let rounded = rounding.elapsed();
+        let cached = std::time::Instant::now();
+        for (a, b) in &pairs {
+            let plane = PlaneOf::new(b);
+            sum += plane.meet(&a[0], &a[1])[0] + plane.meet(&a[1], &a[2])[0];
+        }
+        println!(
+            "two points against one plane: {:.0} ns",
+            cached.elapsed().as_nanos() as f64 / pairs.len() as f64
+        );
+        println!(
+            "rounding one point (any edge against a plane): {:.0} ns ({sum})",
+            rounded.as_nanos() as f64 / pairs.len() as f64
+        );
         let test = std::time::Instant::now();
         let mut hits = 0;
         for (a, b) in &pairs {
