@@ -21,6 +21,9 @@
 //!   an edge of `a` crossing an edge of `b` ([`EndFeature::Edges`], the point where the two
 //!   edges meet); otherwise the edge of one crossing the interior of the other. The same exact
 //!   point is thus named the same way by every pair that reaches it through the same features.
+//!   Where the two triangles' interval ends coincide exactly (an orientation of zero), the end
+//!   is named from both triangles' features by this rule, which treats `a` and `b` alike, so
+//!   that swapping them mirrors the name. Other kinds carry no points or features.
 //! - Two such triangles sharing exactly one point: [`PairIntersection::Point`].
 //! - Two proper coplanar triangles that meet: [`PairIntersection::Coplanar`].
 //! - A degenerate triangle (collinear or repeated corners) has no plane and no normal: a pair
@@ -51,7 +54,7 @@
 //! interval and takes its centre when the whole enclosure rounds to it (nearly always); the
 //! rest are computed in exact rationals. The exact point lies in the edge's bounding box, so no
 //! coordinate overflows; one of magnitude below `2^-1022` is the nearest subnormal (absolute
-//! error at most `2^-1075`).
+//! error at most `2^-1075`). An exact zero is `+0.0`; a corner keeps its input bits.
 
 // Served to the intersection curves; until they use it, only its tests do.
 #![cfg_attr(not(test), allow(dead_code))]
@@ -72,19 +75,20 @@ use std::cell::Cell;
 /// are local indices `0..3`; an edge is its two corners, the lower first.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub(crate) enum EndFeature {
-    /// Corner `k` of `a`, lying in `b` (on its interior, an edge, or exactly at a corner of `b`
-    /// only when that is [`EndFeature::SharedCorner`]).
+    /// Corner `k` of `a`, lying in `b` (its interior or an edge) but not a corner of `b`.
     CornerOfA(u8),
-    /// Corner `k` of `b`, lying in `a`.
+    /// Corner `k` of `b`, lying in `a` but not a corner of `a`.
     CornerOfB(u8),
     /// Corner `a` of the first triangle and corner `b` of the second: the same point.
     SharedCorner { a: u8, b: u8 },
-    /// Edge `(i, j)` of `a` crossing the interior of `b` (the point where it meets `b`'s plane).
+    /// Edge `(i, j)` of `a`, its ends on opposite sides of `b`'s plane, crossing the interior
+    /// of `b` (at the point where it meets `b`'s plane).
     EdgeOfA { i: u8, j: u8 },
     /// Edge `(i, j)` of `b` crossing the interior of `a`.
     EdgeOfB { i: u8, j: u8 },
-    /// Edge `a` of the first triangle crossing edge `b` of the second, at a point that is a
-    /// corner of neither.
+    /// Edge `a` of the first triangle meeting edge `b` of the second at one point, a corner of
+    /// neither. One of the two may lie in the other triangle's plane (touching it along the
+    /// planes' line); the point is where the other one meets that plane.
     Edges { a: (u8, u8), b: (u8, u8) },
 }
 

@@ -356,7 +356,7 @@ fn check_all(a: &Triangle, b: &Triangle, tally: &mut Tally) {
 /// [`check_all`] for slow (big-number) cases, leaving most of the symmetries to the others.
 fn check_some(a: &Triangle, b: &Triangle, tally: &mut Tally, case: usize) {
     tally.add(check(a, b));
-    if case % 8 == 0 {
+    if case.is_multiple_of(8) {
         check_symmetry(a, b);
     } else {
         assert_eq!(
