@@ -151,6 +151,13 @@ pub enum Error {
         /// The error, as for a mesh.
         error: Box<Error>,
     },
+    /// A query was asked in a mode it does not answer.
+    UnsupportedMode {
+        /// The mode given.
+        mode: crate::QueryMode,
+        /// The query, as the message names it.
+        query: &'static str,
+    },
     /// What was wrong with the start or the end positions of a motion.
     Motion {
         /// Which positions.
@@ -252,6 +259,10 @@ impl fmt::Display for Error {
             } => write!(
                 f,
                 "object {object} is deformable: it is moved by its positions, not by a pose"
+            ),
+            Error::UnsupportedMode { mode, query } => write!(
+                f,
+                "{query} are found in QueryMode::Triangles only, not in {mode:?}"
             ),
             Error::RigidSelfContact { object } => write!(
                 f,

@@ -56,9 +56,6 @@
 //! coordinate overflows; one of magnitude below `2^-1022` is the nearest subnormal (absolute
 //! error at most `2^-1075`). An exact zero is `+0.0`; a corner keeps its input bits.
 
-// Served to the intersection curves; until they use it, only its tests do.
-#![cfg_attr(not(test), allow(dead_code))]
-
 use super::distance::{V, cross};
 use super::double_double::{DdInterval, Plain, two_sum};
 use super::predicates::{
@@ -94,6 +91,7 @@ pub(crate) enum EndFeature {
 
 impl EndFeature {
     /// The same feature with the roles of the triangles swapped.
+    #[cfg(test)]
     pub(crate) fn mirrored(self) -> EndFeature {
         match self {
             EndFeature::CornerOfA(k) => EndFeature::CornerOfB(k),
@@ -131,6 +129,7 @@ pub(crate) enum PairIntersection {
 
 impl PairIntersection {
     /// The answer for the triangles swapped.
+    #[cfg(test)]
     pub(crate) fn mirrored(self) -> PairIntersection {
         match self {
             PairIntersection::Segment { start, end } => PairIntersection::Segment {
@@ -400,6 +399,7 @@ impl Pair<'_> {
 /// The point where the segment `pq`, which crosses the plane of the proper triangle `t` at one
 /// point (`p` and `q` on different sides, at most one in the plane), meets it, each coordinate
 /// rounded to the nearest double.
+#[cfg(test)]
 pub(crate) fn edge_meets_plane(p: &Point, q: &Point, t: &Triangle) -> Point {
     PlaneOf::new(t).meet(p, q)
 }

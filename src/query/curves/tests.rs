@@ -1,0 +1,624 @@
+//! The curve queries against an independent judge in exact rationals: each segment end's name
+//! gives an exact point, found here from the mesh alone (a vertex, an edge meeting a plane, two
+//! edges meeting), which must lie in both triangles of the pair and round to the reported bits;
+//! every curve a chain, every segment on one curve, the pairs those of `collide`.
+
+use super::chain::{chain, is_chained, piece};
+use super::*;
+use crate::fixtures::{MeshData, Rng, icosphere, soup, torus};
+use crate::geometry::predicates::Point;
+use crate::threads::{Step, at_least_two_threads, shared_count};
+use crate::{BuildOptions, Error, Mesh, Pair, Pairs, Pose, QueryMode, QueryOptions, collide};
+use num_rational::BigRational;
+use num_traits::{Signed, Zero};
+use std::collections::BTreeSet;
+
+type Q = BigRational;
+type QPoint = [Q; 3];
+
+fn q(x: f64) -> Q {
+    Q::from_float(x).expect("finite")
+}
+
+fn qsub(a: &QPoint, b: &QPoint) -> QPoint {
+    std::array::from_fn(|k| &a[k] - &b[k])
+}
+
+fn qdot(a: &QPoint, b: &QPoint) -> Q {
+    &a[0] * &b[0] + &a[1] * &b[1] + &a[2] * &b[2]
+}
+
+fn qcross(a: &QPoint, b: &QPoint) -> QPoint {
+    [
+        &a[1] * &b[2] - &a[2] * &b[1],
+        &a[2] * &b[0] - &a[0] * &b[2],
+        &a[0] * &b[1] - &a[1] * &b[0],
+    ]
+}
+
+fn along(p: &QPoint, d: &QPoint, s: &Q) -> QPoint {
+    std::array::from_fn(|k| &p[k] + &d[k] * s)
+}
+
+fn normal(t: &[QPoint; 3]) -> QPoint {
+    qcross(&qsub(&t[1], &t[0]), &qsub(&t[2], &t[0]))
+}
+
+/// Does `x` lie in the closed triangle `t` (proper)?
+fn in_triangle(x: &QPoint, t: &[QPoint; 3]) -> bool {
+    let n = normal(t);
+    qdot(&n, &qsub(x, &t[0])).is_zero()
+        && (0..3).all(|k| {
+            let (u, v) = (&t[k], &t[(k + 1) % 3]);
+            !qdot(&qcross(&qsub(v, u), &qsub(x, u)), &n).is_negative()
+        })
+}
+
+/// Does `x` lie strictly inside the segment `pq`?
+fn inside_segment(x: &QPoint, p: &QPoint, q: &QPoint) -> bool {
+    let d = qsub(q, p);
+    let r = qsub(x, p);
+    qcross(&d, &r).iter().all(Zero::is_zero) && {
+        let s = qdot(&r, &d);
+        s.is_positive() && s < qdot(&d, &d)
+    }
+}
+
+/// Is `r` the double nearest `e`?
+fn nearest(r: f64, e: &Q) -> bool {
+    let err = (q(r) - e).abs();
+    [r.next_up(), r.next_down()]
+        .iter()
+        .filter(|x| x.is_finite())
+        .all(|&x| err <= (q(x) - e).abs())
+}
+
+/// One side of a query, for the judge: the world positions of its vertices and its triangles.
+struct World {
+    positions: Vec<QPoint>,
+    triangles: Vec<[u32; 3]>,
+}
+
+impl World {
+    fn new(m: &Mesh, pose: Option<&Pose>) -> World {
+        World {
+            positions: m
+                .positions()
+                .iter()
+                .map(|p| pose.map_or(*p, |pose| pose.transform_point(p)).map(q))
+                .collect(),
+            triangles: m.triangles().to_vec(),
+        }
+    }
+
+    fn corners(&self, t: u32) -> [QPoint; 3] {
+        self.triangles[t as usize].map(|v| self.positions[v as usize].clone())
+    }
+
+    fn at(&self, v: u32) -> QPoint {
+        self.positions[v as usize].clone()
+    }
+
+    fn has_edge(&self, t: u32, [u, v]: [u32; 2]) -> bool {
+        let c = self.triangles[t as usize];
+        u < v && c.contains(&u) && c.contains(&v)
+    }
+}
+
+/// The exact point the name `name` of an end of the pair `(ta, tb)` stands for, checked to be
+/// a point the name can stand for there (the features belong to the pair, an edge crosses the
+/// plane it is said to cross, two edges meet inside both). `one_mesh`: `b` is `a`.
+fn exact_point(name: CurvePoint, ta: u32, tb: u32, a: &World, b: &World, one: bool) -> QPoint {
+    let of_pair = |w: &World, t: u32| w.triangles[t as usize];
+    match name {
+        CurvePoint::VertexA(v) => {
+            assert!(of_pair(a, ta).contains(&v) || (one && of_pair(a, tb).contains(&v)));
+            a.at(v)
+        }
+        CurvePoint::VertexB(v) => {
+            assert!(!one && of_pair(b, tb).contains(&v));
+            b.at(v)
+        }
+        CurvePoint::EdgeA { edge, triangle } => {
+            let (edge_side, plane) = if one && triangle == ta {
+                (b, a.corners(ta))
+            } else {
+                assert_eq!(triangle, tb, "{name:?} of ({ta}, {tb})");
+                (a, b.corners(tb))
+            };
+            let edge_owner = if one && triangle == ta { tb } else { ta };
+            assert!(edge_side.has_edge(edge_owner, edge), "{name:?}");
+            edge_meets_plane(&edge_side.at(edge[0]), &edge_side.at(edge[1]), &plane)
+        }
+        CurvePoint::EdgeB { triangle, edge } => {
+            assert!(!one && triangle == ta && b.has_edge(tb, edge), "{name:?}");
+            edge_meets_plane(&b.at(edge[0]), &b.at(edge[1]), &a.corners(ta))
+        }
+        CurvePoint::Edges { a: ea, b: eb } => {
+            let (ea, eb) = if one && !(a.has_edge(ta, ea) && a.has_edge(tb, eb)) {
+                assert!(ea < eb);
+                (eb, ea)
+            } else {
+                (ea, eb)
+            };
+            assert!(a.has_edge(ta, ea) && b.has_edge(tb, eb), "{name:?}");
+            let (p, r) = (a.at(ea[0]), b.at(eb[0]));
+            let (d1, d2) = (qsub(&a.at(ea[1]), &p), qsub(&b.at(eb[1]), &r));
+            let c = qcross(&d1, &d2);
+            let cc = qdot(&c, &c);
+            assert!(!cc.is_zero(), "{name:?}: parallel edges");
+            let s = qdot(&qcross(&qsub(&r, &p), &d2), &c) / cc;
+            let x = along(&p, &d1, &s);
+            assert!(inside_segment(&x, &p, &a.at(ea[1])), "{name:?}");
+            assert!(inside_segment(&x, &r, &b.at(eb[1])), "{name:?}");
+            x
+        }
+    }
+}
+
+fn edge_meets_plane(p: &QPoint, q: &QPoint, t: &[QPoint; 3]) -> QPoint {
+    let n = normal(t);
+    let (op, oq) = (qdot(&n, &qsub(p, &t[0])), qdot(&n, &qsub(q, &t[0])));
+    assert!(
+        op.is_positive() && oq.is_negative() || op.is_negative() && oq.is_positive(),
+        "the edge does not cross the plane"
+    );
+    let s = &op / (&op - &oq);
+    along(p, &qsub(q, p), &s)
+}
+
+/// Judges `curves` of `a` and `b` (`b` the same as `a` for self curves) against `pairs`, the
+/// pairs `collide`/`self_collide` reports. `oriented`: both surfaces consistently oriented, so
+/// every segment runs along its own pair's `n_a x n_b`.
+fn judge(curves: &Curves, a: &World, b: &World, one: bool, pairs: &[Pair], oriented: bool) {
+    let set = &curves.result;
+    assert!(is_chained(set), "a curve does not chain");
+    // Every segment on exactly one curve, curve by curve.
+    let mut next = 0;
+    for (i, c) in curves.curves().iter().enumerate() {
+        assert_eq!(c.segments.start, next);
+        assert!(!c.segments.is_empty());
+        next = c.segments.end;
+        assert!(curves.curve_segments(i).iter().all(|s| s.curve == i as u32));
+        // A curve runs the way its least segment's pair does; a closed one starts there.
+        let least = (c.segments.clone())
+            .min_by_key(|&s| (set.segments[s].triangle_a, set.segments[s].triangle_b))
+            .unwrap();
+        assert!(direction(curves, least, a, b, one).is_positive());
+        if c.closed {
+            assert_eq!(least, c.segments.start);
+        }
+    }
+    assert_eq!(next, curves.len());
+    // Curves ordered by their least segment.
+    let least: Vec<(u32, u32)> = curves
+        .curves()
+        .iter()
+        .map(|c| {
+            set.segments[c.segments.clone()]
+                .iter()
+                .map(|s| (s.triangle_a, s.triangle_b))
+                .min()
+                .unwrap()
+        })
+        .collect();
+    assert!(least.windows(2).all(|w| w[0] < w[1]));
+
+    // The pairs: each intersecting pair once, a segment or a degenerate pair.
+    let mut got: Vec<Pair> = curves
+        .segments()
+        .iter()
+        .map(|s| Pair {
+            a: s.triangle_a,
+            b: s.triangle_b,
+        })
+        .chain(curves.degenerate().iter().map(|d| Pair {
+            a: d.triangle_a,
+            b: d.triangle_b,
+        }))
+        .collect();
+    got.sort_unstable();
+    assert_eq!(
+        got, pairs,
+        "segments and degenerate pairs are not the pairs"
+    );
+    assert!(curves.degenerate().windows(2).all(|w| w[0] < w[1]));
+
+    for (i, s) in curves.segments().iter().enumerate() {
+        let names = curves.segment_points(i);
+        let (ta, tb) = (s.triangle_a, s.triangle_b);
+        let (ca, cb) = (a.corners(ta), b.corners(tb));
+        let ends = names.map(|n| exact_point(n, ta, tb, a, b, one));
+        for (x, rounded) in ends.iter().zip([s.start, s.end]) {
+            assert!(
+                in_triangle(x, &ca) && in_triangle(x, &cb),
+                "segment {i}: {names:?}"
+            );
+            assert!(
+                (0..3).all(|k| nearest(rounded[k], &x[k])),
+                "segment {i}: {rounded:?} is not the nearest to {names:?}"
+            );
+        }
+        assert!(ends[0] != ends[1], "segment {i} has no length");
+        let d = direction(curves, i, a, b, one);
+        assert!(!d.is_zero());
+        if oriented {
+            assert!(d.is_positive(), "segment {i} runs against n_a x n_b");
+        }
+    }
+    for d in curves.degenerate() {
+        let (ca, cb) = (a.corners(d.triangle_a), b.corners(d.triangle_b));
+        let na = normal(&ca);
+        let nb = normal(&cb);
+        let coplanar = na.iter().all(Zero::is_zero)
+            || nb.iter().all(Zero::is_zero)
+            || cb.iter().all(|p| qdot(&na, &qsub(p, &ca[0])).is_zero());
+        // A degenerate triangle crossing the other's plane meets it in a point.
+        let flat = na.iter().all(Zero::is_zero) || nb.iter().all(Zero::is_zero);
+        match d.kind {
+            DegenerateKind::Coplanar => assert!(coplanar, "{d:?}"),
+            DegenerateKind::Point => assert!(!coplanar || flat, "{d:?}"),
+        }
+    }
+}
+
+/// The sign of `(end - start) . (n_a x n_b)` for segment `i`, from its exact ends.
+fn direction(curves: &Curves, i: usize, a: &World, b: &World, one: bool) -> Q {
+    let s = &curves.segments()[i];
+    let names = curves.segment_points(i);
+    let (ta, tb) = (s.triangle_a, s.triangle_b);
+    let ends = names.map(|n| exact_point(n, ta, tb, a, b, one));
+    let d = qcross(&normal(&a.corners(ta)), &normal(&b.corners(tb)));
+    qdot(&qsub(&ends[1], &ends[0]), &d).signum()
+}
+
+fn build(m: &MeshData) -> Mesh {
+    Mesh::new(&m.positions, &m.triangles, &BuildOptions::default()).unwrap()
+}
+
+fn sphere(subdivisions: u32, scale: f64, at: [f64; 3], seed: u64) -> MeshData {
+    let mut m = icosphere(subdivisions);
+    m.perturb(0.01, seed).scale(scale).translate(at);
+    m
+}
+
+/// Curves of `a` and `b`, judged.
+fn two_meshes(a: &Mesh, pa: Option<&Pose>, b: &Mesh, pb: Option<&Pose>, oriented: bool) -> Curves {
+    let mut pairs = Pairs::new();
+    collide(a, pa, b, pb, &QueryOptions::default(), &mut pairs).unwrap();
+    let mut curves = Curves::new();
+    let stats = intersection_curves(a, pa, b, pb, &QueryOptions::default(), &mut curves).unwrap();
+    assert_eq!(stats.pairs as usize, pairs.len());
+    judge(
+        &curves,
+        &World::new(a, pa),
+        &World::new(b, pb),
+        false,
+        pairs.as_slice(),
+        oriented,
+    );
+    curves
+}
+
+fn same(x: &Curves, y: &Curves) -> bool {
+    x.segments() == y.segments()
+        && x.curves() == y.curves()
+        && x.degenerate() == y.degenerate()
+        && x.result.points == y.result.points
+}
+
+#[test]
+fn overlapping_spheres_cross_in_closed_curves() {
+    for seed in 0..6 {
+        let mut rng = Rng::new(seed);
+        let offset = [0; 3].map(|_| rng.range(-0.8, 0.8));
+        let a = build(&sphere(3, 1.0, [0.0; 3], seed));
+        let b = build(&sphere(2, 0.7, offset, seed + 100));
+        let curves = two_meshes(&a, None, &b, None, true);
+        assert!(!curves.is_empty(), "seed {seed}");
+        assert!(curves.degenerate().is_empty());
+        assert!(curves.curves().iter().all(|c| c.closed), "seed {seed}");
+        for i in 0..curves.curves().len() {
+            assert!(curves.curve_length(i) > 0.0);
+        }
+    }
+}
+
+#[test]
+fn a_sphere_through_a_torus_at_extreme_scales_and_far_away() {
+    for (scale, shift) in [
+        (1.0, 0.0),
+        (1e-300, 0.0),
+        (1e300, 0.0),
+        (1.0, 1e9),
+        (1e-6, -3e4),
+    ] {
+        let mut t = torus(1.0, 0.3, 40, 16);
+        t.perturb(1e-3, 7).scale(scale).translate([shift; 3]);
+        let mut s = icosphere(2);
+        s.perturb(1e-3, 8).scale(0.5 * scale).translate([
+            1.0 * scale + shift,
+            0.1 * scale + shift,
+            shift,
+        ]);
+        let curves = two_meshes(&build(&t), None, &build(&s), None, true);
+        assert!(!curves.is_empty() && curves.curves().iter().all(|c| c.closed));
+    }
+}
+
+#[test]
+fn swapped_meshes_give_the_mirrored_curves() {
+    let a = build(&sphere(2, 1.0, [0.0; 3], 1));
+    let b = build(&sphere(2, 0.8, [0.5, 0.2, 0.1], 2));
+    let ab = two_meshes(&a, None, &b, None, true);
+    let ba = two_meshes(&b, None, &a, None, true);
+    let key = |c: &Curves| {
+        let mut v: Vec<_> = c
+            .segments()
+            .iter()
+            .map(|s| {
+                let (x, y) = (s.start.map(f64::to_bits), s.end.map(f64::to_bits));
+                (s.triangle_a, s.triangle_b, x.min(y), x.max(y))
+            })
+            .collect();
+        v.sort_unstable();
+        v
+    };
+    let mirrored: Vec<_> = key(&ba)
+        .into_iter()
+        .map(|(x, y, s, e)| (y, x, s, e))
+        .collect::<BTreeSet<_>>()
+        .into_iter()
+        .collect();
+    assert_eq!(key(&ab), mirrored);
+    assert_eq!(ab.curves().len(), ba.curves().len());
+}
+
+#[test]
+fn posed_meshes_cross_where_their_placed_copies_do() {
+    let a = sphere(2, 1.0, [0.0; 3], 3);
+    let b = sphere(2, 0.9, [0.0; 3], 4);
+    let (ca, sa) = (0.3f64.cos(), 0.3f64.sin());
+    let pose_a = Pose::new(
+        [[ca, -sa, 0.0], [sa, ca, 0.0], [0.0, 0.0, 1.0]],
+        [0.1, 0.0, 0.3],
+    )
+    .unwrap();
+    let pose_b = Pose::new(
+        [[1.0, 0.0, 0.0], [0.0, ca, sa], [0.0, -sa, ca]],
+        [0.6, 0.2, 0.0],
+    )
+    .unwrap();
+    let place = |m: &MeshData, pose: &Pose| {
+        let positions: Vec<f64> = m
+            .positions
+            .chunks_exact(3)
+            .flat_map(|p| pose.transform_point(&[p[0], p[1], p[2]]))
+            .collect();
+        build(&MeshData {
+            positions,
+            triangles: m.triangles.clone(),
+        })
+    };
+    let (ma, mb) = (build(&a), build(&b));
+    let posed = two_meshes(&ma, Some(&pose_a), &mb, Some(&pose_b), true);
+    let placed = two_meshes(&place(&a, &pose_a), None, &place(&b, &pose_b), None, true);
+    assert!(!posed.is_empty());
+    assert!(same(&posed, &placed));
+}
+
+#[test]
+fn a_copy_touches_everywhere_and_stays_a_valid_answer() {
+    // Identical triangles are coplanar pairs, neighbours across an edge share that edge (a
+    // segment lying in both surfaces), neighbours at a vertex meet there only.
+    let m = sphere(2, 1.0, [0.0; 3], 5);
+    let (a, b) = (build(&m), build(&m));
+    let curves = two_meshes(&a, None, &b, None, false);
+    let coplanar = curves
+        .degenerate()
+        .iter()
+        .filter(|d| d.kind == DegenerateKind::Coplanar)
+        .count();
+    assert_eq!(coplanar, m.triangle_count());
+    assert!(
+        curves
+            .degenerate()
+            .iter()
+            .all(|d| (d.kind == DegenerateKind::Coplanar) == (d.triangle_a == d.triangle_b))
+    );
+    // Every shared edge, once from each side's pair of its two triangles.
+    assert_eq!(curves.len(), 3 * m.triangle_count());
+}
+
+#[test]
+fn soups_agree_on_every_thread_count() {
+    at_least_two_threads();
+    let a = build(&soup(6000, 10.0, 1.0, 11));
+    let b = build(&soup(6000, 10.0, 1.0, 12));
+    let one = two_meshes(&a, None, &b, None, false);
+    assert!(one.len() + one.degenerate().len() > super::entry::PARALLEL_MIN_PAIRS);
+    for threads in [0, 2, 3] {
+        let before = shared_count(Step::Crossings);
+        let mut curves = Curves::new();
+        let options = QueryOptions::default().with_threads(threads);
+        intersection_curves(&a, None, &b, None, &options, &mut curves).unwrap();
+        assert!(same(&one, &curves), "threads {threads}");
+        assert!(shared_count(Step::Crossings) > before);
+    }
+}
+
+/// A folded and crumpled sheet: a grid whose far half is turned back through the near half.
+fn folded_sheet(n: usize, seed: u64) -> MeshData {
+    let mut m = crate::fixtures::grid(n, 1.0);
+    let mut rng = Rng::new(seed);
+    for p in m.positions.chunks_exact_mut(3) {
+        let (x, y) = (p[0], p[1]);
+        let bump = 0.08 * (6.0 * y).sin();
+        if x <= 0.5 {
+            p[2] = bump;
+        } else {
+            let u = x - 0.5;
+            p[0] = 0.5 - 0.8 * u;
+            p[2] = 0.25 * u - 0.05 + 0.5 * bump;
+        }
+        for c in p.iter_mut() {
+            *c += rng.range(-1e-4, 1e-4);
+        }
+    }
+    m
+}
+
+#[test]
+fn a_folded_sheet_crosses_itself_in_chains() {
+    for seed in 0..3 {
+        let m = build(&folded_sheet(24, seed));
+        let mut pairs = Pairs::new();
+        crate::self_collide(&m, &QueryOptions::default(), &mut pairs).unwrap();
+        let mut curves = Curves::new();
+        self_intersection_curves(&m, &QueryOptions::default(), &mut curves).unwrap();
+        let w = World::new(&m, None);
+        judge(&curves, &w, &w, true, pairs.as_slice(), false);
+        assert!(!curves.is_empty());
+    }
+}
+
+#[test]
+fn a_crumpled_sphere_crosses_itself_in_chains() {
+    let mut s = icosphere(3);
+    s.perturb(0.15, 21);
+    let m = build(&s);
+    let mut pairs = Pairs::new();
+    crate::self_collide(&m, &QueryOptions::default(), &mut pairs).unwrap();
+    let mut curves = Curves::new();
+    self_intersection_curves(&m, &QueryOptions::default(), &mut curves).unwrap();
+    let w = World::new(&m, None);
+    judge(&curves, &w, &w, true, pairs.as_slice(), false);
+    assert!(curves.len() > 50);
+}
+
+#[test]
+fn two_meshes_as_one_cross_in_the_same_curves() {
+    // Self curves of two spheres appended into one mesh are the two-mesh curves, with the
+    // second's indices shifted.
+    let a = sphere(2, 1.0, [0.0; 3], 31);
+    let b = sphere(2, 0.8, [0.4, 0.3, -0.2], 32);
+    let mut both = a.clone();
+    both.append(&b);
+    let two = two_meshes(&build(&a), None, &build(&b), None, true);
+    let m = build(&both);
+    let mut curves = Curves::new();
+    self_intersection_curves(&m, &QueryOptions::default(), &mut curves).unwrap();
+    let w = World::new(&m, None);
+    let mut pairs = Pairs::new();
+    crate::self_collide(&m, &QueryOptions::default(), &mut pairs).unwrap();
+    judge(&curves, &w, &w, true, pairs.as_slice(), true);
+    let shift = a.triangle_count() as u32;
+    let bits = |p: Point| p.map(f64::to_bits);
+    let of = |c: &Curves, shift: u32| -> Vec<_> {
+        c.segments()
+            .iter()
+            .map(|s| {
+                (
+                    s.triangle_a,
+                    s.triangle_b + shift,
+                    s.curve,
+                    bits(s.start),
+                    bits(s.end),
+                )
+            })
+            .collect()
+    };
+    assert_eq!(of(&two, shift), of(&curves, 0));
+    assert!(curves.curves().iter().all(|c| c.closed));
+}
+
+#[test]
+fn coarse_modes_are_refused_and_change_nothing() {
+    let a = build(&sphere(2, 1.0, [0.0; 3], 41));
+    let b = build(&sphere(2, 0.8, [0.5, 0.0, 0.0], 42));
+    let mut curves = Curves::new();
+    intersection_curves(&a, None, &b, None, &QueryOptions::default(), &mut curves).unwrap();
+    let before = curves.segments().to_vec();
+    for mode in [
+        QueryMode::FirstHit,
+        QueryMode::Leaves,
+        QueryMode::Depth(2),
+        QueryMode::Budget(10),
+    ] {
+        let options = QueryOptions::with_mode(mode);
+        let e = intersection_curves(&a, None, &b, None, &options, &mut curves).unwrap_err();
+        assert!(matches!(e, Error::UnsupportedMode { .. }), "{e}");
+        let e = self_intersection_curves(&a, &options, &mut curves).unwrap_err();
+        assert!(matches!(e, Error::UnsupportedMode { .. }), "{e}");
+        assert_eq!(curves.segments(), before);
+    }
+}
+
+#[test]
+fn max_pairs_bounds_segments_and_degenerate_pairs() {
+    let m = sphere(2, 1.0, [0.0; 3], 51);
+    let (a, b) = (build(&m), build(&m));
+    let mut all = Curves::new();
+    intersection_curves(&a, None, &b, None, &QueryOptions::default(), &mut all).unwrap();
+    let total = all.len() + all.degenerate().len();
+    for max in [0, 1, 17, total - 1, total, total + 1] {
+        let mut curves = Curves::new();
+        let options = QueryOptions::default().with_max_pairs(Some(max));
+        let stats = intersection_curves(&a, None, &b, None, &options, &mut curves).unwrap();
+        let n = curves.len() + curves.degenerate().len();
+        assert_eq!(n, max.min(total));
+        // Reaching the limit stops the query, as `collide`: truncated, even at exactly all.
+        assert_eq!(stats.truncated, max <= total);
+        assert!(is_chained(&curves.result));
+    }
+}
+
+#[test]
+fn chaining_follows_names_only() {
+    use CurvePoint::VertexA as V;
+    // A closed triangle of pieces given out of order and reversed, an open run of two, and a
+    // junction of three pieces at vertex 20.
+    let pieces = vec![
+        piece(0, 0, [V(2), V(1)]),
+        piece(0, 1, [V(1), V(3)]),
+        piece(0, 2, [V(2), V(3)]),
+        piece(1, 0, [V(11), V(10)]),
+        piece(1, 1, [V(11), V(12)]),
+        piece(2, 0, [V(20), V(21)]),
+        piece(2, 1, [V(22), V(20)]),
+        piece(2, 2, [V(20), V(23)]),
+    ];
+    let mut work = super::result::CurveWork {
+        pieces,
+        ..Default::default()
+    };
+    let mut set = super::result::CurveSet::default();
+    chain(&mut work, &mut set).unwrap();
+    assert!(is_chained(&set));
+    let runs: Vec<(Vec<(u32, u32)>, bool)> = set
+        .curves
+        .iter()
+        .map(|c| {
+            let s = &set.segments[c.segments.clone()];
+            (
+                s.iter().map(|s| (s.triangle_a, s.triangle_b)).collect(),
+                c.closed,
+            )
+        })
+        .collect();
+    assert_eq!(
+        runs,
+        vec![
+            (vec![(0, 0), (0, 1), (0, 2)], true),
+            (vec![(1, 1), (1, 0)], false),
+            (vec![(2, 0)], false),
+            (vec![(2, 1)], false),
+            (vec![(2, 2)], false),
+        ]
+    );
+    // The closed curve's last piece runs against its own direction; the open run goes the way
+    // its least piece goes (11 to 10), so from 12 to 10.
+    assert_eq!(set.points[2], [V(3), V(2)]);
+    assert_eq!(set.points[3], [V(12), V(11)]);
+    assert_eq!(set.points[4], [V(11), V(10)]);
+}
