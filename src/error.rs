@@ -262,7 +262,8 @@ impl fmt::Display for Error {
             ),
             Error::UnsupportedMode { mode, query } => write!(
                 f,
-                "{query} are found in QueryMode::Triangles only, not in {mode:?}"
+                "{query} are found pair by pair, in the triangles mode only \
+                 (DVH_QUERY_MODE_TRIANGLES, QueryMode::Triangles), not in {mode:?}"
             ),
             Error::RigidSelfContact { object } => write!(
                 f,

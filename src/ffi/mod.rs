@@ -12,6 +12,7 @@ mod access;
 mod boundary;
 mod calls;
 mod ccd;
+mod curves;
 mod handles;
 mod mesh;
 mod nearest;
