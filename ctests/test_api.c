@@ -3045,6 +3045,31 @@ static void test_intersection_curves(void) {
     CHECK(dvh_curves_len(c) == len);
     check_curves(c, expected, n, 1);
 
+    /* The length gradient: nonzero at the curves' triangles only, and its checks. */
+    {
+        double ga[18], gb[18], g_one[36], sentinel_g[18];
+        size_t nonzero = 0;
+        memset(ga, 0xab, sizeof ga);
+        memcpy(sentinel_g, ga, sizeof ga);
+        CHECK_STATUS(dvh_curves_length_gradient(c, a, NULL, b, NULL, ga, 6, gb, 6), DVH_STATUS_OK, NULL);
+        for (i = 0; i < 18; i++) nonzero += ga[i] != 0.0 && gb[i] != 0.0;
+        CHECK(nonzero > 0);
+        memcpy(ga, sentinel_g, sizeof ga);
+        CHECK_STATUS(dvh_curves_length_gradient(c, a, NULL, b, NULL, ga, 5, gb, 6), DVH_STATUS_INVALID_ARGUMENT, "has 6");
+        CHECK_STATUS(dvh_curves_length_gradient(c, a, NULL, b, NULL, NULL, 6, gb, 6), DVH_STATUS_NULL_ARGUMENT, "gradient_a");
+        CHECK_STATUS(dvh_curves_length_gradient(c, a, NULL, b, NULL, ga, 6, gb, SIZE_MAX), DVH_STATUS_INVALID_ARGUMENT, "gradient_b");
+        CHECK_STATUS(dvh_curves_length_gradient(NULL, a, NULL, b, NULL, ga, 6, gb, 6), DVH_STATUS_NULL_ARGUMENT, "curves");
+        CHECK_STATUS(dvh_curves_self_length_gradient(c, one, g_one, 12), DVH_STATUS_INVALID_ARGUMENT, "curves of two meshes");
+        CHECK(memcmp(ga, sentinel_g, sizeof ga) == 0);
+        CHECK_STATUS(dvh_self_intersection_curves(one, NULL, c2, NULL), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_curves_self_length_gradient(c2, one, g_one, 12), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_curves_length_gradient(c2, a, NULL, b, NULL, ga, 6, gb, 6), DVH_STATUS_INVALID_ARGUMENT, "self-intersection");
+        CHECK_STATUS(dvh_curves_self_length_gradient(c2, a, ga, 6), DVH_STATUS_INVALID_ARGUMENT, "not this mesh's curves");
+        /* The same gradient, the second mesh's part shifted. */
+        CHECK_STATUS(dvh_curves_length_gradient(c, a, NULL, b, NULL, ga, 6, gb, 6), DVH_STATUS_OK, NULL);
+        for (i = 0; i < 18; i++) CHECK(fabs(g_one[i] - ga[i]) <= 1e-12 && fabs(g_one[18 + i] - gb[i]) <= 1e-12);
+    }
+
     /* The curve accessor: out of range, NULL out-pointers, not a buffer. */
     n = dvh_curves_curve_count(c);
     CHECK_STATUS(dvh_curves_curve(c, n, &first, &count, &closed), DVH_STATUS_INVALID_ARGUMENT, "out of range");

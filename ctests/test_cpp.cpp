@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <tuple>
 #include <optional>
 #include <string>
 #include <type_traits>
@@ -1477,6 +1478,21 @@ void test_curves() {
         const dvh::Curve c = curves.curve(i);
         for (std::size_t k = 1; k < c.segments.size(); k++)
             REQUIRE(std::memcmp(c.segments[k - 1].end, c.segments[k].start, sizeof c.segments[k].start) == 0);
+    }
+
+    // The length gradient, as the C call gives it.
+    {
+        std::vector<double> ga, gb;
+        std::vector<double> c_ga(3 * a.vertex_count()), c_gb(3 * b.vertex_count());
+        REQUIRE(dvh_intersection_curves(c_a, nullptr, c_b, &turn, nullptr, c_curves, nullptr) == DVH_STATUS_OK);
+        REQUIRE(dvh_curves_length_gradient(c_curves, c_a, nullptr, c_b, &turn, c_ga.data(), a.vertex_count(), c_gb.data(),
+                                           b.vertex_count()) == DVH_STATUS_OK);
+        std::tie(ga, gb) = curves.length_gradient(a, nullptr, b, &turn);
+        REQUIRE(ga == c_ga && gb == c_gb);
+        REQUIRE(std::any_of(ga.begin(), ga.end(), [](double x) { return x != 0.0; }));
+        REQUIRE_ERROR((void)curves.self_length_gradient(a), DVH_STATUS_INVALID_ARGUMENT, "curves of two meshes");
+        dvh::Curves own = dvh::self_intersection_curves(a);
+        REQUIRE(own.self_length_gradient(a).size() == 3 * a.vertex_count());
     }
 
     // Errors throw and leave the buffer as it was.

@@ -1319,6 +1319,61 @@ DvhStatus dvh_self_intersection_curves(const struct DvhMesh *mesh,
                                        struct DvhQueryStats *stats_out);
 
 /**
+ * The gradient of the total length of the curves in `curves` with respect to the world
+ * positions of the vertices of `a` and `b`: the meshes and poses (NULL: identity) of the
+ * `dvh_intersection_curves` call that gave them, unchanged since. Written to `gradient_a`
+ * (`3 * vertex_count_a` doubles: x, y, z per vertex of `a`) and `gradient_b`, replacing what
+ * they held; vertices no curve passes by get zeros.
+ *
+ * This is the direction of intersection contour minimisation (Volino and Magnenat-Thalmann
+ * 2006): moving the vertices a small step against it shortens the curves, and surfaces that
+ * cross come apart as their curves shrink to nothing. Each curve point slides along the edge
+ * it lies on as that edge and the other triangle's plane move; the gradient is exact to first
+ * order at the rounded points, computed in doubles.
+ *
+ * Errors: NULL_ARGUMENT (`curves`, `a`, `b`, a gradient); INVALID_ARGUMENT (a vertex count
+ * that is not the mesh's, curves that name vertices or triangles the meshes do not have, a
+ * gradient not aligned, a pointer that is not a live handle); BUSY; NON_FINITE_COORDINATE and
+ * NON_RIGID_POSE (a pose); INTERNAL_PANIC. On failure nothing is written.
+ *
+ * Thread safety: `curves`, `a` and `b` are only read.
+ *
+ * # Safety
+ * `curves` is NULL or a live buffer; `a` and `b` NULL or live meshes; the poses NULL or
+ * readable; `gradient_a` and `gradient_b` NULL or `3 * vertex_count_a` and
+ * `3 * vertex_count_b` writable doubles, not overlapping.
+ */
+DvhStatus dvh_curves_length_gradient(const struct DvhCurves *curves,
+                                     const struct DvhMesh *a,
+                                     const struct DvhPose *pose_a,
+                                     const struct DvhMesh *b,
+                                     const struct DvhPose *pose_b,
+                                     double *gradient_a,
+                                     size_t vertex_count_a,
+                                     double *gradient_b,
+                                     size_t vertex_count_b);
+
+/**
+ * The gradient of the total length of the curves in `curves`, from
+ * `dvh_self_intersection_curves` of `mesh` (unchanged since), with respect to its vertices:
+ * `3 * vertex_count` doubles written to `gradient`. Otherwise as `dvh_curves_length_gradient`.
+ *
+ * Errors: NULL_ARGUMENT (`curves`, `mesh`, `gradient`); INVALID_ARGUMENT (a vertex count that
+ * is not the mesh's, curves that name vertices or triangles the mesh does not have, a gradient
+ * not aligned); BUSY; INTERNAL_PANIC. On failure nothing is written.
+ *
+ * Thread safety: `curves` and `mesh` are only read.
+ *
+ * # Safety
+ * `curves` is NULL or a live buffer; `mesh` NULL or a live mesh; `gradient` NULL or
+ * `3 * vertex_count` writable doubles.
+ */
+DvhStatus dvh_curves_self_length_gradient(const struct DvhCurves *curves,
+                                          const struct DvhMesh *mesh,
+                                          double *gradient,
+                                          size_t vertex_count);
+
+/**
  * The default build options, the fastest measured for meshes that deform: octree, box volumes
  * (`DVH_VOLUME_KIND_AABB`), layered radii (for sphere volumes), leftover triangles joined to
  * adjacent rings, refits on every core.

@@ -39,6 +39,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 #if __cplusplus >= 202002L
 #include <span>
@@ -736,6 +737,15 @@ public:
         check(dvh_curves_curve(get(), index, &first, &count, &closed));
         return Curve{Span<DvhCurveSegment>(dvh_curves_data(get()) + first, count), closed};
     }
+    /// The gradient of the curves' total length with respect to the world positions of the
+    /// vertices of `a` and `b`, the meshes and poses of the dvh::intersection_curves() call that
+    /// gave them (dvh_curves_length_gradient): three values per vertex, in two new vectors.
+    [[nodiscard]] std::pair<std::vector<double>, std::vector<double>> length_gradient(const Mesh& a, const DvhPose* pose_a,
+                                                                                      const Mesh& b,
+                                                                                      const DvhPose* pose_b) const;
+    /// The gradient of the total length of the self-intersection curves of `mesh` with respect
+    /// to its vertices (dvh_curves_self_length_gradient): three values per vertex.
+    [[nodiscard]] std::vector<double> self_length_gradient(const Mesh& mesh) const;
     /// The intersecting pairs that have no segment, sorted by `(triangle_a, triangle_b)`
     /// (dvh_curves_degenerate_data, dvh_curves_degenerate_len).
     [[nodiscard]] Span<DvhDegeneratePair> degenerate() const noexcept {
@@ -1056,6 +1066,21 @@ inline DvhQueryStats self_nearest_features(const Mesh& mesh, double distance, co
     NearPairs pairs;
     self_nearest_features(mesh, distance, options, pairs);
     return pairs;
+}
+
+inline std::pair<std::vector<double>, std::vector<double>> Curves::length_gradient(const Mesh& a, const DvhPose* pose_a,
+                                                                                  const Mesh& b,
+                                                                                  const DvhPose* pose_b) const {
+    std::vector<double> ga(3 * a.vertex_count()), gb(3 * b.vertex_count());
+    check(dvh_curves_length_gradient(get(), a.get(), pose_a, b.get(), pose_b, ga.data(), a.vertex_count(), gb.data(),
+                                     b.vertex_count()));
+    return {std::move(ga), std::move(gb)};
+}
+
+inline std::vector<double> Curves::self_length_gradient(const Mesh& mesh) const {
+    std::vector<double> g(3 * mesh.vertex_count());
+    check(dvh_curves_self_length_gradient(get(), mesh.get(), g.data(), mesh.vertex_count()));
+    return g;
 }
 
 /// The curves along which `a` and `b`, placed by their poses, cross, with the pairs that meet

@@ -140,3 +140,22 @@ def test_errors():
         dvh.intersection_curves(m, m, pose_a=np.diag([2.0, 1.0, 1.0, 1.0]))
     with pytest.raises(ValueError, match="threads"):
         dvh.self_intersection_curves(m, threads=-1)
+
+
+def test_length_gradient_shortens_the_curves():
+    pa, ta = uv_sphere(24)
+    pb, tb = uv_sphere(17, 0.8, (0.31, 0.22, 0.13))
+    curves = dvh.intersection_curves(dvh.Mesh(pa, ta), dvh.Mesh(pb, tb), gradient=True)
+    assert curves.gradient_a.shape == pa.shape and curves.gradient_b.shape == pb.shape
+    assert np.abs(curves.gradient_a).sum() > 0
+    step = 1e-3
+    after = dvh.intersection_curves(
+        dvh.Mesh(pa - step * curves.gradient_a, ta), dvh.Mesh(pb - step * curves.gradient_b, tb)
+    )
+    assert after.lengths.sum() < curves.lengths.sum()
+    one = dvh.Mesh(np.vstack([pa, pb]), np.vstack([ta, tb + len(pa)]))
+    own = dvh.self_intersection_curves(one, gradient=True)
+    assert own.gradient_b is None
+    assert np.allclose(own.gradient_a, np.vstack([curves.gradient_a, curves.gradient_b]), atol=1e-12)
+    plain = dvh.intersection_curves(dvh.Mesh(pa, ta), dvh.Mesh(pb, tb))
+    assert plain.gradient_a is None

@@ -62,7 +62,10 @@ fn status_of(e: &Error) -> DvhStatus {
         | Error::VertexCountMismatch { .. }
         | Error::ZeroBudget
         | Error::InvalidDistance { .. }
-        | Error::UnsupportedMode { .. } => DVH_STATUS_INVALID_ARGUMENT,
+        | Error::UnsupportedMode { .. }
+        | Error::ForeignCurves { .. }
+        | Error::CurvesKind { .. }
+        | Error::GradientLength { .. } => DVH_STATUS_INVALID_ARGUMENT,
         Error::IndexOutOfRange { .. } => DVH_STATUS_INDEX_OUT_OF_RANGE,
         Error::NonFiniteCoordinate { .. } | Error::NonFinitePose { .. } => {
             DVH_STATUS_NON_FINITE_COORDINATE

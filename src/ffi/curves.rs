@@ -1,8 +1,8 @@
 //! Intersection curves through the C ABI: the two queries and the curve buffer's accessors.
 
 use super::access::read;
-use super::boundary::{Failure, guard};
-use super::calls::{one_mesh, two_meshes};
+use super::boundary::{Failure, guard, times_three};
+use super::calls::{one_mesh, pose, two_meshes};
 use super::handles::*;
 use super::results::{self, part};
 use super::types::*;
@@ -267,4 +267,127 @@ pub unsafe extern "C" fn dvh_self_intersection_curves(
             self_intersection_curves,
         )
     }
+}
+
+/// `vertex_count` points (three doubles each) at `ptr`, to write, after checking what can be
+/// checked: not NULL, aligned, a size that fits in memory.
+///
+/// # Safety
+/// If `ptr` is non-NULL it must point to `3 * vertex_count` writable doubles used by no one
+/// else for `'a`.
+unsafe fn points_out<'a>(
+    ptr: *mut f64,
+    vertex_count: usize,
+    name: &str,
+) -> Result<&'a mut [[f64; 3]], Failure> {
+    if ptr.is_null() {
+        return Err(Failure::null(name));
+    }
+    if !ptr.is_aligned() {
+        return Err(Failure::invalid(format!(
+            "argument `{name}` is not aligned to {} bytes",
+            std::mem::align_of::<f64>()
+        )));
+    }
+    let values = times_three(vertex_count, name)?;
+    if values > isize::MAX as usize / std::mem::size_of::<f64>() {
+        return Err(Failure::invalid(format!(
+            "argument `{name}`: {vertex_count} points do not fit in memory"
+        )));
+    }
+    // SAFETY: non-NULL, aligned, `3 * vertex_count` writable doubles (contract); `[f64; 3]` has
+    // the alignment of `f64` and three of them in a row.
+    Ok(unsafe { std::slice::from_raw_parts_mut(ptr.cast::<[f64; 3]>(), vertex_count) })
+}
+
+/// The gradient of the total length of the curves in `curves` with respect to the world
+/// positions of the vertices of `a` and `b`: the meshes and poses (NULL: identity) of the
+/// `dvh_intersection_curves` call that gave them, unchanged since. Written to `gradient_a`
+/// (`3 * vertex_count_a` doubles: x, y, z per vertex of `a`) and `gradient_b`, replacing what
+/// they held; vertices no curve passes by get zeros.
+///
+/// This is the direction of intersection contour minimisation (Volino and Magnenat-Thalmann
+/// 2006): moving the vertices a small step against it shortens the curves, and surfaces that
+/// cross come apart as their curves shrink to nothing. Each curve point slides along the edge
+/// it lies on as that edge and the other triangle's plane move; the gradient is exact to first
+/// order at the rounded points, computed in doubles.
+///
+/// Errors: NULL_ARGUMENT (`curves`, `a`, `b`, a gradient); INVALID_ARGUMENT (a vertex count
+/// that is not the mesh's, curves that name vertices or triangles the meshes do not have, a
+/// gradient not aligned, a pointer that is not a live handle); BUSY; NON_FINITE_COORDINATE and
+/// NON_RIGID_POSE (a pose); INTERNAL_PANIC. On failure nothing is written.
+///
+/// Thread safety: `curves`, `a` and `b` are only read.
+///
+/// # Safety
+/// `curves` is NULL or a live buffer; `a` and `b` NULL or live meshes; the poses NULL or
+/// readable; `gradient_a` and `gradient_b` NULL or `3 * vertex_count_a` and
+/// `3 * vertex_count_b` writable doubles, not overlapping.
+#[unsafe(no_mangle)]
+#[allow(clippy::too_many_arguments)] // two placed meshes and two arrays
+pub unsafe extern "C" fn dvh_curves_length_gradient(
+    curves: *const DvhCurves,
+    a: *const DvhMesh,
+    pose_a: *const DvhPose,
+    b: *const DvhMesh,
+    pose_b: *const DvhPose,
+    gradient_a: *mut f64,
+    vertex_count_a: usize,
+    gradient_b: *mut f64,
+    vertex_count_b: usize,
+) -> DvhStatus {
+    let call = "dvh_curves_length_gradient";
+    guard(|| {
+        // SAFETY: NULL or live, read-only during the call (contract).
+        let (c, ma, mb) = unsafe {
+            (
+                read(curves, "curves", call)?,
+                read(a, "a", call)?,
+                read(b, "b", call)?,
+            )
+        };
+        // SAFETY: NULL or readable (contract).
+        let (pa, pb) = unsafe { (pose_a.as_ref(), pose_b.as_ref()) };
+        let pa = pa.map(|p| pose(p, "pose_a")).transpose()?;
+        let pb = pb.map(|p| pose(p, "pose_b")).transpose()?;
+        // SAFETY: NULL or writable, not overlapping (contract).
+        let (ga, gb) = unsafe {
+            (
+                points_out(gradient_a, vertex_count_a, "gradient_a")?,
+                points_out(gradient_b, vertex_count_b, "gradient_b")?,
+            )
+        };
+        c.length_gradient(&ma, pa.as_ref(), &mb, pb.as_ref(), ga, gb)
+            .map_err(Failure::from)
+    })
+}
+
+/// The gradient of the total length of the curves in `curves`, from
+/// `dvh_self_intersection_curves` of `mesh` (unchanged since), with respect to its vertices:
+/// `3 * vertex_count` doubles written to `gradient`. Otherwise as `dvh_curves_length_gradient`.
+///
+/// Errors: NULL_ARGUMENT (`curves`, `mesh`, `gradient`); INVALID_ARGUMENT (a vertex count that
+/// is not the mesh's, curves that name vertices or triangles the mesh does not have, a gradient
+/// not aligned); BUSY; INTERNAL_PANIC. On failure nothing is written.
+///
+/// Thread safety: `curves` and `mesh` are only read.
+///
+/// # Safety
+/// `curves` is NULL or a live buffer; `mesh` NULL or a live mesh; `gradient` NULL or
+/// `3 * vertex_count` writable doubles.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dvh_curves_self_length_gradient(
+    curves: *const DvhCurves,
+    mesh: *const DvhMesh,
+    gradient: *mut f64,
+    vertex_count: usize,
+) -> DvhStatus {
+    let call = "dvh_curves_self_length_gradient";
+    guard(|| {
+        // SAFETY: NULL or live, read-only during the call (contract).
+        let (c, m) = unsafe { (read(curves, "curves", call)?, read(mesh, "mesh", call)?) };
+        // SAFETY: NULL or writable (contract).
+        let g = unsafe { points_out(gradient, vertex_count, "gradient")? };
+        c.self_length_gradient(&m, g).map_err(Failure::from)
+    })
 }

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import threading
 from dataclasses import dataclass
-from typing import List, Tuple, Union
+from typing import List, Optional, Tuple, Union
 
 import numpy as np
 
@@ -65,12 +65,20 @@ class Curves:
     pair, or where more than two segments meet). Curves are ordered by their least
     ``(triangle_a, triangle_b)`` segment; a closed curve starts there and runs along
     ``n_a x n_b`` of that pair. ``degenerate`` (:data:`DEGENERATE_DTYPE`) lists the intersecting
-    pairs that have no segment, sorted."""
+    pairs that have no segment, sorted.
+
+    With ``gradient=True``, ``gradient_a`` and ``gradient_b`` (``(n, 3)`` float64, one row per
+    vertex; of one mesh, ``gradient_a`` alone) hold the gradient of the curves' total length
+    with respect to the vertices' world positions: the direction of intersection contour
+    minimisation (moving the vertices a small step against it shortens the curves, and surfaces
+    that cross come apart as the curves shrink to nothing)."""
 
     segments: np.ndarray
     ranges: np.ndarray
     closed: np.ndarray
     degenerate: np.ndarray
+    gradient_a: Optional[np.ndarray] = None
+    gradient_b: Optional[np.ndarray] = None
 
     def __len__(self) -> int:
         """The number of curves."""
@@ -139,7 +147,9 @@ def _copy(data, n: int, dtype: np.dtype) -> np.ndarray:
     return raw.view(dtype)
 
 
-def _run(query, args, stats: bool):
+def _run(query, args, stats: bool, gradient=None):
+    """The curves of ``query(*args, buffer, stats)``; ``gradient``: the meshes (and poses) for
+    their length gradient, or None."""
     buf = _buffer.get()
     s = ffi.new("DvhQueryStats *") if stats else ffi.NULL
     status = query(*args, buf, s)
@@ -159,7 +169,22 @@ def _run(query, args, stats: bool):
             _raise_for(status)
         ranges[i] = (first[0], first[0] + count[0])
         closed[i] = is_closed[0]
-    curves = Curves(segments, ranges, closed, degenerate)
+    ga = gb = None
+    if gradient is not None:
+        ga = np.zeros((gradient[0].vertex_count, 3))
+        pa = ffi.cast("double *", ga.ctypes.data)
+        if len(gradient) == 1:
+            status = lib.dvh_curves_self_length_gradient(buf, gradient[0]._ptr, pa, len(ga))
+        else:
+            a, ka, b, kb = gradient
+            gb = np.zeros((b.vertex_count, 3))
+            pb = ffi.cast("double *", gb.ctypes.data)
+            status = lib.dvh_curves_length_gradient(
+                buf, a._ptr, ka, b._ptr, kb, pa, len(ga), pb, len(gb)
+            )
+        if status:
+            _raise_for(status)
+    curves = Curves(segments, ranges, closed, degenerate, ga, gb)
     return curves if s == ffi.NULL else (curves, QueryStats._of(s))
 
 
@@ -167,7 +192,14 @@ _CurvesResult = Union[Curves, Tuple[Curves, QueryStats]]
 
 
 def intersection_curves(
-    a, b, pose_a=None, pose_b=None, max_pairs: int = 0, threads: int = 0, stats: bool = False
+    a,
+    b,
+    pose_a=None,
+    pose_b=None,
+    max_pairs: int = 0,
+    threads: int = 0,
+    stats: bool = False,
+    gradient: bool = False,
 ) -> _CurvesResult:
     """The curves along which ``a`` and ``b`` (each placed by its pose, as :func:`collide`)
     cross, as :class:`Curves`.
@@ -179,19 +211,23 @@ def intersection_curves(
     meet there, never from rounded coordinates. ``max_pairs`` bounds segments plus degenerate
     pairs (0: no limit); ``threads`` as :func:`collide` (the answer is the same for any count).
     With ``stats=True`` returns ``(curves, QueryStats)``; ``QueryStats.pairs`` counts segments
-    plus degenerate pairs."""
+    plus degenerate pairs. With ``gradient=True`` the result carries the length gradient
+    (:attr:`Curves.gradient_a`, :attr:`Curves.gradient_b`)."""
     pa, pb = _mesh("a", a), _mesh("b", b)
     ka, kb = _pose("pose_a", pose_a), _pose("pose_b", pose_b)
     o = _options("triangles", max_pairs, threads, 0, 0)
-    return _run(lib.dvh_intersection_curves, (pa, ka, pb, kb, o), stats)
+    g = (a, ka, b, kb) if gradient else None
+    return _run(lib.dvh_intersection_curves, (pa, ka, pb, kb, o), stats, g)
 
 
 def self_intersection_curves(
-    mesh, max_pairs: int = 0, threads: int = 0, stats: bool = False
+    mesh, max_pairs: int = 0, threads: int = 0, stats: bool = False, gradient: bool = False
 ) -> _CurvesResult:
     """The curves along which ``mesh`` crosses itself: those of the pairs :func:`self_collide`
     reports (a pair sharing a vertex gives a segment from that vertex to where the two part).
-    Segments are ``(lower, higher)`` triangle pairs. Otherwise as :func:`intersection_curves`."""
+    Segments are ``(lower, higher)`` triangle pairs. Otherwise as :func:`intersection_curves`
+    (the gradient, with respect to the mesh's vertices, in :attr:`Curves.gradient_a`)."""
     p = _mesh("mesh", mesh)
     o = _options("triangles", max_pairs, threads, 0, 0)
-    return _run(lib.dvh_self_intersection_curves, (p, o), stats)
+    g = (mesh,) if gradient else None
+    return _run(lib.dvh_self_intersection_curves, (p, o), stats, g)

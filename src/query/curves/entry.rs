@@ -279,6 +279,7 @@ fn finish(
             Found::Degenerate(d) => Some(*d),
             Found::Piece(_) => None,
         }));
+    spare.one_mesh = sides.one_mesh;
     std::mem::swap(result, spare);
     stats.pairs = (result.segments.len() + result.degenerate.len()) as u64;
     Ok(stats)

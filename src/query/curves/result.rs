@@ -123,6 +123,8 @@ pub(crate) struct CurveSet {
     pub points: Vec<[CurvePoint; 2]>,
     pub curves: Vec<Curve>,
     pub degenerate: Vec<DegeneratePair>,
+    /// Are these one mesh's self-intersection curves?
+    pub one_mesh: bool,
 }
 
 impl CurveSet {

@@ -622,3 +622,109 @@ fn chaining_follows_names_only() {
     assert_eq!(set.points[3], [V(12), V(11)]);
     assert_eq!(set.points[4], [V(11), V(10)]);
 }
+
+/// The curves' total length.
+fn total_length(c: &Curves) -> f64 {
+    (0..c.curves().len()).map(|i| c.curve_length(i)).sum()
+}
+
+/// `m` with vertex `v` moved by `d`.
+fn nudged(m: &MeshData, v: usize, d: [f64; 3]) -> Mesh {
+    let mut moved = m.clone();
+    for k in 0..3 {
+        moved.positions[3 * v + k] += d[k];
+    }
+    build(&moved)
+}
+
+#[test]
+fn the_length_gradient_is_the_lengths_derivative() {
+    // Central differences on vertices the curves pass by, of both meshes, in random
+    // directions: small enough steps keep the curves' combinatorics.
+    let ma = sphere(2, 1.0, [0.0; 3], 61);
+    let mb = sphere(2, 0.7, [0.5, 0.2, 0.1], 62);
+    let (a, b) = (build(&ma), build(&mb));
+    let mut curves = Curves::new();
+    intersection_curves(&a, None, &b, None, &QueryOptions::default(), &mut curves).unwrap();
+    let mut ga = vec![[0.0; 3]; a.vertex_count()];
+    let mut gb = vec![[0.0; 3]; b.vertex_count()];
+    curves
+        .length_gradient(&a, None, &b, None, &mut ga, &mut gb)
+        .unwrap();
+    let mut rng = Rng::new(63);
+    let mut checked = 0;
+    for (second, grad, m) in [(false, &ga, &ma), (true, &gb, &mb)] {
+        for v in (0..grad.len()).filter(|&v| grad[v] != [0.0; 3]).take(12) {
+            let dir = [0; 3].map(|_| rng.range(-1.0, 1.0));
+            let h = 1e-7;
+            let length = |sign: f64| {
+                let moved = nudged(m, v, dir.map(|x| sign * h * x));
+                let mut c = Curves::new();
+                let o = QueryOptions::default();
+                if second {
+                    intersection_curves(&a, None, &moved, None, &o, &mut c).unwrap();
+                } else {
+                    intersection_curves(&moved, None, &b, None, &o, &mut c).unwrap();
+                }
+                total_length(&c)
+            };
+            let numeric = (length(1.0) - length(-1.0)) / (2.0 * h);
+            let analytic: f64 = (0..3).map(|k| grad[v][k] * dir[k]).sum();
+            assert!(
+                (numeric - analytic).abs() <= 1e-5 * (1.0 + analytic.abs()),
+                "vertex {v} of {}: {numeric} by differences, {analytic} by the gradient",
+                if second { "b" } else { "a" }
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 20);
+    // Vertices far from every crossing get nothing.
+    assert!(ga.iter().filter(|g| **g == [0.0; 3]).count() > ga.len() / 2);
+}
+
+#[test]
+fn a_step_against_the_self_gradient_shortens_the_curves() {
+    let m = folded_sheet(16, 71);
+    let mesh = build(&m);
+    let mut curves = Curves::new();
+    self_intersection_curves(&mesh, &QueryOptions::default(), &mut curves).unwrap();
+    let before = total_length(&curves);
+    assert!(before > 0.0);
+    let mut g = vec![[0.0; 3]; mesh.vertex_count()];
+    curves.self_length_gradient(&mesh, &mut g).unwrap();
+    let step = 1e-4;
+    let mut moved = m.clone();
+    for (v, gv) in g.iter().enumerate() {
+        for k in 0..3 {
+            moved.positions[3 * v + k] -= step * gv[k];
+        }
+    }
+    let mut after = Curves::new();
+    self_intersection_curves(&build(&moved), &QueryOptions::default(), &mut after).unwrap();
+    assert!(total_length(&after) < before);
+}
+
+#[test]
+fn a_gradient_of_other_meshes_is_refused() {
+    let a = build(&sphere(2, 1.0, [0.0; 3], 81));
+    let b = build(&sphere(2, 0.7, [0.5, 0.2, 0.1], 82));
+    let small = build(&sphere(0, 1.0, [0.0; 3], 83));
+    let mut curves = Curves::new();
+    intersection_curves(&a, None, &b, None, &QueryOptions::default(), &mut curves).unwrap();
+    let mut ga = vec![[1.0; 3]; a.vertex_count()];
+    let mut gb = vec![[1.0; 3]; b.vertex_count()];
+    let mut gs = vec![[1.0; 3]; small.vertex_count()];
+    let e = curves
+        .length_gradient(&a, None, &small, None, &mut ga, &mut gs)
+        .unwrap_err();
+    assert!(matches!(e, Error::ForeignCurves { .. }), "{e}");
+    let e = curves
+        .length_gradient(&a, None, &b, None, &mut ga, &mut gs)
+        .unwrap_err();
+    assert!(matches!(e, Error::GradientLength { .. }), "{e}");
+    assert!(ga.iter().chain(&gb).all(|g| *g == [1.0; 3]));
+    curves
+        .length_gradient(&a, None, &b, None, &mut ga, &mut gb)
+        .unwrap();
+}
