@@ -101,12 +101,12 @@ impl Placed<'_> {
         add_scaled(&mut along, -k, &n);
         add_scaled(out.at(second, edge[0]), 1.0 - s, &along);
         add_scaled(out.at(second, edge[1]), s, &along);
-        for i in 0..3 {
+        for (i, &corner) in corners.iter().enumerate() {
             // The barycentric weight of `p` at corner i: the sub-triangle opposite it over the
             // whole.
             let (j, l) = ((i + 1) % 3, (i + 2) % 3);
             let w = dot(&cross(&sub(&c[j], p), &sub(&c[l], p)), &n) / area2;
-            add_scaled(out.at(!second, corners[i]), w * k, &n);
+            add_scaled(out.at(!second, corner), w * k, &n);
         }
     }
 
