@@ -631,8 +631,8 @@ fn total_length(c: &Curves) -> f64 {
 /// `m` with vertex `v` moved by `d`.
 fn nudged(m: &MeshData, v: usize, d: [f64; 3]) -> Mesh {
     let mut moved = m.clone();
-    for k in 0..3 {
-        moved.positions[3 * v + k] += d[k];
+    for (x, dx) in moved.positions[3 * v..3 * v + 3].iter_mut().zip(d) {
+        *x += dx;
     }
     build(&moved)
 }
@@ -695,9 +695,9 @@ fn a_step_against_the_self_gradient_shortens_the_curves() {
     curves.self_length_gradient(&mesh, &mut g).unwrap();
     let step = 1e-4;
     let mut moved = m.clone();
-    for (v, gv) in g.iter().enumerate() {
-        for k in 0..3 {
-            moved.positions[3 * v + k] -= step * gv[k];
+    for (p, gv) in moved.positions.chunks_exact_mut(3).zip(&g) {
+        for (x, gx) in p.iter_mut().zip(gv) {
+            *x -= step * gx;
         }
     }
     let mut after = Curves::new();
