@@ -22,6 +22,7 @@ mod scene;
 mod types;
 
 pub use ccd::*;
+pub use curves::*;
 pub use handles::*;
 pub use mesh::*;
 pub use nearest::*;
