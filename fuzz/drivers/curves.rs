@@ -30,7 +30,7 @@ fn shape(bytes: &mut Bytes) -> (Vec<f64>, Vec<u32>) {
 /// translation by sixteenths; or none.
 fn pose(bytes: &mut Bytes) -> Option<Pose> {
     let b = bytes.u8();
-    if b % 3 == 0 {
+    if b.is_multiple_of(3) {
         return None;
     }
     let perm = [
@@ -84,8 +84,12 @@ fn c_pose(p: &Option<Pose>) -> Option<DvhPose> {
     })
 }
 
-/// The segments and degenerate pairs in a C buffer, as bytes, and its curves.
-fn c_contents(c: *const DvhCurves) -> (Vec<u8>, Vec<u8>, Vec<(usize, usize, bool)>) {
+/// A curve buffer's contents: its segments and degenerate pairs as bytes, and its curves
+/// `(first, count, closed)`.
+type Contents = (Vec<u8>, Vec<u8>, Vec<(usize, usize, bool)>);
+
+/// The contents of a C buffer.
+fn c_contents(c: *const DvhCurves) -> Contents {
     // SAFETY: a live buffer, read by this thread only; the arrays hold the lengths given.
     unsafe {
         let bytes = |data: *const u8, n: usize| {
@@ -118,7 +122,7 @@ fn c_contents(c: *const DvhCurves) -> (Vec<u8>, Vec<u8>, Vec<(usize, usize, bool
 }
 
 /// The same in a Rust buffer.
-fn rust_contents(c: &Curves) -> (Vec<u8>, Vec<u8>, Vec<(usize, usize, bool)>) {
+fn rust_contents(c: &Curves) -> Contents {
     let as_bytes = |p: *const u8, n: usize| {
         // SAFETY: `n` bytes of a live slice of plain `repr(C)` values without padding holes
         // read as uninitialised (`reserved` fields are written).
