@@ -150,9 +150,51 @@ impl PairIntersection {
 /// What the closed triangles `a` and `b` share; see the [module documentation](self).
 pub(crate) fn triangle_pair_intersection(a: &Triangle, b: &Triangle) -> PairIntersection {
     if a.iter().chain(b).all(is_safe_point) {
-        pair::<Adaptive>(a, b)
+        pair::<Adaptive, true>(a, b)
     } else {
-        pair::<BigExact>(a, b)
+        pair::<BigExact, true>(a, b)
+    }
+}
+
+/// [`triangle_pair_intersection`] without the points: a segment's ends carry their features
+/// and `[NaN; 3]`, for a caller that rounds each distinct point once ([`end_point`]).
+pub(crate) fn triangle_pair_features(a: &Triangle, b: &Triangle) -> PairIntersection {
+    if a.iter().chain(b).all(is_safe_point) {
+        pair::<Adaptive, false>(a, b)
+    } else {
+        pair::<BigExact, false>(a, b)
+    }
+}
+
+/// The point of the end at `feature` of the segment where `a` and `b` cross (as
+/// [`triangle_pair_intersection`] gives it, bit for bit).
+pub(crate) fn end_point(a: &Triangle, b: &Triangle, feature: EndFeature) -> Point {
+    let corner = |t: &Triangle, k: u8| t[usize::from(k)];
+    match feature {
+        EndFeature::CornerOfA(k) | EndFeature::SharedCorner { a: k, .. } => corner(a, k),
+        EndFeature::CornerOfB(k) => corner(b, k),
+        EndFeature::EdgeOfA { i, j } => PlaneOf::new(b).meet(&corner(a, i), &corner(a, j)),
+        EndFeature::EdgeOfB { i, j } => PlaneOf::new(a).meet(&corner(b, i), &corner(b, j)),
+        EndFeature::Edges {
+            a: (i, j),
+            b: (k, l),
+        } => {
+            // As `Pair::end`: where a's edge meets b's plane, unless that edge lies in it.
+            let (p, q) = (corner(a, i), corner(a, j));
+            let safe = a.iter().chain(b).all(is_safe_point);
+            let off = |x: &Point| {
+                if safe {
+                    Adaptive::orient3d(&b[0], &b[1], &b[2], x) != 0
+                } else {
+                    BigExact::orient3d(&b[0], &b[1], &b[2], x) != 0
+                }
+            };
+            if off(&p) || off(&q) {
+                PlaneOf::new(b).meet(&p, &q)
+            } else {
+                PlaneOf::new(a).meet(&corner(b, k), &corner(b, l))
+            }
+        }
     }
 }
 
@@ -265,7 +307,7 @@ enum Source {
     Both(Crossing, Crossing),
 }
 
-fn pair<O: Orient>(a: &Triangle, b: &Triangle) -> PairIntersection {
+fn pair<O: Orient, const ROUND: bool>(a: &Triangle, b: &Triangle) -> PairIntersection {
     let sb = sides::<O>(a, b);
     if strictly_one_side(sb) {
         return PairIntersection::Apart;
@@ -323,8 +365,8 @@ fn pair<O: Orient>(a: &Triangle, b: &Triangle) -> PairIntersection {
         -1 => PairIntersection::Apart,
         0 => PairIntersection::Point,
         _ => PairIntersection::Segment {
-            start: pair.end(start),
-            end: pair.end(end),
+            start: pair.end::<ROUND>(start),
+            end: pair.end::<ROUND>(end),
         },
     }
 }
@@ -346,7 +388,7 @@ impl Pair<'_> {
         }
     }
 
-    fn end(&self, source: Source) -> SegmentEnd {
+    fn end<const ROUND: bool>(&self, source: Source) -> SegmentEnd {
         let (in_a, in_b) = match source {
             Source::A(x) => (x.carrier(self.sa), Pair::inside_interval(self.sb)),
             Source::B(y) => (Pair::inside_interval(self.sa), y.carrier(self.sb)),
@@ -375,6 +417,12 @@ impl Pair<'_> {
                 unreachable!("an end of the overlap lies on a triangle's boundary")
             }
         };
+        if !ROUND {
+            return SegmentEnd {
+                feature,
+                point: [f64::NAN; 3],
+            };
+        }
         let point = match feature {
             EndFeature::CornerOfA(k) | EndFeature::SharedCorner { a: k, .. } => {
                 self.a[usize::from(k)]

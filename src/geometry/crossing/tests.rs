@@ -259,7 +259,22 @@ fn check(a: &Triangle, b: &Triangle) -> Kind {
             for (k, (x, r)) in x.iter().zip(reported.point).enumerate() {
                 assert!(is_nearest(x, r), "{a:?} {b:?}: {result:?}, coordinate {k}");
             }
+            // The features alone, and each point rounded from its feature, are the same.
+            let bits = |p: Point| p.map(f64::to_bits);
+            assert_eq!(
+                bits(end_point(a, b, reported.feature)),
+                bits(reported.point),
+                "{a:?} {b:?}: {result:?}"
+            );
         }
+        match triangle_pair_features(a, b) {
+            PairIntersection::Segment { start: s, end: e } => {
+                assert_eq!([s.feature, e.feature], [start.feature, end.feature]);
+            }
+            other => panic!("{a:?} {b:?}: {other:?} without points, {result:?} with"),
+        }
+    } else {
+        assert_eq!(triangle_pair_features(a, b), result);
     }
     kind
 }

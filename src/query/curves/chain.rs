@@ -14,33 +14,25 @@ use super::result::{Curve, CurveSegment, CurveSet, CurveWork};
 #[cfg(test)]
 use super::result::{CurvePoint, Piece};
 use crate::error::{Error, Result};
+#[cfg(test)]
+use crate::geometry::crossing::EndFeature;
 
 /// A segment end that joins no other.
 const NONE: u32 = u32::MAX;
 
-/// Chains `work.pieces` (in `(triangle_a, triangle_b)` order) into curves, written to `out`
-/// (cleared first).
-pub(crate) fn chain(work: &mut CurveWork, out: &mut CurveSet) -> Result<()> {
-    out.clear();
+/// Joins the ends of `work.pieces`: sorts them by name into `work.ends`, marks where each
+/// name's group starts (`work.groups`, then `ends.len()`), and sets each end's partner (the other
+/// end of a group of two). The pieces' points are not read.
+pub(crate) fn link(work: &mut CurveWork) {
     let CurveWork {
         pieces,
         ends,
         partner,
-        taken,
-        walk,
-        order,
-        walk_all,
+        groups,
         ..
     } = work;
     let n = pieces.len();
     debug_assert!(2 * n < NONE as usize, "two ends per piece, indexed by u32");
-    out.segments
-        .try_reserve(n)
-        .and_then(|()| out.points.try_reserve(n))
-        .map_err(|_| Error::OutOfMemory {
-            bytes: n * std::mem::size_of::<CurveSegment>(),
-        })?;
-
     ends.clear();
     for (i, p) in pieces.iter().enumerate() {
         let i = i as u32;
@@ -50,12 +42,39 @@ pub(crate) fn chain(work: &mut CurveWork, out: &mut CurveSet) -> Result<()> {
     ends.sort_unstable();
     partner.clear();
     partner.resize(2 * n, NONE);
+    groups.clear();
+    let mut at = 0u32;
     for group in ends.chunk_by(|x, y| x.0 == y.0) {
+        groups.push(at);
+        at += group.len() as u32;
         if let [(_, e), (_, f)] = *group {
             partner[e as usize] = f;
             partner[f as usize] = e;
         }
     }
+    groups.push(at);
+}
+
+/// Chains `work.pieces` (in `(triangle_a, triangle_b)` order, linked by [`link`], their points
+/// set) into curves, written to `out` (cleared first).
+pub(crate) fn chain(work: &mut CurveWork, out: &mut CurveSet) -> Result<()> {
+    out.clear();
+    let CurveWork {
+        pieces,
+        partner,
+        taken,
+        walk,
+        order,
+        walk_all,
+        ..
+    } = work;
+    let n = pieces.len();
+    out.segments
+        .try_reserve(n)
+        .and_then(|()| out.points.try_reserve(n))
+        .map_err(|_| Error::OutOfMemory {
+            bytes: n * std::mem::size_of::<CurveSegment>(),
+        })?;
 
     taken.clear();
     taken.resize(n, false);
@@ -171,5 +190,6 @@ pub(crate) fn piece(a: u32, b: u32, names: [CurvePoint; 2]) -> Piece {
         triangle_b: b,
         names,
         points: [[0.0; 3]; 2],
+        features: [EndFeature::CornerOfA(0); 2],
     }
 }

@@ -2,10 +2,12 @@
 //! [`crate::self_collide`] find them; each pair's exact intersection, its segment's ends named
 //! by mesh features; the segments chained by those names.
 
-use super::chain::chain;
-use super::result::{CurvePoint, Curves, DegenerateKind, DegeneratePair, Found, Piece};
+use super::chain::{chain, link};
+use super::result::{CurvePoint, CurveWork, Curves, DegenerateKind, DegeneratePair, Found, Piece};
 use crate::error::{Error, Result};
-use crate::geometry::crossing::{EndFeature, PairIntersection, triangle_pair_intersection};
+use crate::geometry::crossing::{
+    EndFeature, PairIntersection, end_point, triangle_pair_features, triangle_pair_intersection,
+};
 use crate::geometry::pose::Pose;
 use crate::geometry::predicates::Point;
 use crate::geometry::tri_tri::Triangle;
@@ -143,12 +145,14 @@ impl Sides<'_> {
         };
         let corners_a = Self::corners(self.a, ta);
         let corners_b = Self::corners(self.b, tb);
-        match triangle_pair_intersection(&corners_a, &corners_b) {
+        // The points come later, once per name (`points_all`).
+        match triangle_pair_features(&corners_a, &corners_b) {
             PairIntersection::Segment { start, end } => Found::Piece(Piece {
                 triangle_a: pair.a,
                 triangle_b: pair.b,
                 names: [start.feature, end.feature].map(|f| self.name(f, pair, ta, tb)),
                 points: [start.point, end.point],
+                features: [start.feature, end.feature],
             }),
             PairIntersection::Point => degenerate(DegenerateKind::Point),
             // `Apart` is not reached: the pair test and the intersection decide alike, on the
@@ -238,6 +242,68 @@ impl Sides<'_> {
     }
 }
 
+impl Sides<'_> {
+    /// The point of end `which` of `piece`, rounded once from its features.
+    fn point(&self, piece: &Piece, which: usize) -> Point {
+        let ta = self.a.0.triangles()[piece.triangle_a as usize];
+        let tb = self.b.0.triangles()[piece.triangle_b as usize];
+        end_point(
+            &Self::corners(self.a, ta),
+            &Self::corners(self.b, tb),
+            piece.features[which],
+        )
+    }
+
+    /// Each name's point, computed once from its group's first end (every end of a group is the
+    /// same exact point, so any would round to the same bits), written to every piece end of the
+    /// group; on up to `threads` threads.
+    fn points_all(&self, work: &mut CurveWork, threads: usize) -> Result<()> {
+        let CurveWork {
+            pieces,
+            ends,
+            groups,
+            group_points,
+            ..
+        } = work;
+        let n = groups.len().saturating_sub(1);
+        group_points.clear();
+        group_points
+            .try_reserve(n)
+            .map_err(|_| Error::OutOfMemory {
+                bytes: n * std::mem::size_of::<Point>(),
+            })?;
+        let first = |g: usize| {
+            let e = ends[groups[g] as usize].1;
+            self.point(&pieces[(e / 2) as usize], (e % 2) as usize)
+        };
+        if threads <= 1 || n < PARALLEL_MIN_PAIRS {
+            group_points.extend((0..n).map(first));
+        } else {
+            let size = n.div_ceil(threads * SHARES_PER_THREAD);
+            let shares: Vec<(usize, &mut [MaybeUninit<Point>])> = group_points.spare_capacity_mut()
+                [..n]
+                .chunks_mut(size)
+                .enumerate()
+                .map(|(k, to)| (k * size, to))
+                .collect();
+            threads::in_turns(threads::Step::Crossings, threads, shares, &|(from, to)| {
+                for (k, slot) in to.iter_mut().enumerate() {
+                    slot.write(first(from + k));
+                }
+            });
+            // SAFETY: the shares cover the first `n` slots, and each wrote every slot of its
+            // own (a panic in one would have unwound past this line).
+            unsafe { group_points.set_len(n) };
+        }
+        for (g, point) in group_points.iter().enumerate() {
+            for &(_, e) in &ends[groups[g] as usize..groups[g + 1] as usize] {
+                pieces[(e / 2) as usize].points[(e % 2) as usize] = *point;
+            }
+        }
+        Ok(())
+    }
+}
+
 /// From the intersecting pairs in `out.work.pairs` to the curves in `out`.
 fn finish(
     sides: &Sides,
@@ -267,6 +333,9 @@ fn finish(
             Found::Degenerate(_) => degenerate += 1,
         }
     }
+    let threads = threads::resolve(options.threads);
+    link(work);
+    sides.points_all(work, threads)?;
     chain(work, spare)?;
     spare
         .degenerate

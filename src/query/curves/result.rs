@@ -1,6 +1,7 @@
 //! What the intersection-curve queries report, and the reusable buffer it goes to.
 
 use crate::csr::heap_bytes;
+use crate::geometry::crossing::EndFeature;
 use crate::geometry::predicates::Point;
 use crate::query::pairs::Pairs;
 use std::ops::Range;
@@ -143,14 +144,16 @@ impl CurveSet {
     }
 }
 
-/// A segment as the pairs give it, before chaining: its pair, its ends' names and points, in
-/// the pair's own direction (`n_a x n_b`).
+/// A segment as the pairs give it, before chaining: its pair, its ends' names, features in the
+/// pair and points (set once per name, after the ends are sorted), in the pair's own direction
+/// (`n_a x n_b`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Piece {
     pub triangle_a: u32,
     pub triangle_b: u32,
     pub names: [CurvePoint; 2],
     pub points: [Point; 2],
+    pub features: [EndFeature; 2],
 }
 
 /// What one intersecting pair gives.
@@ -171,6 +174,10 @@ pub(crate) struct CurveWork {
     pub pieces: Vec<Piece>,
     /// Every segment end `(name, 2 * piece + which)`, sorted by name.
     pub ends: Vec<(CurvePoint, u32)>,
+    /// Where each name's group of ends starts in `ends`, then `ends.len()`.
+    pub groups: Vec<u32>,
+    /// Each group's point.
+    pub group_points: Vec<Point>,
     /// For each segment end, the end it joins (`NONE` where a curve ends).
     pub partner: Vec<u32>,
     /// Pieces already put into a curve.
@@ -189,6 +196,8 @@ impl CurveWork {
             + heap_bytes(&self.found)
             + heap_bytes(&self.pieces)
             + heap_bytes(&self.ends)
+            + heap_bytes(&self.groups)
+            + heap_bytes(&self.group_points)
             + heap_bytes(&self.partner)
             + heap_bytes(&self.taken)
             + heap_bytes(&self.walk)

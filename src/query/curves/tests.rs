@@ -2,7 +2,7 @@
 //! constructed, random, degenerate and extreme cases; the chaining, the options, the errors and
 //! the length gradient (against central differences).
 
-use super::chain::{chain, is_chained, piece};
+use super::chain::{chain, is_chained, link, piece};
 use super::*;
 use crate::fixtures::curve_judge::{World, judge};
 use crate::fixtures::{MeshData, Rng, icosphere, soup, torus};
@@ -332,6 +332,7 @@ fn chaining_follows_names_only() {
         ..Default::default()
     };
     let mut set = super::result::CurveSet::default();
+    link(&mut work);
     chain(&mut work, &mut set).unwrap();
     assert!(is_chained(&set));
     let runs: Vec<(Vec<(u32, u32)>, bool)> = set
