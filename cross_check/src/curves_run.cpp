@@ -10,12 +10,22 @@
 // Timed: dvh's refit + curves, dvh's refit + collide, CGAL's surface_intersection (its meshes
 // built from the frame's arrays beforehand, not timed: it keeps no tree between calls, so a user
 // builds them every frame).
+//
+// Then the self-collision run's bending meshes: dvh_self_intersection_curves against a CGAL
+// route to the same segments, PMP::self_intersections for the pairs (the same rule for triangles
+// sharing vertices) and CGAL::intersection of each pair's triangles in
+// Exact_predicates_exact_constructions_kernel. Every dvh segment must be its pair's exact
+// intersection (its two ends within 4 units in the last place of the largest coordinate), and
+// the segments plus degenerate pairs must be CGAL's pairs.
 
 #include <dvh.hpp>
 
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/intersection.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
+#include <CGAL/intersections.h>
 
 #include <algorithm>
 #include <cmath>
@@ -32,6 +42,7 @@ namespace xc {
 namespace {
 
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Epeck = CGAL::Exact_predicates_exact_constructions_kernel;
 using SurfaceMesh = CGAL::Surface_mesh<K::Point_3>;
 namespace PMP = CGAL::Polygon_mesh_processing;
 
@@ -148,7 +159,115 @@ CurvesResults run_curves(const RunOptions& options) {
             }
         }
     }
+    run_self_curves(options, out);
     return out;
+}
+
+namespace {
+
+// The ends of the segment where two triangles of one mesh meet, by CGAL in exact constructions,
+// rounded to doubles; false when they meet in something else.
+bool cgal_segment(const double a[9], const double b[9], Point& p, Point& q) {
+    auto tri = [](const double* c) {
+        return Epeck::Triangle_3(Epeck::Point_3(c[0], c[1], c[2]), Epeck::Point_3(c[3], c[4], c[5]),
+                                 Epeck::Point_3(c[6], c[7], c[8]));
+    };
+    auto meet = CGAL::intersection(tri(a), tri(b));
+    if (!meet) return false;
+    const Epeck::Segment_3* s = boost::get<Epeck::Segment_3>(&*meet);
+    if (s == nullptr) return false;
+    // From the exact coordinates (the lazy numbers' own approximations can be off by more).
+    auto rounded = [](const Epeck::Point_3& x) {
+        return Point{CGAL::to_double(CGAL::exact(x.x())), CGAL::to_double(CGAL::exact(x.y())),
+                     CGAL::to_double(CGAL::exact(x.z()))};
+    };
+    p = rounded(s->source());
+    q = rounded(s->target());
+    return true;
+}
+
+}  // namespace
+
+void run_self_curves(const RunOptions& options, CurvesResults& out) {
+    using Face = boost::graph_traits<SurfaceMesh>::face_descriptor;
+    for (auto& s : make_self_scenes(options.scenes)) {
+        if (!options.only.empty() && s.name != options.only) continue;
+        const MeshData& m = s.rest;
+        std::vector<double> pos;
+        s.at(0.0, pos);
+        dvh::Mesh mesh(pos.data(), m.vertices(), m.tris.data(), m.triangles(), dvh::BuildOptions{}.refit_threads(1));
+        dvh::Curves curves;
+        dvh::Pairs pairs;
+        const dvh::QueryOptions one = dvh::QueryOptions{}.threads(1);
+        const int frames = std::min(s.frames, options.scenes.full ? 10 : 3);
+        for (int f = 0; f < frames; f++) {
+            // The later frames, where the meshes pass through themselves.
+            const double t = frames > 1 ? 0.5 + 0.5 * f / (frames - 1) : 1.0;
+            s.at(t, pos);
+            CurvesRow row;
+            row.scene = s.name;
+            row.objects = "self";
+            row.frame = f;
+            row.triangles = m.triangles();
+            auto t0 = Clock::now();
+            mesh.refit(pos.data(), m.vertices());
+            dvh::self_intersection_curves(mesh, one, curves);
+            row.dvh_curves = ms_since(t0);
+            t0 = Clock::now();
+            mesh.refit(pos.data(), m.vertices());
+            dvh::self_collide(mesh, one, pairs);
+            row.dvh_collide = ms_since(t0);
+            row.segments = curves.size();
+            row.curves = curves.curve_count();
+            row.degenerate = curves.degenerate().size();
+
+            const SurfaceMesh sm = surface(m, pos);
+            std::vector<std::pair<Face, Face>> found;
+            t0 = Clock::now();
+            PMP::self_intersections(sm, std::back_inserter(found));
+            std::vector<std::pair<uint64_t, std::array<Point, 2>>> exact;
+            for (const auto& [x, y] : found) {
+                uint32_t a = (uint32_t)x.idx(), b = (uint32_t)y.idx();
+                if (a > b) std::swap(a, b);
+                double ta[9], tb[9];
+                triangle(m, pos, a, ta);
+                triangle(m, pos, b, tb);
+                Point p, q;
+                if (cgal_segment(ta, tb, p, q)) exact.push_back({pair_key(a, b), {p, q}});
+            }
+            row.cgal = ms_since(t0);
+            std::sort(exact.begin(), exact.end());
+            row.cgal_polylines = found.size();  // pairs, for this run
+            row.cgal_segments = exact.size();
+            double scale = 0;
+            for (double x : pos) scale = std::max(scale, std::fabs(x));
+            size_t matched = 0;
+            double worst = 0;
+            for (const DvhCurveSegment& seg : curves) {
+                auto it = std::lower_bound(exact.begin(), exact.end(), pair_key(seg.triangle_a, seg.triangle_b),
+                                           [](const auto& e, uint64_t k) { return e.first < k; });
+                if (it == exact.end() || it->first != pair_key(seg.triangle_a, seg.triangle_b)) continue;
+                const Point a{seg.start[0], seg.start[1], seg.start[2]}, b{seg.end[0], seg.end[1], seg.end[2]};
+                auto diff = [](const Point& x, const Point& y) {
+                    return std::max({std::fabs(x[0] - y[0]), std::fabs(x[1] - y[1]), std::fabs(x[2] - y[2])});
+                };
+                const auto& e = it->second;
+                const double d = std::min(std::max(diff(a, e[0]), diff(b, e[1])), std::max(diff(a, e[1]), diff(b, e[0])));
+                worst = std::max(worst, d);
+                matched++;
+            }
+            row.dvh_points = matched;
+            row.difference_ulps = worst / (scale * 0x1p-52);
+            row.general = true;
+            row.same = matched == row.segments && row.difference_ulps <= 4.0 && row.segments == row.cgal_segments &&
+                       row.segments + row.degenerate == found.size();
+            std::printf("curves %-10s self frame %3d: %6zu segments, %4zu curves, %5zu degenerate; CGAL %6zu pairs, %6zu segments; "
+                        "%s (%.1f ulps); dvh %.3f ms (self_collide %.3f), CGAL %.3f ms\n",
+                        row.scene.c_str(), f, row.segments, row.curves, row.degenerate, found.size(), exact.size(),
+                        row.same ? "the same" : "differ", row.difference_ulps, row.dvh_curves, row.dvh_collide, row.cgal);
+            out.rows.push_back(row);
+        }
+    }
 }
 
 bool report_curves(const CurvesResults& results) {

@@ -120,6 +120,8 @@ bool report_proximity(const ProximityResults& results, bool& reference_ok);
 void write_proximity_outputs(const std::string& dir, const ProximityResults& results);
 
 CurvesResults run_curves(const RunOptions& options);
+// Its second part, on the self-collision run's meshes (called by run_curves).
+void run_self_curves(const RunOptions& options, CurvesResults& out);
 // Prints the summary; true when dvh's curves are CGAL's on every frame in general position.
 bool report_curves(const CurvesResults& results);
 void write_curves_outputs(const std::string& dir, const CurvesResults& results);
