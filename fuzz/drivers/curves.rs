@@ -156,6 +156,10 @@ pub fn curves(data: &[u8]) {
     let (mut pb, tb) = shape(&mut bytes);
     let pose_b = pose(&mut bytes);
     let (ma, mb) = (c_mesh(&pa, &ta), c_mesh(&pb, &tb));
+    // The same meshes through the Rust API, built and refit alike: the same trees, so that a
+    // truncated result keeps the same pairs.
+    let mut ra = Mesh::new(&pa, &ta, &BuildOptions::default()).expect("valid");
+    let mut rb = Mesh::new(&pb, &tb, &BuildOptions::default()).expect("valid");
     let cb = c_pose(&pose_b);
     let cb_ptr = cb
         .as_ref()
@@ -215,10 +219,8 @@ pub fn curves(data: &[u8]) {
         } else {
             0
         };
-        let (ra, rb) = (
-            Mesh::new(&pa, &ta, &BuildOptions::default()).expect("valid"),
-            Mesh::new(&pb, &tb, &BuildOptions::default()).expect("valid"),
-        );
+        ra.refit(&pa).expect("finite");
+        rb.refit(&pb).expect("finite");
         for one in [false, true] {
             let before = c_contents(buffer);
             let mut stats = DvhQueryStats::default();
