@@ -2872,6 +2872,226 @@ static void test_scene_nearest(void) {
     mesh_free(&tm);
 }
 
+/* An octahedron with corners at distance r from (cx, cy, cz), outward normals; appended to `m`
+   at vertex `v0` and triangle `t0`. */
+static void octahedron(double *pos, uint32_t *tris, uint32_t v0, double r, double cx, double cy, double cz) {
+    static const int corners[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    static const uint32_t faces[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                                         {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+    int i, k;
+    for (i = 0; i < 6; i++) {
+        pos[3 * i + 0] = cx + r * corners[i][0];
+        pos[3 * i + 1] = cy + r * corners[i][1];
+        pos[3 * i + 2] = cz + r * corners[i][2];
+    }
+    for (i = 0; i < 8; i++)
+        for (k = 0; k < 3; k++) tris[3 * i + k] = v0 + faces[i][k];
+}
+
+/* Every curve of `c` a chain (each segment starting, bit for bit, where the one before ends),
+   closed when `closed`, the curves covering the segments in order; and the segments' and
+   degenerate pairs' triangle pairs exactly `expected` (sorted, n of them). */
+static void check_curves(const DvhCurves *c, const DvhPair *expected, size_t n, int closed) {
+    size_t curves = dvh_curves_curve_count(c), len = dvh_curves_len(c), dlen = dvh_curves_degenerate_len(c);
+    const DvhCurveSegment *s = dvh_curves_data(c);
+    const DvhDegeneratePair *d = dvh_curves_degenerate_data(c);
+    size_t i, k, next = 0, first, count, found = 0;
+    bool is_closed;
+    CHECK(len + dlen == n);
+    CHECK((len == 0) == (s == NULL) && (dlen == 0) == (d == NULL));
+    for (i = 0; i < curves; i++) {
+        CHECK_STATUS(dvh_curves_curve(c, i, &first, &count, &is_closed), DVH_STATUS_OK, NULL);
+        CHECK(first == next && count > 0 && first + count <= len);
+        if (first != next || count == 0 || first + count > len) return;
+        if (closed) CHECK(is_closed);
+        for (k = first; k < first + count; k++) {
+            CHECK(s[k].curve == i && s[k].reserved == 0);
+            if (k > first) CHECK(memcmp(s[k - 1].end, s[k].start, sizeof s[k].start) == 0);
+        }
+        if (is_closed) CHECK(memcmp(s[first + count - 1].end, s[first].start, sizeof s[first].start) == 0);
+        next = first + count;
+    }
+    CHECK(next == len);
+    for (i = 0; i < len; i++) {
+        DvhPair p;
+        p.a = s[i].triangle_a;
+        p.b = s[i].triangle_b;
+        found += contains(expected, n, p);
+    }
+    for (i = 0; i < dlen; i++) {
+        DvhPair p;
+        p.a = d[i].triangle_a;
+        p.b = d[i].triangle_b;
+        found += contains(expected, n, p);
+        CHECK(d[i].reserved == 0 && (d[i].kind == DVH_DEGENERATE_KIND_POINT || d[i].kind == DVH_DEGENERATE_KIND_COPLANAR));
+        if (i > 0) CHECK(d[i - 1].triangle_a < d[i].triangle_a || (d[i - 1].triangle_a == d[i].triangle_a && d[i - 1].triangle_b < d[i].triangle_b));
+    }
+    CHECK(found == n);
+}
+
+static void test_intersection_curves(void) {
+    double pa[18], pb[18], both[36];
+    uint32_t ta[24], tb[24], tboth[48];
+    DvhMesh *a = NULL, *b = NULL, *one = NULL;
+    DvhCurves *c = dvh_curves_new(), *c2 = dvh_curves_new();
+    DvhPairs *pairs = dvh_pairs_new();
+    DvhQueryStats stats, sentinel;
+    DvhQueryOptions q;
+    DvhPose shift;
+    const DvhCurveSegment *s;
+    size_t n, len, i, first = 7, count = 7;
+    bool closed = false;
+    int threads;
+    DvhPair expected[64];
+
+    octahedron(pa, ta, 0, 1.0, 0.0, 0.0, 0.0);
+    octahedron(pb, tb, 0, 0.9, 0.61, 0.27, 0.13);
+    CHECK_STATUS(dvh_mesh_create(pa, 6, ta, 8, NULL, &a), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_mesh_create(pb, 6, tb, 8, NULL, &b), DVH_STATUS_OK, NULL);
+    CHECK(c != NULL && c2 != NULL && pairs != NULL);
+    if (a == NULL || b == NULL || c == NULL || c2 == NULL || pairs == NULL) return;
+
+    /* A new buffer is empty; NULL reads as empty. */
+    CHECK(dvh_curves_len(c) == 0 && dvh_curves_data(c) == NULL && dvh_curves_curve_count(c) == 0);
+    CHECK(dvh_curves_degenerate_len(NULL) == 0 && dvh_curves_degenerate_data(NULL) == NULL);
+
+    /* Two closed surfaces in general position cross in closed curves, one segment or degenerate
+       pair per pair dvh_collide reports, on every thread count. */
+    CHECK_STATUS(dvh_collide(a, NULL, b, NULL, NULL, pairs, NULL), DVH_STATUS_OK, NULL);
+    n = dvh_pairs_len(pairs);
+    CHECK(n > 3 && n <= 64);
+    if (n > 64) return;
+    memcpy(expected, dvh_pairs_data(pairs), n * sizeof *expected);
+    for (threads = 0; threads < 3; threads++) {
+        q = dvh_query_options_default();
+        q.threads = (uint32_t)threads;
+        CHECK_STATUS(dvh_intersection_curves(a, NULL, b, NULL, &q, c, &stats), DVH_STATUS_OK, NULL);
+        CHECK(stats.pairs == n && !stats.truncated);
+        CHECK(dvh_curves_degenerate_len(c) == 0 && dvh_curves_curve_count(c) >= 1);
+        check_curves(c, expected, n, 1);
+    }
+    len = dvh_curves_len(c);
+
+    /* Posed: the same as the mesh moved there (a translation by a power of two is exact). */
+    memset(&shift, 0, sizeof shift);
+    shift.rotation[0] = shift.rotation[4] = shift.rotation[8] = 1.0;
+    shift.translation[0] = 0.5;
+    {
+        double moved[18];
+        DvhMesh *m = NULL;
+        for (i = 0; i < 18; i++) moved[i] = pb[i] + (i % 3 == 0 ? 0.5 : 0.0);
+        CHECK_STATUS(dvh_mesh_create(moved, 6, tb, 8, NULL, &m), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_intersection_curves(a, NULL, b, &shift, NULL, c2, NULL), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_intersection_curves(a, NULL, m, NULL, NULL, c, NULL), DVH_STATUS_OK, NULL);
+        CHECK(dvh_curves_len(c) == dvh_curves_len(c2) && dvh_curves_len(c) > 0);
+        CHECK(memcmp(dvh_curves_data(c), dvh_curves_data(c2), dvh_curves_len(c) * sizeof(DvhCurveSegment)) == 0);
+        dvh_mesh_free(m);
+    }
+
+    /* The two as one mesh: its self curves are the same segments, the second's triangles shifted. */
+    memcpy(both, pa, sizeof pa);
+    memcpy(both + 18, pb, sizeof pb);
+    memcpy(tboth, ta, sizeof ta);
+    for (i = 0; i < 24; i++) tboth[24 + i] = tb[i] + 6;
+    CHECK_STATUS(dvh_mesh_create(both, 12, tboth, 16, NULL, &one), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_intersection_curves(a, NULL, b, NULL, NULL, c, NULL), DVH_STATUS_OK, NULL);
+    CHECK_STATUS(dvh_self_intersection_curves(one, NULL, c2, &stats), DVH_STATUS_OK, NULL);
+    CHECK(dvh_curves_len(c2) == len && stats.pairs == n && dvh_curves_curve_count(c2) == dvh_curves_curve_count(c));
+    s = dvh_curves_data(c2);
+    for (i = 0; i < len && dvh_curves_len(c2) == len; i++) {
+        const DvhCurveSegment *t = dvh_curves_data(c) + i;
+        CHECK(s[i].triangle_a == t->triangle_a && s[i].triangle_b == t->triangle_b + 8 && s[i].curve == t->curve);
+        CHECK(memcmp(s[i].start, t->start, sizeof t->start) == 0 && memcmp(s[i].end, t->end, sizeof t->end) == 0);
+    }
+
+    /* A copy: identical triangles are coplanar pairs, neighbours touch along shared edges. */
+    CHECK_STATUS(dvh_intersection_curves(a, NULL, a, NULL, NULL, c2, &stats), DVH_STATUS_OK, NULL);
+    {
+        const DvhDegeneratePair *d = dvh_curves_degenerate_data(c2);
+        size_t coplanar = 0;
+        for (i = 0; i < dvh_curves_degenerate_len(c2); i++)
+            coplanar += d[i].kind == DVH_DEGENERATE_KIND_COPLANAR && d[i].triangle_a == d[i].triangle_b;
+        CHECK(coplanar == 8 && dvh_curves_len(c2) == 24);
+    }
+
+    /* max_pairs bounds segments plus degenerate pairs. */
+    q = dvh_query_options_default();
+    q.max_pairs = 2;
+    CHECK_STATUS(dvh_intersection_curves(a, NULL, b, NULL, &q, c2, &stats), DVH_STATUS_OK, NULL);
+    CHECK(dvh_curves_len(c2) + dvh_curves_degenerate_len(c2) == 2 && stats.truncated && stats.pairs == 2);
+
+    /* Errors name the culprit and change nothing. */
+    CHECK_STATUS(dvh_intersection_curves(a, NULL, b, NULL, NULL, c, NULL), DVH_STATUS_OK, NULL);
+    memset(&sentinel, 0xab, sizeof sentinel);
+    stats = sentinel;
+    q = dvh_query_options_default();
+    q.mode = DVH_QUERY_MODE_LEAVES;
+    CHECK_STATUS(dvh_intersection_curves(a, NULL, b, NULL, &q, c, &stats), DVH_STATUS_INVALID_ARGUMENT, "DVH_QUERY_MODE_TRIANGLES");
+    q.mode = DVH_QUERY_MODE_FIRST_HIT;
+    CHECK_STATUS(dvh_self_intersection_curves(one, &q, c, &stats), DVH_STATUS_INVALID_ARGUMENT, "triangles mode");
+    q.mode = 42;
+    CHECK_STATUS(dvh_intersection_curves(a, NULL, b, NULL, &q, c, &stats), DVH_STATUS_INVALID_ARGUMENT, "options->mode = 42");
+    CHECK_STATUS(dvh_intersection_curves(NULL, NULL, b, NULL, NULL, c, &stats), DVH_STATUS_NULL_ARGUMENT, "argument `a` is NULL");
+    CHECK_STATUS(dvh_intersection_curves(a, NULL, b, NULL, NULL, NULL, &stats), DVH_STATUS_NULL_ARGUMENT,
+                 "argument `curves_out` is NULL");
+    CHECK_STATUS(dvh_self_intersection_curves(NULL, NULL, c, &stats), DVH_STATUS_NULL_ARGUMENT, "argument `mesh` is NULL");
+    shift.rotation[1] = 0.5;
+    CHECK_STATUS(dvh_intersection_curves(a, NULL, b, &shift, NULL, c, &stats), DVH_STATUS_NON_RIGID_POSE, "pose_b");
+    CHECK_STATUS(dvh_intersection_curves(a, NULL, b, NULL, NULL, (DvhCurves *)(void *)pairs, &stats), DVH_STATUS_INVALID_ARGUMENT,
+                 "DvhCurves `curves_out` is not a live handle");
+    CHECK_STATUS(dvh_collide(a, NULL, b, NULL, NULL, (DvhPairs *)(void *)c, &stats), DVH_STATUS_INVALID_ARGUMENT,
+                 "DvhPairs `pairs_out` is not a live handle");
+    CHECK(memcmp(&stats, &sentinel, sizeof stats) == 0);
+    CHECK(dvh_curves_len(c) == len);
+    check_curves(c, expected, n, 1);
+
+    /* The length gradient: nonzero at the curves' triangles only, and its checks. */
+    {
+        double ga[18], gb[18], g_one[36], sentinel_g[18];
+        size_t nonzero = 0;
+        memset(ga, 0xab, sizeof ga);
+        memcpy(sentinel_g, ga, sizeof ga);
+        CHECK_STATUS(dvh_curves_length_gradient(c, a, NULL, b, NULL, ga, 6, gb, 6), DVH_STATUS_OK, NULL);
+        for (i = 0; i < 18; i++) nonzero += ga[i] != 0.0 && gb[i] != 0.0;
+        CHECK(nonzero > 0);
+        memcpy(ga, sentinel_g, sizeof ga);
+        CHECK_STATUS(dvh_curves_length_gradient(c, a, NULL, b, NULL, ga, 5, gb, 6), DVH_STATUS_INVALID_ARGUMENT, "has 6");
+        CHECK_STATUS(dvh_curves_length_gradient(c, a, NULL, b, NULL, NULL, 6, gb, 6), DVH_STATUS_NULL_ARGUMENT, "gradient_a");
+        CHECK_STATUS(dvh_curves_length_gradient(c, a, NULL, b, NULL, ga, 6, gb, SIZE_MAX), DVH_STATUS_INVALID_ARGUMENT, "gradient_b");
+        CHECK_STATUS(dvh_curves_length_gradient(NULL, a, NULL, b, NULL, ga, 6, gb, 6), DVH_STATUS_NULL_ARGUMENT, "curves");
+        CHECK_STATUS(dvh_curves_self_length_gradient(c, one, g_one, 12), DVH_STATUS_INVALID_ARGUMENT, "curves of two meshes");
+        CHECK(memcmp(ga, sentinel_g, sizeof ga) == 0);
+        CHECK_STATUS(dvh_self_intersection_curves(one, NULL, c2, NULL), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_curves_self_length_gradient(c2, one, g_one, 12), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_curves_length_gradient(c2, a, NULL, b, NULL, ga, 6, gb, 6), DVH_STATUS_INVALID_ARGUMENT, "self-intersection");
+        CHECK_STATUS(dvh_curves_self_length_gradient(c2, a, ga, 6), DVH_STATUS_INVALID_ARGUMENT, "not this mesh's curves");
+        /* The same gradient, the second mesh's part shifted. */
+        CHECK_STATUS(dvh_curves_length_gradient(c, a, NULL, b, NULL, ga, 6, gb, 6), DVH_STATUS_OK, NULL);
+        for (i = 0; i < 18; i++) CHECK(fabs(g_one[i] - ga[i]) <= 1e-12 && fabs(g_one[18 + i] - gb[i]) <= 1e-12);
+    }
+
+    /* The curve accessor: out of range, NULL out-pointers, not a buffer. */
+    n = dvh_curves_curve_count(c);
+    CHECK_STATUS(dvh_curves_curve(c, n, &first, &count, &closed), DVH_STATUS_INVALID_ARGUMENT, "out of range");
+    CHECK_STATUS(dvh_curves_curve(c, (size_t)-1, &first, &count, &closed), DVH_STATUS_INVALID_ARGUMENT, "out of range");
+    CHECK_STATUS(dvh_curves_curve(c, 0, NULL, &count, &closed), DVH_STATUS_NULL_ARGUMENT, "first_out");
+    CHECK_STATUS(dvh_curves_curve(c, 0, &first, NULL, &closed), DVH_STATUS_NULL_ARGUMENT, "count_out");
+    CHECK_STATUS(dvh_curves_curve(c, 0, &first, &count, NULL), DVH_STATUS_NULL_ARGUMENT, "closed_out");
+    CHECK_STATUS(dvh_curves_curve(NULL, 0, &first, &count, &closed), DVH_STATUS_NULL_ARGUMENT, "curves");
+    CHECK_STATUS(dvh_curves_curve((const DvhCurves *)(const void *)pairs, 0, &first, &count, &closed), DVH_STATUS_INVALID_ARGUMENT,
+                 "not a live handle");
+    CHECK(first == 7 && count == 7 && !closed);
+    CHECK(dvh_curves_len((const DvhCurves *)(const void *)pairs) == 0);
+
+    dvh_curves_free(NULL);
+    dvh_curves_free(c);
+    dvh_curves_free(c2);
+    dvh_pairs_free(pairs);
+    dvh_mesh_free(a);
+    dvh_mesh_free(b);
+    dvh_mesh_free(one);
+}
+
 int main(void) {
     test_versions_and_names();
     test_defaults();
@@ -2895,5 +3115,6 @@ int main(void) {
     test_scene_continuous_oracle();
     test_scene_self_contact();
     test_scene_nearest();
+    test_intersection_curves();
     return finish("test_api");
 }

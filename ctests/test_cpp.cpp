@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <tuple>
 #include <optional>
 #include <string>
 #include <type_traits>
@@ -1429,6 +1430,98 @@ void test_scene_step() {
     dvh_scene_free(c_scene);
 }
 
+// ---- intersection curves ----
+
+// The wrapper's curves equal the C buffer's, byte for byte, curve by curve.
+bool same(const dvh::Curves& curves, const DvhCurves* c) {
+    const dvh::Span<DvhCurveSegment> v = curves.view();
+    if (v.size() != dvh_curves_len(c) || curves.curve_count() != dvh_curves_curve_count(c)) return false;
+    if (curves.degenerate().size() != dvh_curves_degenerate_len(c)) return false;
+    if (!v.empty() && std::memcmp(v.data(), dvh_curves_data(c), v.size() * sizeof(DvhCurveSegment)) != 0) return false;
+    for (std::size_t i = 0; i < curves.curve_count(); i++) {
+        std::size_t first = 0, count = 0;
+        bool closed = false;
+        if (dvh_curves_curve(c, i, &first, &count, &closed) != DVH_STATUS_OK) return false;
+        const dvh::Curve curve = curves.curve(i);
+        if (curve.segments.data() != v.data() + first || curve.segments.size() != count || curve.closed != closed) return false;
+    }
+    return true;
+}
+
+void test_curves() {
+    // Two terrains through each other and a posed copy, through the wrappers and the C API.
+    const Geometry ga = terrain(6, 0, 0, wave), gb = terrain(6, 1, 2, ridge);
+    const dvh::Mesh a(ga.positions, ga.triangles), b(gb.positions, gb.triangles);
+    DvhMesh* c_a = c_mesh(ga);
+    DvhMesh* c_b = c_mesh(gb);
+    DvhCurves* c_curves = dvh_curves_new();
+    dvh::Curves curves;
+    REQUIRE(curves && curves.empty() && curves.curve_count() == 0 && curves.degenerate().empty());
+    const DvhPose turn = turned(6, 1, 1);
+    std::size_t found = 0;
+    for (const dvh::QueryOptions& o : {dvh::QueryOptions{}, dvh::QueryOptions{}.threads(1).max_pairs(4)}) {
+        DvhQueryStats c_stats{};
+        REQUIRE(dvh_intersection_curves(c_a, nullptr, c_b, &turn, &o.c(), c_curves, &c_stats) == DVH_STATUS_OK);
+        DvhQueryStats stats = dvh::intersection_curves(a, nullptr, b, &turn, o, curves);
+        REQUIRE(same(curves, c_curves) && same(stats, c_stats));
+        REQUIRE(same(dvh::intersection_curves(a, nullptr, b, &turn, o), c_curves));
+        found += curves.size();
+        REQUIRE(dvh_self_intersection_curves(c_a, &o.c(), c_curves, &c_stats) == DVH_STATUS_OK);
+        stats = dvh::self_intersection_curves(a, o, curves);
+        REQUIRE(same(curves, c_curves) && same(stats, c_stats));
+        REQUIRE(same(dvh::self_intersection_curves(a, o), c_curves));
+    }
+    REQUIRE(found > 4);
+    // Chains: each segment starts where the one before ends.
+    dvh::intersection_curves(a, nullptr, b, &turn, dvh::QueryOptions{}, curves);
+    for (std::size_t i = 0; i < curves.curve_count(); i++) {
+        const dvh::Curve c = curves.curve(i);
+        for (std::size_t k = 1; k < c.segments.size(); k++)
+            REQUIRE(std::memcmp(c.segments[k - 1].end, c.segments[k].start, sizeof c.segments[k].start) == 0);
+    }
+
+    // The length gradient, as the C call gives it.
+    {
+        std::vector<double> ga, gb;
+        std::vector<double> c_ga(3 * a.vertex_count()), c_gb(3 * b.vertex_count());
+        REQUIRE(dvh_intersection_curves(c_a, nullptr, c_b, &turn, nullptr, c_curves, nullptr) == DVH_STATUS_OK);
+        REQUIRE(dvh_curves_length_gradient(c_curves, c_a, nullptr, c_b, &turn, c_ga.data(), a.vertex_count(), c_gb.data(),
+                                           b.vertex_count()) == DVH_STATUS_OK);
+        std::tie(ga, gb) = curves.length_gradient(a, nullptr, b, &turn);
+        REQUIRE(ga == c_ga && gb == c_gb);
+        REQUIRE(std::any_of(ga.begin(), ga.end(), [](double x) { return x != 0.0; }));
+        REQUIRE_ERROR((void)curves.self_length_gradient(a), DVH_STATUS_INVALID_ARGUMENT, "curves of two meshes");
+        dvh::Curves own = dvh::self_intersection_curves(a);
+        REQUIRE(own.self_length_gradient(a).size() == 3 * a.vertex_count());
+    }
+
+    // Errors throw and leave the buffer as it was.
+    const std::vector<DvhCurveSegment> before(curves.begin(), curves.end());
+    REQUIRE(!before.empty());
+    REQUIRE_ERROR((void)curves.curve(curves.curve_count()), DVH_STATUS_INVALID_ARGUMENT, "out of range");
+    REQUIRE_ERROR(dvh::intersection_curves(a, nullptr, b, &turn, dvh::QueryOptions{}.mode(DVH_QUERY_MODE_LEAVES), curves),
+                  DVH_STATUS_INVALID_ARGUMENT, "DVH_QUERY_MODE_TRIANGLES");
+    const DvhPose far{{1, 0, 0, 0, 1, 0, 0, 0, 1}, {1e301, 0, 0}};
+    REQUIRE_ERROR(dvh::intersection_curves(a, &far, b, nullptr, dvh::QueryOptions{}, curves), DVH_STATUS_POSE_OUT_OF_RANGE, "");
+    REQUIRE(curves.size() == before.size() &&
+            std::memcmp(curves.view().data(), before.data(), before.size() * sizeof(DvhCurveSegment)) == 0);
+
+    // Moves: the buffer goes with the owner; a moved-from owner refuses queries.
+    const DvhCurveSegment* data = curves.view().data();
+    dvh::Curves moved_to(std::move(curves));
+    REQUIRE(moved_to.view().data() == data && !curves && curves.size() == 0 && curves.curve_count() == 0);
+    REQUIRE_ERROR(dvh::self_intersection_curves(a, dvh::QueryOptions{}, curves), DVH_STATUS_NULL_ARGUMENT, "`curves_out`");
+    REQUIRE_ERROR((void)curves.curve(0), DVH_STATUS_NULL_ARGUMENT, "curves");
+    DvhCurves* raw = moved_to.release();
+    REQUIRE(!moved_to && raw != nullptr);
+    dvh::Curves adopted(raw);
+    REQUIRE(adopted.size() == before.size());
+
+    dvh_curves_free(c_curves);
+    dvh_mesh_free(c_a);
+    dvh_mesh_free(c_b);
+}
+
 int main() {
     test_version_status_and_messages();
     test_span();
@@ -1444,6 +1537,7 @@ int main() {
     test_nearest();
     test_scene_owners();
     test_scene_step();
+    test_curves();
     std::printf("test_cpp (C++%ld): all checks passed\n", (long)(__cplusplus / 100 % 100));
     return 0;
 }

@@ -8,10 +8,9 @@
  *   dvh_last_error_message() then says exactly what was wrong (which argument, index, value).
  * - Out-parameters come last and are written only on success; a failed call changes nothing.
  * - Handles (DvhMesh, DvhPairs, DvhScene, DvhContacts, DvhImpacts, DvhNearPairs,
- *   DvhSceneImpacts, DvhSceneNearPairs) are opaque, created by dvh_*_create / dvh_*_new,
- *   released by dvh_*_free, which accept NULL; each keeps a tag saying its kind in its first
- *   8 bytes. Input arrays are copied; nothing is
- *   kept after a call returns. A scene object copies what it needs of its mesh: the mesh may be
+ *   DvhSceneImpacts, DvhSceneNearPairs, DvhCurves) are opaque, created by dvh_*_create /
+ *   dvh_*_new, released by dvh_*_free, which accept NULL; each keeps a tag saying its kind in
+ *   its first 8 bytes. Input arrays are copied; nothing is kept after a call returns. A scene object copies what it needs of its mesh: the mesh may be
  *   refit or freed afterwards.
  * - No input makes the library crash: pointers are checked for NULL and alignment, sizes for
  *   overflow, option values for range, coordinates for NaN and infinity; internal panics are
@@ -55,6 +54,13 @@
  * released by `dvh_contacts_free`. Use one per thread.
  */
 typedef struct DvhContacts DvhContacts;
+
+/**
+ * A reusable result buffer for the intersection curves: segments curve by curve, the curves,
+ * the degenerate pairs, and the scratch space of the queries. Opaque; created by
+ * `dvh_curves_new`, released by `dvh_curves_free`. Use one per thread.
+ */
+typedef struct DvhCurves DvhCurves;
 
 /**
  * A reusable result buffer for the continuous queries. Opaque; created by `dvh_impacts_new`,
@@ -227,96 +233,66 @@ typedef struct DvhSceneImpact {
 } DvhSceneImpact;
 
 /**
- * How the hierarchy above the 1-rings is split: a `DVH_TREE_KIND_*` value.
+ * One segment of an intersection curve: where triangle `triangle_a` of the first mesh crosses
+ * triangle `triangle_b` of the second. The points are world coordinates, each coordinate the
+ * exact one rounded to the nearest double (within half a unit in the last place; a mesh
+ * vertex keeps its bits); every segment ending at one exact point carries the same bits for
+ * it, so within a curve `end` of one segment equals `start` of the next, bit for bit.
  */
-typedef uint32_t DvhTreeKind;
+typedef struct DvhCurveSegment {
+  /**
+   * The triangle of the first mesh (self: the lower index).
+   */
+  uint32_t triangle_a;
+  /**
+   * The triangle of the second mesh (self: the higher index).
+   */
+  uint32_t triangle_b;
+  /**
+   * The curve it belongs to (`0 .. dvh_curves_curve_count`).
+   */
+  uint32_t curve;
+  /**
+   * Always 0.
+   */
+  uint32_t reserved;
+  /**
+   * Where the segment starts, in the curve's direction.
+   */
+  double start[3];
+  /**
+   * Where it ends.
+   */
+  double end[3];
+} DvhCurveSegment;
 
 /**
- * How node radii are recomputed at each refit: a `DVH_RADIUS_KIND_*` value.
+ * Why an intersecting triangle pair of `DvhDegeneratePair` has no segment.
  */
-typedef uint32_t DvhRadiusKind;
+typedef uint32_t DvhDegenerateKind;
 
 /**
- * How triangles touching no 1-ring centre are put into leaves: a `DVH_LEFTOVER_POLICY_*` value.
+ * An intersecting triangle pair whose intersection is not a segment, reported apart from the
+ * curves. Sorted by `(triangle_a, triangle_b)`.
  */
-typedef uint32_t DvhLeftoverPolicy;
-
-/**
- * The bounding volume on every node of a mesh's hierarchy: a `DVH_VOLUME_KIND_*` value.
- */
-typedef uint32_t DvhVolumeKind;
-
-/**
- * Options for `dvh_mesh_create`; start from `dvh_build_options_default()`.
- *
- * Growth: fields are only ever appended, and a zero field keeps the results from before the
- * field existed. A release that appends a field changes the library's soname (see the header's
- * ABI note), so a program never runs against a layout it was not compiled for.
- */
-typedef struct DvhBuildOptions {
+typedef struct DvhDegeneratePair {
   /**
-   * A `DVH_TREE_KIND_*` value.
+   * The triangle of the first mesh (self: the lower index).
    */
-  DvhTreeKind tree;
+  uint32_t triangle_a;
   /**
-   * A `DVH_RADIUS_KIND_*` value (sphere volumes; boxes ignore it).
+   * The triangle of the second mesh (self: the higher index).
    */
-  DvhRadiusKind radius;
+  uint32_t triangle_b;
   /**
-   * A `DVH_LEFTOVER_POLICY_*` value.
+   * A `DVH_DEGENERATE_KIND_*` value.
    */
-  DvhLeftoverPolicy leftovers;
+  DvhDegenerateKind kind;
   /**
-   * A `DVH_VOLUME_KIND_*` value.
+   * Always 0.
    */
-  DvhVolumeKind volume;
-  /**
-   * Threads each `dvh_mesh_refit` of this mesh may use: 0 for every core (the default), 1
-   * for the calling thread only, n for at most n. The volumes are the same whatever the
-   * count; meshes of fewer than 8,192 rings (about vertices) refit on the calling thread.
-   */
-  uint32_t refit_threads;
-} DvhBuildOptions;
-
-/**
- * Shape of a mesh's hierarchy.
- */
-typedef struct DvhTreeStats {
-  /**
-   * Triangles in the mesh.
-   */
-  size_t triangles;
-  /**
-   * 1-rings, that is leaves.
-   */
-  size_t rings;
-  /**
-   * Inner nodes ("clusters" in the paper).
-   */
-  size_t inner_nodes;
-  /**
-   * Levels: the depth of the deepest leaf plus one.
-   */
-  size_t levels;
-  /**
-   * Most triangles in one ring.
-   */
-  size_t max_ring_triangles;
-} DvhTreeStats;
-
-/**
- * Counters of the last refit of a mesh (or of its build).
- */
-typedef struct DvhRefitStats {
-  /**
-   * Nodes whose volume was recomputed (`NU`).
-   */
-  uint64_t nodes_refit;
-  /**
-   * Vertex-to-centre distances evaluated (for boxes: vertices folded into leaf boxes).
-   */
-  uint64_t distance_evaluations;
-} DvhRefitStats;
+  uint32_t reserved;
+} DvhDegeneratePair;
 
 /**
  * A rigid placement of a mesh: `world = R * p + t`, with `rotation` row-major. The rotation must
@@ -412,6 +388,98 @@ typedef struct DvhQueryStats {
    */
   uint64_t frontier_pairs;
 } DvhQueryStats;
+
+/**
+ * How the hierarchy above the 1-rings is split: a `DVH_TREE_KIND_*` value.
+ */
+typedef uint32_t DvhTreeKind;
+
+/**
+ * How node radii are recomputed at each refit: a `DVH_RADIUS_KIND_*` value.
+ */
+typedef uint32_t DvhRadiusKind;
+
+/**
+ * How triangles touching no 1-ring centre are put into leaves: a `DVH_LEFTOVER_POLICY_*` value.
+ */
+typedef uint32_t DvhLeftoverPolicy;
+
+/**
+ * The bounding volume on every node of a mesh's hierarchy: a `DVH_VOLUME_KIND_*` value.
+ */
+typedef uint32_t DvhVolumeKind;
+
+/**
+ * Options for `dvh_mesh_create`; start from `dvh_build_options_default()`.
+ *
+ * Growth: fields are only ever appended, and a zero field keeps the results from before the
+ * field existed. A release that appends a field changes the library's soname (see the header's
+ * ABI note), so a program never runs against a layout it was not compiled for.
+ */
+typedef struct DvhBuildOptions {
+  /**
+   * A `DVH_TREE_KIND_*` value.
+   */
+  DvhTreeKind tree;
+  /**
+   * A `DVH_RADIUS_KIND_*` value (sphere volumes; boxes ignore it).
+   */
+  DvhRadiusKind radius;
+  /**
+   * A `DVH_LEFTOVER_POLICY_*` value.
+   */
+  DvhLeftoverPolicy leftovers;
+  /**
+   * A `DVH_VOLUME_KIND_*` value.
+   */
+  DvhVolumeKind volume;
+  /**
+   * Threads each `dvh_mesh_refit` of this mesh may use: 0 for every core (the default), 1
+   * for the calling thread only, n for at most n. The volumes are the same whatever the
+   * count; meshes of fewer than 8,192 rings (about vertices) refit on the calling thread.
+   */
+  uint32_t refit_threads;
+} DvhBuildOptions;
+
+/**
+ * Shape of a mesh's hierarchy.
+ */
+typedef struct DvhTreeStats {
+  /**
+   * Triangles in the mesh.
+   */
+  size_t triangles;
+  /**
+   * 1-rings, that is leaves.
+   */
+  size_t rings;
+  /**
+   * Inner nodes ("clusters" in the paper).
+   */
+  size_t inner_nodes;
+  /**
+   * Levels: the depth of the deepest leaf plus one.
+   */
+  size_t levels;
+  /**
+   * Most triangles in one ring.
+   */
+  size_t max_ring_triangles;
+} DvhTreeStats;
+
+/**
+ * Counters of the last refit of a mesh (or of its build).
+ */
+typedef struct DvhRefitStats {
+  /**
+   * Nodes whose volume was recomputed (`NU`).
+   */
+  uint64_t nodes_refit;
+  /**
+   * Vertex-to-centre distances evaluated (for boxes: vertices folded into leaf boxes).
+   */
+  uint64_t distance_evaluations;
+} DvhRefitStats;
 
 /**
  * A vertex-face or edge-edge pair within the query's distance, with its closest points: a
@@ -801,6 +869,18 @@ typedef uint32_t DvhFeature;
  */
 #define DVH_FEATURE_INTERIOR 6
 
+/**
+ * The pair meets in one point only (not coplanar, or a degenerate triangle crossing the other's
+ * plane).
+ */
+#define DVH_DEGENERATE_KIND_POINT 0
+
+/**
+ * Coplanar triangles that meet (in an area, a segment or a point), or a degenerate triangle
+ * meeting the other in its plane.
+ */
+#define DVH_DEGENERATE_KIND_COPLANAR 1
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -1075,6 +1155,223 @@ const struct DvhSceneImpact *dvh_scene_impacts_data(const struct DvhSceneImpacts
  * `impacts` is NULL or a live buffer from `dvh_scene_impacts_new`, not freed before.
  */
 void dvh_scene_impacts_free(struct DvhSceneImpacts *impacts);
+
+/**
+ * A new, empty curve buffer, or NULL when memory ran out. Owned by the caller, released with
+ * `dvh_curves_free`. It keeps the scratch space of the queries that use it, so that once it has
+ * grown to a scene's needs queries on one thread allocate nothing.
+ *
+ * Thread safety: any thread; a buffer must be used by one thread at a time.
+ */
+struct DvhCurves *dvh_curves_new(void);
+
+/**
+ * Number of segments of the last successful query into `curves` (0 for NULL or a new buffer).
+ *
+ * Thread safety: not alongside a query writing the same buffer (0 then).
+ *
+ * # Safety
+ * `curves` is NULL or a live buffer.
+ */
+size_t dvh_curves_len(const struct DvhCurves *curves);
+
+/**
+ * The segments of the last successful query into `curves`: `dvh_curves_len(curves)` entries,
+ * curve by curve (curve 0's first), each curve's in chain order. NULL when there are none.
+ * Owned by the buffer; valid until the next query into it or `dvh_curves_free`.
+ *
+ * Thread safety: as `dvh_curves_len`.
+ *
+ * # Safety
+ * `curves` is NULL or a live buffer.
+ */
+const struct DvhCurveSegment *dvh_curves_data(const struct DvhCurves *curves);
+
+/**
+ * Number of curves of the last successful query into `curves` (0 for NULL or a new buffer).
+ *
+ * Thread safety: as `dvh_curves_len`.
+ *
+ * # Safety
+ * `curves` is NULL or a live buffer.
+ */
+size_t dvh_curves_curve_count(const struct DvhCurves *curves);
+
+/**
+ * Curve `curve` of the last successful query into `curves`: its segments are
+ * `dvh_curves_data(curves)[*first_out .. *first_out + *count_out]`, in chain order (each
+ * starting where the one before ends), and `*closed_out` says whether the last ends where the
+ * first starts. An open curve ends on a boundary edge, beside a degenerate pair, or where more
+ * than two segments meet. Curves are ordered by their least `(triangle_a, triangle_b)`
+ * segment; a closed curve starts at it, and every curve runs along `n_a x n_b` of that
+ * segment's pair (`n` a triangle's normal `(t1 - t0) x (t2 - t0)`).
+ *
+ * Errors: NULL_ARGUMENT (`curves`, an out-pointer); INVALID_ARGUMENT (`curve` not below
+ * `dvh_curves_curve_count`, an out-pointer not aligned, a pointer that is not a live buffer);
+ * BUSY (a query is writing the buffer). On failure nothing is written.
+ *
+ * Thread safety: as `dvh_curves_len`.
+ *
+ * # Safety
+ * `curves` is NULL or a live buffer; the out-pointers are NULL or writable.
+ */
+DvhStatus dvh_curves_curve(const struct DvhCurves *curves,
+                           size_t curve,
+                           size_t *first_out,
+                           size_t *count_out,
+                           bool *closed_out);
+
+/**
+ * Number of degenerate pairs of the last successful query into `curves` (0 for NULL or a new
+ * buffer).
+ *
+ * Thread safety: as `dvh_curves_len`.
+ *
+ * # Safety
+ * `curves` is NULL or a live buffer.
+ */
+size_t dvh_curves_degenerate_len(const struct DvhCurves *curves);
+
+/**
+ * The degenerate pairs of the last successful query into `curves`: intersecting triangle pairs
+ * whose intersection is not a segment (one point only, or coplanar), sorted by
+ * `(triangle_a, triangle_b)`; `dvh_curves_degenerate_len(curves)` entries, NULL when there are
+ * none. Owned by the buffer; valid until the next query into it or `dvh_curves_free`.
+ *
+ * Thread safety: as `dvh_curves_len`.
+ *
+ * # Safety
+ * `curves` is NULL or a live buffer.
+ */
+const struct DvhDegeneratePair *dvh_curves_degenerate_data(const struct DvhCurves *curves);
+
+/**
+ * Releases a curve buffer. NULL is a no-op.
+ *
+ * Thread safety: needs exclusive access; the buffer must not be used afterwards. A buffer in
+ * use by another call is not released (the last error message says so).
+ *
+ * # Safety
+ * `curves` is NULL or a live buffer from `dvh_curves_new`, not freed before.
+ */
+void dvh_curves_free(struct DvhCurves *curves);
+
+/**
+ * The curves along which mesh `a` placed by `pose_a` and mesh `b` placed by `pose_b` (NULL:
+ * identity) cross. Each triangle pair `dvh_collide` reports gives either a segment (the pair
+ * is not coplanar and meets in more than one point) or a degenerate pair
+ * (`dvh_curves_degenerate_data`: the pair meets in one point only, or is coplanar). A
+ * segment's ends are where an edge of one triangle meets the other triangle (or a vertex lying
+ * in it), decided by exact predicates and rounded once to doubles; segments are chained into
+ * curves where their ends are the same exact point, decided from the features that meet
+ * there, never from rounded coordinates (see `dvh_curves_curve` for the order). Posed vertices
+ * are computed as `dvh_collide` computes them, and the points are the exact intersections of
+ * the posed triangles.
+ *
+ * `options` (NULL: the defaults): only `DVH_QUERY_MODE_TRIANGLES`; `threads` as for
+ * `dvh_collide` (the answer is the same for every count); `max_pairs` bounds the segments plus
+ * degenerate pairs (`DvhQueryStats.truncated` says when it cut: it keeps the pairs
+ * `dvh_collide` keeps). `DvhQueryStats.pairs` counts segments plus degenerate pairs.
+ *
+ * On success the results replace the contents of `curves_out` and the counters go to
+ * `*stats_out` unless it is NULL; on failure neither changes.
+ *
+ * Errors: NULL_ARGUMENT (`a`, `b`, `curves_out`); INVALID_ARGUMENT (a mode other than
+ * `DVH_QUERY_MODE_TRIANGLES`, options out of range, a pointer that is not a live handle);
+ * BUSY; NON_FINITE_COORDINATE and NON_RIGID_POSE (a pose); POSE_OUT_OF_RANGE; OUT_OF_MEMORY;
+ * INTERNAL_PANIC.
+ *
+ * Thread safety: as `dvh_collide`.
+ *
+ * # Safety
+ * `a` and `b` are NULL or live meshes; `pose_a`, `pose_b`, `options` are NULL or readable;
+ * `curves_out` is NULL or a live buffer used by no other thread; `stats_out` is NULL or
+ * writable.
+ */
+DvhStatus dvh_intersection_curves(const struct DvhMesh *a,
+                                  const struct DvhPose *pose_a,
+                                  const struct DvhMesh *b,
+                                  const struct DvhPose *pose_b,
+                                  const struct DvhQueryOptions *options,
+                                  struct DvhCurves *curves_out,
+                                  struct DvhQueryStats *stats_out);
+
+/**
+ * The curves along which `mesh` crosses itself: those of the pairs `dvh_self_collide` reports
+ * (triangles that share vertices count only where they meet beyond what they share). A pair
+ * sharing a vertex gives a segment from that vertex to where the two part. Segments are
+ * `(lower, higher)` triangle pairs; a curve passes from a pair to its neighbour whichever of
+ * the two has the lower index, so a segment may run against its own pair's `n_a x n_b`.
+ * Otherwise as `dvh_intersection_curves`.
+ *
+ * Errors: NULL_ARGUMENT (`mesh`, `curves_out`); INVALID_ARGUMENT (a mode other than
+ * `DVH_QUERY_MODE_TRIANGLES`, options out of range); BUSY; OUT_OF_MEMORY; INTERNAL_PANIC.
+ *
+ * Thread safety: as `dvh_self_collide`.
+ *
+ * # Safety
+ * `mesh` is NULL or a live mesh; `options` is NULL or readable; `curves_out` is NULL or a
+ * live buffer used by no other thread; `stats_out` is NULL or writable.
+ */
+DvhStatus dvh_self_intersection_curves(const struct DvhMesh *mesh,
+                                       const struct DvhQueryOptions *options,
+                                       struct DvhCurves *curves_out,
+                                       struct DvhQueryStats *stats_out);
+
+/**
+ * The gradient of the total length of the curves in `curves` with respect to the world
+ * positions of the vertices of `a` and `b`: the meshes and poses (NULL: identity) of the
+ * `dvh_intersection_curves` call that gave them, unchanged since. Written to `gradient_a`
+ * (`3 * vertex_count_a` doubles: x, y, z per vertex of `a`) and `gradient_b`, replacing what
+ * they held; vertices no curve passes by get zeros.
+ *
+ * This is the direction of intersection contour minimisation (Volino and Magnenat-Thalmann
+ * 2006): moving the vertices a small step against it shortens the curves, and surfaces that
+ * cross come apart as their curves shrink to nothing. Each curve point slides along the edge
+ * it lies on as that edge and the other triangle's plane move; the gradient is exact to first
+ * order at the rounded points, computed in doubles.
+ *
+ * Errors: NULL_ARGUMENT (`curves`, `a`, `b`, a gradient); INVALID_ARGUMENT (a vertex count
+ * that is not the mesh's, curves that name vertices or triangles the meshes do not have, a
+ * gradient not aligned, a pointer that is not a live handle); BUSY; NON_FINITE_COORDINATE and
+ * NON_RIGID_POSE (a pose); INTERNAL_PANIC. On failure nothing is written.
+ *
+ * Thread safety: `curves`, `a` and `b` are only read.
+ *
+ * # Safety
+ * `curves` is NULL or a live buffer; `a` and `b` NULL or live meshes; the poses NULL or
+ * readable; `gradient_a` and `gradient_b` NULL or `3 * vertex_count_a` and
+ * `3 * vertex_count_b` writable doubles, not overlapping.
+ */
+DvhStatus dvh_curves_length_gradient(const struct DvhCurves *curves,
+                                     const struct DvhMesh *a,
+                                     const struct DvhPose *pose_a,
+                                     const struct DvhMesh *b,
+                                     const struct DvhPose *pose_b,
+                                     double *gradient_a,
+                                     size_t vertex_count_a,
+                                     double *gradient_b,
+                                     size_t vertex_count_b);
+
+/**
+ * The gradient of the total length of the curves in `curves`, from
+ * `dvh_self_intersection_curves` of `mesh` (unchanged since), with respect to its vertices:
+ * `3 * vertex_count` doubles written to `gradient`. Otherwise as `dvh_curves_length_gradient`.
+ *
+ * Errors: NULL_ARGUMENT (`curves`, `mesh`, `gradient`); INVALID_ARGUMENT (a vertex count that
+ * is not the mesh's, curves that name vertices or triangles the mesh does not have, a gradient
+ * not aligned); BUSY; INTERNAL_PANIC. On failure nothing is written.
+ *
+ * Thread safety: `curves` and `mesh` are only read.
+ *
+ * # Safety
+ * `curves` is NULL or a live buffer; `mesh` NULL or a live mesh; `gradient` NULL or
+ * `3 * vertex_count` writable doubles.
+ */
+DvhStatus dvh_curves_self_length_gradient(const struct DvhCurves *curves,
+                                          const struct DvhMesh *mesh,
+                                          double *gradient,
+                                          size_t vertex_count);
 
 /**
  * The default build options, the fastest measured for meshes that deform: octree, box volumes

@@ -2,7 +2,8 @@
  * dvh.hpp: the C++17 layer over dvh.h, header-only.
  *
  * Owners that release their handle (dvh::Mesh, dvh::Pairs, dvh::Scene, dvh::Contacts,
- * dvh::Impacts, dvh::NearPairs, dvh::SceneImpacts, dvh::SceneNearPairs), one exception,
+ * dvh::Impacts, dvh::NearPairs, dvh::SceneImpacts, dvh::SceneNearPairs, dvh::Curves), one
+ * exception,
  * dvh::Error, for every failed call, results viewed in place (dvh::Span), and options with named
  * setters that chain. Each wrapper calls the dvh.h function
  * it names, whose documentation (arguments, errors, thread safety) holds for it too.
@@ -14,7 +15,8 @@
  *   scene call the scene as they were).
  * - Out of memory is a dvh::Error with DVH_STATUS_OUT_OF_MEMORY, whichever call ran out, the
  *   creation of a result buffer (dvh_pairs_new, dvh_contacts_new, dvh_impacts_new,
- *   dvh_near_pairs_new, dvh_scene_impacts_new, dvh_scene_near_pairs_new returning NULL)
+ *   dvh_near_pairs_new, dvh_scene_impacts_new, dvh_scene_near_pairs_new, dvh_curves_new
+ *   returning NULL)
  *   included.
  * - The owners are move-only. A moved-from or released owner holds no handle: get() is null, its
  *   counts are 0, and a call that needs the handle throws dvh::Error (DVH_STATUS_NULL_ARGUMENT).
@@ -37,6 +39,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 #if __cplusplus >= 202002L
 #include <span>
@@ -356,6 +359,7 @@ inline void free_handle(DvhImpacts* handle) noexcept { dvh_impacts_free(handle);
 inline void free_handle(DvhNearPairs* handle) noexcept { dvh_near_pairs_free(handle); }
 inline void free_handle(DvhSceneImpacts* handle) noexcept { dvh_scene_impacts_free(handle); }
 inline void free_handle(DvhSceneNearPairs* handle) noexcept { dvh_scene_near_pairs_free(handle); }
+inline void free_handle(DvhCurves* handle) noexcept { dvh_curves_free(handle); }
 
 // A handle from a C function that writes it to its last argument.
 template <typename Handle, typename Create>
@@ -687,6 +691,68 @@ public:
     [[nodiscard]] const DvhNearPair* end() const noexcept { return view().end(); }
 };
 
+/// One curve of a dvh::Curves buffer: its segments, in chain order, and whether it is closed
+/// (dvh_curves_curve).
+struct Curve {
+    /// The curve's segments, each starting where the one before ends.
+    Span<DvhCurveSegment> segments;
+    /// Does the last segment end where the first starts?
+    bool closed;
+};
+
+/// A reusable result buffer of the intersection-curve queries (DvhCurves), released by
+/// dvh_curves_free. Use one per thread.
+class Curves : public detail::Owner<DvhCurves> {
+public:
+    /// A new, empty buffer (dvh_curves_new).
+    Curves() : Owner(detail::allocated(dvh_curves_new())) {}
+    /// Takes ownership of `curves`, a buffer from dvh_curves_new (or null: an owner of none).
+    explicit Curves(DvhCurves* curves) noexcept : Owner(curves) {}
+    /// Takes `other`'s buffer; `other` holds none afterwards.
+    Curves(Curves&& other) noexcept = default;
+    /// Releases the buffer held here, then takes `other`'s.
+    Curves& operator=(Curves&& other) noexcept = default;
+
+    /// The segments of the last successful query into the buffer, curve by curve, each curve's
+    /// in chain order; valid until the next query into it (dvh_curves_data, dvh_curves_len).
+    [[nodiscard]] Span<DvhCurveSegment> view() const noexcept {
+        return Span<DvhCurveSegment>(dvh_curves_data(get()), dvh_curves_len(get()));
+    }
+    /// The number of segments (dvh_curves_len).
+    [[nodiscard]] std::size_t size() const noexcept { return dvh_curves_len(get()); }
+    /// Are there no segments?
+    [[nodiscard]] bool empty() const noexcept { return size() == 0; }
+    /// The first segment's position, as view().begin().
+    [[nodiscard]] const DvhCurveSegment* begin() const noexcept { return view().begin(); }
+    /// The position past the last segment, as view().end().
+    [[nodiscard]] const DvhCurveSegment* end() const noexcept { return view().end(); }
+    /// The number of curves (dvh_curves_curve_count).
+    [[nodiscard]] std::size_t curve_count() const noexcept { return dvh_curves_curve_count(get()); }
+    /// Curve `index` (dvh_curves_curve); throws dvh::Error when `index` is not below
+    /// curve_count().
+    [[nodiscard]] Curve curve(std::size_t index) const {
+        std::size_t first = 0;
+        std::size_t count = 0;
+        bool closed = false;
+        check(dvh_curves_curve(get(), index, &first, &count, &closed));
+        return Curve{Span<DvhCurveSegment>(dvh_curves_data(get()) + first, count), closed};
+    }
+    /// The gradient of the curves' total length with respect to the world positions of the
+    /// vertices of `a` and `b`, the meshes and poses of the dvh::intersection_curves() call that
+    /// gave them (dvh_curves_length_gradient): three values per vertex, in two new vectors.
+    [[nodiscard]] std::pair<std::vector<double>, std::vector<double>> length_gradient(const Mesh& a, const DvhPose* pose_a,
+                                                                                      const Mesh& b,
+                                                                                      const DvhPose* pose_b) const;
+    /// The gradient of the total length of the self-intersection curves of `mesh` with respect
+    /// to its vertices (dvh_curves_self_length_gradient): three values per vertex.
+    [[nodiscard]] std::vector<double> self_length_gradient(const Mesh& mesh) const;
+    /// The intersecting pairs that have no segment, sorted by `(triangle_a, triangle_b)`
+    /// (dvh_curves_degenerate_data, dvh_curves_degenerate_len).
+    [[nodiscard]] Span<DvhDegeneratePair> degenerate() const noexcept {
+        return Span<DvhDegeneratePair>(dvh_curves_degenerate_data(get()), dvh_curves_degenerate_len(get()));
+    }
+};
+
 /// A reusable result buffer of a scene's continuous query (DvhSceneImpacts), released by
 /// dvh_scene_impacts_free. Use one per thread.
 class SceneImpacts : public detail::Owner<DvhSceneImpacts> {
@@ -1000,6 +1066,54 @@ inline DvhQueryStats self_nearest_features(const Mesh& mesh, double distance, co
     NearPairs pairs;
     self_nearest_features(mesh, distance, options, pairs);
     return pairs;
+}
+
+inline std::pair<std::vector<double>, std::vector<double>> Curves::length_gradient(const Mesh& a, const DvhPose* pose_a,
+                                                                                  const Mesh& b,
+                                                                                  const DvhPose* pose_b) const {
+    std::vector<double> ga(3 * a.vertex_count()), gb(3 * b.vertex_count());
+    check(dvh_curves_length_gradient(get(), a.get(), pose_a, b.get(), pose_b, ga.data(), a.vertex_count(), gb.data(),
+                                     b.vertex_count()));
+    return {std::move(ga), std::move(gb)};
+}
+
+inline std::vector<double> Curves::self_length_gradient(const Mesh& mesh) const {
+    std::vector<double> g(3 * mesh.vertex_count());
+    check(dvh_curves_self_length_gradient(get(), mesh.get(), g.data(), mesh.vertex_count()));
+    return g;
+}
+
+/// The curves along which `a` and `b`, placed by their poses, cross, with the pairs that meet
+/// but have no segment, into `curves`, replacing what it held; returns the counters
+/// (dvh_intersection_curves). On failure `curves` is unchanged.
+inline DvhQueryStats intersection_curves(const Mesh& a, const DvhPose* pose_a, const Mesh& b, const DvhPose* pose_b,
+                                         const QueryOptions& options, Curves& curves) {
+    DvhQueryStats stats{};
+    check(dvh_intersection_curves(a.get(), pose_a, b.get(), pose_b, &options.c(), curves.get(), &stats));
+    return stats;
+}
+
+/// The curves along which `a` and `b` cross, in a new buffer.
+[[nodiscard]] inline Curves intersection_curves(const Mesh& a, const DvhPose* pose_a, const Mesh& b, const DvhPose* pose_b,
+                                                const QueryOptions& options = {}) {
+    Curves curves;
+    intersection_curves(a, pose_a, b, pose_b, options, curves);
+    return curves;
+}
+
+/// The curves along which `mesh` crosses itself, into `curves`; returns the counters
+/// (dvh_self_intersection_curves). On failure `curves` is unchanged.
+inline DvhQueryStats self_intersection_curves(const Mesh& mesh, const QueryOptions& options, Curves& curves) {
+    DvhQueryStats stats{};
+    check(dvh_self_intersection_curves(mesh.get(), &options.c(), curves.get(), &stats));
+    return stats;
+}
+
+/// The curves along which `mesh` crosses itself, in a new buffer.
+[[nodiscard]] inline Curves self_intersection_curves(const Mesh& mesh, const QueryOptions& options = {}) {
+    Curves curves;
+    self_intersection_curves(mesh, options, curves);
+    return curves;
 }
 
 /// Do the closed triangles `t1` and `t2` (9 doubles each: three corners, x, y, z) share a point?

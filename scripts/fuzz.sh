@@ -26,7 +26,8 @@
 #                                              fuzz/coverage/<target>/lines.txt for comparing
 #                                              two runs with `comm`
 #
-# Targets: triangle_oracle, c_abi, scene, self_collision, ccd_primitive, ccd_mesh, nearest_mesh.
+# Targets: triangle_oracle, c_abi, scene, self_collision, ccd_primitive, ccd_mesh, nearest_mesh,
+# curves.
 # FUZZ_JOBS sets the processes of `run` (default: one per core). ccd_mesh's inputs spend their
 # time in big-integer arithmetic: it explores without trace-compares (which instruments those
 # comparisons to no use for inputs made of coordinates, and costs it two thirds of its speed),

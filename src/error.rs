@@ -151,6 +151,36 @@ pub enum Error {
         /// The error, as for a mesh.
         error: Box<Error>,
     },
+    /// A query was asked in a mode it does not answer.
+    UnsupportedMode {
+        /// The mode given.
+        mode: crate::QueryMode,
+        /// The query, as the message names it.
+        query: &'static str,
+    },
+    /// Curves name a vertex or triangle that the meshes given with them do not have: they are
+    /// not these meshes' curves.
+    ForeignCurves {
+        /// `"vertex"` or `"triangle"`.
+        what: &'static str,
+        /// The index named.
+        index: u32,
+        /// How many the mesh has.
+        count: usize,
+    },
+    /// A gradient's length is not its mesh's vertex count.
+    GradientLength {
+        /// The mesh's vertex count.
+        expected: usize,
+        /// The gradient's length.
+        got: usize,
+    },
+    /// The gradient of two meshes' curves was asked of one mesh's self-intersection curves, or
+    /// the other way round.
+    CurvesKind {
+        /// Are the curves a mesh's self-intersection curves?
+        self_curves: bool,
+    },
     /// What was wrong with the start or the end positions of a motion.
     Motion {
         /// Which positions.
@@ -252,6 +282,30 @@ impl fmt::Display for Error {
             } => write!(
                 f,
                 "object {object} is deformable: it is moved by its positions, not by a pose"
+            ),
+            Error::UnsupportedMode { mode, query } => write!(
+                f,
+                "{query} are found pair by pair, in the triangles mode only \
+                 (DVH_QUERY_MODE_TRIANGLES, QueryMode::Triangles), not in {mode:?}"
+            ),
+            Error::ForeignCurves { what, index, count } => write!(
+                f,
+                "the curves name {what} {index}, but the mesh has {count}: they are not this \
+                 mesh's curves"
+            ),
+            Error::GradientLength { expected, got } => write!(
+                f,
+                "the gradient has room for {got} vertices, but the mesh has {expected}"
+            ),
+            Error::CurvesKind { self_curves: true } => write!(
+                f,
+                "these are one mesh's self-intersection curves: their gradient is the self \
+                 length gradient's, of that mesh"
+            ),
+            Error::CurvesKind { self_curves: false } => write!(
+                f,
+                "these are the curves of two meshes: their gradient is the length gradient's, \
+                 of both meshes"
             ),
             Error::RigidSelfContact { object } => write!(
                 f,

@@ -91,10 +91,11 @@ pub use mesh::{
     RefitStats, TreeStats,
 };
 pub use query::{
-    CcdOptions, CcdStats, Impact, ImpactKind, Impacts, NearPair, NearPairs, Pair, PairKind, Pairs,
-    QueryMode, QueryOptions, QueryStats, brute_force, collide, continuous_collide,
-    nearest_features, proximity, self_collide, self_continuous_collide, self_nearest_features,
-    self_proximity,
+    CcdOptions, CcdStats, Curve, CurvePoint, CurveSegment, Curves, DegenerateKind, DegeneratePair,
+    Impact, ImpactKind, Impacts, NearPair, NearPairs, Pair, PairKind, Pairs, QueryMode,
+    QueryOptions, QueryStats, brute_force, collide, continuous_collide, intersection_curves,
+    nearest_features, proximity, self_collide, self_continuous_collide, self_intersection_curves,
+    self_nearest_features, self_proximity,
 };
 pub use scene::{
     Contact, Contacts, Scene, SceneImpact, SceneImpacts, SceneNearPair, SceneNearPairs, SceneStats,

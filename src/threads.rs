@@ -20,6 +20,8 @@ pub enum Step {
     PairSort,
     /// The closest-point queries' values.
     Values,
+    /// The intersection curves' segments, pair by pair.
+    Crossings,
     /// A refit's volumes.
     Refit,
     /// Storing a mesh's new positions (refit, motion).
@@ -30,7 +32,7 @@ pub enum Step {
     ScenePairs,
 }
 
-const STEPS: usize = 9;
+const STEPS: usize = 10;
 
 thread_local! {
     // Plain cells with a constant start: reading and adding allocate nothing and register no

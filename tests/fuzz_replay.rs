@@ -173,3 +173,16 @@ fn nearest_mesh_inputs() {
         "no kept inputs for nearest_mesh"
     );
 }
+
+#[test]
+fn curves_inputs() {
+    // A sheet through a torus turned a quarter; a sphere against a sheet, folded and pinched.
+    drivers::curves(&[0, 3, 1, 2, 4, 0, 0, 0, 0, 3, 0, 8, 0, 0, 0]);
+    drivers::curves(&[
+        2, 1, 0, 4, 1, 8, 8, 8, 1, 5, 2, 8, 4, 0, 1, 2, 7, 3, 9, 0, 1, 0,
+    ]);
+    assert!(
+        replay("curves", drivers::curves) > 0,
+        "no kept inputs for curves"
+    );
+}

@@ -3,10 +3,10 @@
 
 use dvh::fixtures::{MeshData, Morph, icosphere, torus};
 use dvh::{
-    BuildOptions, CcdMode, CcdOptions, Contacts, Impacts, Mesh, NearPairs, Pairs, Pose, QueryMode,
-    QueryOptions, RadiusKind, Scene, TreeKind, VolumeKind, collide, continuous_collide,
-    nearest_features, proximity, self_collide, self_continuous_collide, self_nearest_features,
-    self_proximity,
+    BuildOptions, CcdMode, CcdOptions, Contacts, Curves, Impacts, Mesh, NearPairs, Pairs, Pose,
+    QueryMode, QueryOptions, RadiusKind, Scene, TreeKind, VolumeKind, collide, continuous_collide,
+    intersection_curves, nearest_features, proximity, self_collide, self_continuous_collide,
+    self_intersection_curves, self_nearest_features, self_proximity,
 };
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -596,4 +596,53 @@ fn scene_steps_allocate_nothing() {
         assert!(step < 3 || n == 0, "step {step}: {n} allocations");
     }
     assert!(found > 0, "stencils between the balls");
+}
+
+#[test]
+fn intersection_curves_in_steady_state_allocate_nothing() {
+    // A sphere through a torus, and both as one mesh, deforming: refit, the curves of the two
+    // and of the one, and their length gradients, frame after frame on one thread, once every
+    // buffer has met every frame.
+    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let options = BuildOptions::default().with_refit_threads(1);
+    let sa = icosphere(3);
+    let mut sb = torus(0.6, 0.25, 48, 20);
+    sb.translate([0.8, 0.0, 0.0]);
+    let mut both: MeshData = sa.clone();
+    both.append(&sb);
+    let mut a = Mesh::new(&sa.positions, &sa.triangles, &options).unwrap();
+    let mut b = Mesh::new(&sb.positions, &sb.triangles, &options).unwrap();
+    let mut ab = Mesh::new(&both.positions, &both.triangles, &options).unwrap();
+    let (ma, mb) = (Morph::random(&sa, 3, 0.1, 1), Morph::random(&sb, 3, 0.1, 2));
+    let frames: Vec<[Vec<f64>; 3]> = (0..6)
+        .map(|f| {
+            let t = f as f64 / 12.0;
+            let (pa, pb) = (ma.at(&sa.positions, t), mb.at(&sb.positions, t));
+            let pab = [&pa[..], &pb[..]].concat();
+            [pa, pb, pab]
+        })
+        .collect();
+    let q = QueryOptions::default().with_threads(1);
+    let (mut two, mut one) = (Curves::new(), Curves::new());
+    let mut ga = vec![[0.0; 3]; a.vertex_count()];
+    let mut gb = vec![[0.0; 3]; b.vertex_count()];
+    let mut gab = vec![[0.0; 3]; ab.vertex_count()];
+    let mut segments = 0;
+    for pass in 0..2 {
+        for p in &frames {
+            let n = allocations_here(|| {
+                a.refit(&p[0]).unwrap();
+                b.refit(&p[1]).unwrap();
+                ab.refit(&p[2]).unwrap();
+                intersection_curves(&a, None, &b, None, &q, &mut two).unwrap();
+                two.length_gradient(&a, None, &b, None, &mut ga, &mut gb)
+                    .unwrap();
+                self_intersection_curves(&ab, &q, &mut one).unwrap();
+                one.self_length_gradient(&ab, &mut gab).unwrap();
+            });
+            segments += two.len() + one.len();
+            assert!(pass == 0 || n == 0, "{n} allocations in a steady frame");
+        }
+    }
+    assert!(segments > 0);
 }

@@ -39,6 +39,11 @@
 // bending meshes, against CGAL's set (box filter, exact distances); at distance 0 they must
 // equal dvh_collide and dvh_self_collide.
 //
+// The curves run (curves_run.cpp), on the pairwise run's scenes and object pairs (4 frames; 20
+// in the full run): dvh_intersection_curves against CGAL's PMP::surface_intersection on the same
+// world coordinates; where dvh finds no degenerate pair, the same points (within 4 units in the
+// last place of the scene's largest coordinate), curves and segments.
+//
 // Usage: dvh_cross_check [--full] [--frames N] [--scene NAME] [--threads N] [--scene-run-only]
 //                        [--self-run-only] [--checksums] --data DIR [--out DIR]
 // (--scene-run-only skips the pairwise run and makes the scene run on every selected scene, two
@@ -54,7 +59,8 @@
 // scene_frames.csv and scene_summary.json (the scene run: per frame, each FCL configuration's
 // columns prefixed obb_ or aabb_; per scene, medians per frame and totals), self_frames.csv and
 // self_summary.json (the self-collision run), proximity_frames.csv and proximity_summary.json
-// (the proximity run: per scene, frame and distance; per scene and distance), mismatches.txt
+// (the proximity run: per scene, frame and distance; per scene and distance), curves_frames.csv
+// (the curves run: per scene, frame and object pair), mismatches.txt
 // (every pair kept on which dvh differs from an exact set, with coordinates).
 
 #include <dvh.hpp>
@@ -845,6 +851,7 @@ int main(int argc, char** argv) {
     const bool old_runs = !self_run_only || scene_run_only, new_runs = !scene_run_only || self_run_only;
     xc::SelfResults self;
     xc::ProximityResults proximity;
+    xc::CurvesResults curves;
     try {
         auto scenes = xc::make_scenes(options);
         for (auto& scene : scenes) {
@@ -866,6 +873,7 @@ int main(int argc, char** argv) {
             self = xc::run_self(run_options);
             proximity = xc::run_proximity(run_options);
         }
+        if (!scene_run_only && !self_run_only) curves = xc::run_curves(xc::RunOptions{options, only, threads});
     } catch (const dvh::Error& e) {
         std::fprintf(stderr, "error: dvh: %s: %s\n", dvh::status_name(e.status()), e.what());
         return 2;
@@ -934,12 +942,14 @@ int main(int argc, char** argv) {
     }
     ok = xc::report_self(self, reference_ok) && ok;
     ok = xc::report_proximity(proximity, reference_ok) && ok;
+    ok = xc::report_curves(curves) && ok;
     if (!out_dir.empty()) {
         if (old_runs) write_outputs(out_dir, all_rows, sums, scene_rows, scene_sums);
         if (new_runs) {
             xc::write_self_outputs(out_dir, self);
             xc::write_proximity_outputs(out_dir, proximity);
         }
+        if (!curves.rows.empty()) xc::write_curves_outputs(out_dir, curves);
     }
     for (const auto& o : offences) {
         std::printf("\nDVH DISAGREES WITH CGAL: scene %s frame %d (%s), triangles %u and %u: dvh says %s, CGAL says %s\n",

@@ -1,4 +1,5 @@
-// The self-collision run (self_run.cpp) and the proximity run (proximity_run.cpp): each runs its
+// The self-collision run (self_run.cpp), the proximity run (proximity_run.cpp) and the curves run
+// (curves_run.cpp): each runs its
 // frames (printing a line per frame), then main prints their summaries with the others and writes
 // their files.
 #pragma once
@@ -93,6 +94,21 @@ struct ProximityResults {
     std::vector<Mismatch> mismatches;
 };
 
+// Per scene, frame and object pair of the curves run (curves_run.cpp).
+struct CurvesRow {
+    std::string scene, objects;
+    int frame = 0;
+    size_t triangles = 0, segments = 0, curves = 0, degenerate = 0;
+    size_t cgal_segments = 0, cgal_polylines = 0, dvh_points = 0, cgal_points = 0;
+    double difference_ulps = 0;  // of the largest coordinate, between the sorted point sets
+    bool general = false, same = false;  // no degenerate pair; the same points, curves and segments as CGAL's
+    double dvh_curves = 0, dvh_collide = 0, cgal = 0;  // ms: refit + curves, refit + collide, surface_intersection
+};
+
+struct CurvesResults {
+    std::vector<CurvesRow> rows;
+};
+
 SelfResults run_self(const RunOptions& options);
 // Prints the summary; true when dvh was right everywhere. `reference_ok` is cleared when the
 // reference contradicted itself.
@@ -102,6 +118,13 @@ void write_self_outputs(const std::string& dir, const SelfResults& results);
 ProximityResults run_proximity(const RunOptions& options);
 bool report_proximity(const ProximityResults& results, bool& reference_ok);
 void write_proximity_outputs(const std::string& dir, const ProximityResults& results);
+
+CurvesResults run_curves(const RunOptions& options);
+// Its second part, on the self-collision run's meshes (called by run_curves).
+void run_self_curves(const RunOptions& options, CurvesResults& out);
+// Prints the summary; true when dvh's curves are CGAL's on every frame in general position.
+bool report_curves(const CurvesResults& results);
+void write_curves_outputs(const std::string& dir, const CurvesResults& results);
 
 // Prints the first mismatches and writes every one kept to `path` (when not empty), coordinates
 // with 17 digits.

@@ -21,11 +21,15 @@
 //! - [`nearest_mesh`]: sheets and tori bent and placed by the bytes, the closest-point queries
 //!   of one mesh and of two against brute force by the exact primitive functions, in every mode,
 //!   and every stencil's own promises.
+//! - [`curves`]: surfaces moved, folded and pinched by the bytes, the intersection curves of two
+//!   and of one through the C ABI, equal to the Rust API's and judged exactly against brute
+//!   force by `dvh::fixtures::curve_judge`.
 
 #![allow(dead_code, unused_imports)] // each fuzz target uses one driver
 
 mod c_abi;
 mod ccd;
+mod curves;
 mod input;
 mod judge;
 mod nearest;
@@ -35,6 +39,7 @@ mod triangle;
 
 pub use c_abi::c_abi;
 pub use ccd::{ccd_mesh, ccd_primitive};
+pub use curves::curves;
 pub use nearest::nearest_mesh;
 pub use scene::scene;
 pub use self_collision::self_collision;

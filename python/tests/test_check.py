@@ -184,6 +184,34 @@ def test_check_two_meshes_and_a_clean_one(tmp_path, capsys):
     assert re.search(rf"\n  intersecting triangle pairs\s+{n}\n", out) and n > 0
 
 
+def test_check_writes_the_intersection_curves(tmp_path, capsys):
+    pa, ta = uv_sphere(12)
+    pb, tb = uv_sphere(9, 0.8, centre=(0.9, 0.1, 0.05))
+    write_off(tmp_path / "a.off", pa, ta)
+    write_off(tmp_path / "b.off", pb, tb)
+    out_obj = tmp_path / "curves.obj"
+    args = ["check", str(tmp_path / "a.off"), str(tmp_path / "b.off"), "--curves", str(out_obj)]
+    assert main(args) == 1
+    out = capsys.readouterr().out
+    curves = dvh.intersection_curves(dvh.Mesh(pa, ta), dvh.Mesh(pb, tb))
+    assert re.search(rf"intersection curves\s+{len(curves)} \({len(curves)} closed\), "
+                     rf"{len(curves.segments)} segments", out)
+    lines = [line for line in out_obj.read_text().splitlines() if line.startswith("l ")]
+    assert len(lines) == len(curves) > 0
+    assert main(args + ["--json"]) == 1
+    report = json.loads(capsys.readouterr().out)
+    assert report["curves"]["count"] == len(curves)
+    assert report["curves"]["segments"] == len(curves.segments)
+    assert np.allclose(report["curves"]["lengths"], curves.lengths)
+    # A mesh alone: its self-intersection curves (none for a sphere: an empty file).
+    assert main(["check", str(tmp_path / "a.off"), "--curves", str(out_obj)]) == 0
+    assert "intersection curves" in capsys.readouterr().out
+    assert not [line for line in out_obj.read_text().splitlines() if line.startswith("l ")]
+    with pytest.raises(SystemExit):
+        main(args + ["--distance", "0.1"])
+    assert "does not go with --distance" in capsys.readouterr().err
+
+
 def test_check_errors_exit_with_2(tmp_path, capsys):
     assert main(["check", str(tmp_path / "missing.off")]) == 2
     assert "no such file" in capsys.readouterr().err

@@ -118,6 +118,7 @@ pub(crate) const IMPACTS_TAG: u64 = u64::from_le_bytes(*b"dvh:impa");
 pub(crate) const NEAR_PAIRS_TAG: u64 = u64::from_le_bytes(*b"dvh:near");
 pub(crate) const SCENE_IMPACTS_TAG: u64 = u64::from_le_bytes(*b"dvh:simp");
 pub(crate) const SCENE_NEAR_PAIRS_TAG: u64 = u64::from_le_bytes(*b"dvh:snea");
+pub(crate) const CURVES_TAG: u64 = u64::from_le_bytes(*b"dvh:curv");
 const FREED_TAG: u64 = u64::from_le_bytes(*b"dvh:free");
 
 impl Tag {
@@ -288,6 +289,7 @@ fn kind(tag: u64) -> &'static str {
         NEAR_PAIRS_TAG => "DvhNearPairs",
         SCENE_IMPACTS_TAG => "DvhSceneImpacts",
         SCENE_NEAR_PAIRS_TAG => "DvhSceneNearPairs",
+        CURVES_TAG => "DvhCurves",
         _ => "DvhContacts",
     }
 }
@@ -411,6 +413,7 @@ mod tests {
             (NEAR_PAIRS_TAG, "DvhNearPairs"),
             (SCENE_IMPACTS_TAG, "DvhSceneImpacts"),
             (SCENE_NEAR_PAIRS_TAG, "DvhSceneNearPairs"),
+            (CURVES_TAG, "DvhCurves"),
         ];
         for (i, &(tag, name)) in kinds.iter().enumerate() {
             assert_eq!(kind(tag), name);

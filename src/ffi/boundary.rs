@@ -61,7 +61,11 @@ fn status_of(e: &Error) -> DvhStatus {
         | Error::TooManyTriangles { .. }
         | Error::VertexCountMismatch { .. }
         | Error::ZeroBudget
-        | Error::InvalidDistance { .. } => DVH_STATUS_INVALID_ARGUMENT,
+        | Error::InvalidDistance { .. }
+        | Error::UnsupportedMode { .. }
+        | Error::ForeignCurves { .. }
+        | Error::CurvesKind { .. }
+        | Error::GradientLength { .. } => DVH_STATUS_INVALID_ARGUMENT,
         Error::IndexOutOfRange { .. } => DVH_STATUS_INDEX_OUT_OF_RANGE,
         Error::NonFiniteCoordinate { .. } | Error::NonFinitePose { .. } => {
             DVH_STATUS_NON_FINITE_COORDINATE

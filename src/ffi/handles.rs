@@ -2,7 +2,7 @@
 //! and which kind of object each is.
 
 use super::access::{
-    Access, CONTACTS_TAG, Handle, IMPACTS_TAG, MESH_TAG, NEAR_PAIRS_TAG, PAIRS_TAG,
+    Access, CONTACTS_TAG, CURVES_TAG, Handle, IMPACTS_TAG, MESH_TAG, NEAR_PAIRS_TAG, PAIRS_TAG,
     SCENE_IMPACTS_TAG, SCENE_NEAR_PAIRS_TAG, SCENE_TAG, Tag,
 };
 use std::cell::UnsafeCell;
@@ -63,6 +63,11 @@ pub struct DvhSceneImpacts(pub(crate) Body<crate::SceneImpacts>);
 /// `dvh_scene_near_pairs_free`. Use one per thread.
 pub struct DvhSceneNearPairs(pub(crate) Body<crate::SceneNearPairs>);
 
+/// A reusable result buffer for the intersection curves: segments curve by curve, the curves,
+/// the degenerate pairs, and the scratch space of the queries. Opaque; created by
+/// `dvh_curves_new`, released by `dvh_curves_free`. Use one per thread.
+pub struct DvhCurves(pub(crate) Body<crate::Curves>);
+
 // The tag check reads the first 8 bytes of whatever a handle pointer points to: every handle
 // keeps its tag there.
 const _: () = {
@@ -75,6 +80,7 @@ const _: () = {
     assert!(offset_of!(DvhImpacts, 0.tag) == 0);
     assert!(offset_of!(DvhSceneImpacts, 0.tag) == 0);
     assert!(offset_of!(DvhSceneNearPairs, 0.tag) == 0);
+    assert!(offset_of!(DvhCurves, 0.tag) == 0);
 };
 
 macro_rules! handle {
@@ -101,3 +107,4 @@ handle!(
     crate::SceneNearPairs,
     SCENE_NEAR_PAIRS_TAG
 );
+handle!(DvhCurves, crate::Curves, CURVES_TAG);

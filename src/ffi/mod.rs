@@ -12,6 +12,7 @@ mod access;
 mod boundary;
 mod calls;
 mod ccd;
+mod curves;
 mod handles;
 mod mesh;
 mod nearest;
@@ -21,6 +22,7 @@ mod scene;
 mod types;
 
 pub use ccd::*;
+pub use curves::*;
 pub use handles::*;
 pub use mesh::*;
 pub use nearest::*;

@@ -8,13 +8,14 @@
 use super::access::{Handle, Read, read, release};
 use super::boundary::{guard_value, set_last_error, try_box};
 use super::handles::{
-    Body, DvhContacts, DvhImpacts, DvhNearPairs, DvhPairs, DvhSceneImpacts, DvhSceneNearPairs,
+    Body, DvhContacts, DvhCurves, DvhImpacts, DvhNearPairs, DvhPairs, DvhSceneImpacts,
+    DvhSceneNearPairs,
 };
 use super::types::{
-    DVH_PAIR_KIND_NODES, DVH_PAIR_KIND_TRIANGLES, DvhContact, DvhImpact, DvhNearPair, DvhPair,
-    DvhPairKind, DvhSceneImpact, DvhSceneNearPair,
+    DVH_PAIR_KIND_NODES, DVH_PAIR_KIND_TRIANGLES, DvhContact, DvhCurveSegment, DvhImpact,
+    DvhNearPair, DvhPair, DvhPairKind, DvhSceneImpact, DvhSceneNearPair,
 };
-use crate::{Contacts, Impacts, NearPairs, PairKind, Pairs, SceneImpacts, SceneNearPairs};
+use crate::{Contacts, Curves, Impacts, NearPairs, PairKind, Pairs, SceneImpacts, SceneNearPairs};
 
 /// A result buffer of the C ABI.
 pub(crate) trait Results: Handle + Sized {
@@ -58,6 +59,24 @@ impl Results for DvhPairs {
 impl Kinded for DvhPairs {
     fn kind(inner: &Pairs) -> PairKind {
         inner.kind()
+    }
+}
+
+impl Results for DvhCurves {
+    type Item = DvhCurveSegment;
+    const ARGUMENT: &'static str = "curves";
+
+    fn empty() -> DvhCurves {
+        DvhCurves(Body::new(Self::TAG, Curves::new()))
+    }
+
+    fn len(inner: &Curves) -> usize {
+        inner.len()
+    }
+
+    fn data(inner: &Curves) -> *const DvhCurveSegment {
+        // `DvhCurveSegment` has `CurveSegment`'s layout (checked in `types`).
+        inner.segments().as_ptr().cast()
     }
 }
 
@@ -176,6 +195,23 @@ pub(super) fn new<R: Results>() -> *mut R {
 unsafe fn contents<'a, R: Results + 'a>(r: *const R, call: &str) -> Option<Read<'a, R::Inner>> {
     // SAFETY: per the contract.
     unsafe { read(r, R::ARGUMENT, call) }.ok()
+}
+
+/// `dvh_*_len`-like accessors of other parts of a buffer (entry point `call`): `part` of its
+/// contents, `fallback` when there is no buffer to read.
+///
+/// # Safety
+/// `r` is NULL or a live buffer.
+pub(super) unsafe fn part<R: Results, T: Copy>(
+    r: *const R,
+    call: &str,
+    fallback: T,
+    part: impl FnOnce(&R::Inner) -> T,
+) -> T {
+    // SAFETY: per the contract.
+    guard_value(fallback, || {
+        unsafe { contents(r, call) }.map_or(fallback, |c| part(&c))
+    })
 }
 
 /// `dvh_*_len` (entry point `call`): the number of results, 0 when there is no buffer to read.

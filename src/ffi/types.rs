@@ -651,3 +651,73 @@ mod tests {
         assert_layout!(DvhSceneNearPair, size 144, align 8, object_a 0, object_b 4, pair 8);
     }
 }
+
+/// One segment of an intersection curve: where triangle `triangle_a` of the first mesh crosses
+/// triangle `triangle_b` of the second. The points are world coordinates, each coordinate the
+/// exact one rounded to the nearest double (within half a unit in the last place; a mesh
+/// vertex keeps its bits); every segment ending at one exact point carries the same bits for
+/// it, so within a curve `end` of one segment equals `start` of the next, bit for bit.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DvhCurveSegment {
+    /// The triangle of the first mesh (self: the lower index).
+    pub triangle_a: u32,
+    /// The triangle of the second mesh (self: the higher index).
+    pub triangle_b: u32,
+    /// The curve it belongs to (`0 .. dvh_curves_curve_count`).
+    pub curve: u32,
+    /// Always 0.
+    pub reserved: u32,
+    /// Where the segment starts, in the curve's direction.
+    pub start: [f64; 3],
+    /// Where it ends.
+    pub end: [f64; 3],
+}
+
+/// Why an intersecting triangle pair of `DvhDegeneratePair` has no segment.
+pub type DvhDegenerateKind = u32;
+/// The pair meets in one point only (not coplanar, or a degenerate triangle crossing the other's
+/// plane).
+pub const DVH_DEGENERATE_KIND_POINT: DvhDegenerateKind = 0;
+/// Coplanar triangles that meet (in an area, a segment or a point), or a degenerate triangle
+/// meeting the other in its plane.
+pub const DVH_DEGENERATE_KIND_COPLANAR: DvhDegenerateKind = 1;
+
+/// An intersecting triangle pair whose intersection is not a segment, reported apart from the
+/// curves. Sorted by `(triangle_a, triangle_b)`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DvhDegeneratePair {
+    /// The triangle of the first mesh (self: the lower index).
+    pub triangle_a: u32,
+    /// The triangle of the second mesh (self: the higher index).
+    pub triangle_b: u32,
+    /// A `DVH_DEGENERATE_KIND_*` value.
+    pub kind: DvhDegenerateKind,
+    /// Always 0.
+    pub reserved: u32,
+}
+
+// `dvh_curves_data` and `dvh_curves_degenerate_data` hand out the library's own arrays: same
+// fields, same order, all `repr(C)` (the kind a `u32` enum).
+const _: () = {
+    use crate::{CurveSegment, DegenerateKind, DegeneratePair};
+    use std::mem::{align_of, offset_of, size_of};
+    assert!(size_of::<DvhCurveSegment>() == size_of::<CurveSegment>());
+    assert!(align_of::<DvhCurveSegment>() == align_of::<CurveSegment>());
+    assert!(offset_of!(DvhCurveSegment, triangle_a) == offset_of!(CurveSegment, triangle_a));
+    assert!(offset_of!(DvhCurveSegment, triangle_b) == offset_of!(CurveSegment, triangle_b));
+    assert!(offset_of!(DvhCurveSegment, curve) == offset_of!(CurveSegment, curve));
+    assert!(offset_of!(DvhCurveSegment, reserved) == offset_of!(CurveSegment, reserved));
+    assert!(offset_of!(DvhCurveSegment, start) == offset_of!(CurveSegment, start));
+    assert!(offset_of!(DvhCurveSegment, end) == offset_of!(CurveSegment, end));
+    assert!(size_of::<DvhDegeneratePair>() == size_of::<DegeneratePair>());
+    assert!(align_of::<DvhDegeneratePair>() == align_of::<DegeneratePair>());
+    assert!(offset_of!(DvhDegeneratePair, triangle_a) == offset_of!(DegeneratePair, triangle_a));
+    assert!(offset_of!(DvhDegeneratePair, triangle_b) == offset_of!(DegeneratePair, triangle_b));
+    assert!(offset_of!(DvhDegeneratePair, kind) == offset_of!(DegeneratePair, kind));
+    assert!(offset_of!(DvhDegeneratePair, reserved) == offset_of!(DegeneratePair, reserved));
+    assert!(size_of::<DegenerateKind>() == size_of::<u32>());
+    assert!(DegenerateKind::Point as u32 == DVH_DEGENERATE_KIND_POINT);
+    assert!(DegenerateKind::Coplanar as u32 == DVH_DEGENERATE_KIND_COPLANAR);
+};

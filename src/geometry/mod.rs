@@ -7,6 +7,7 @@ pub(crate) mod ball;
 pub(crate) mod ccd;
 #[cfg(test)]
 mod chains;
+pub(crate) mod crossing;
 pub mod distance;
 pub(crate) mod double_double;
 pub(crate) mod interval;

@@ -5,6 +5,7 @@
 mod brute_force;
 mod collide;
 mod continuous;
+mod curves;
 mod engine;
 mod nearest;
 mod options;
@@ -21,6 +22,10 @@ pub(crate) use collide::collide_lazy;
 pub(crate) use continuous::impacts_sharing;
 pub use continuous::{
     CcdOptions, CcdStats, Impact, ImpactKind, Impacts, continuous_collide, self_continuous_collide,
+};
+pub use curves::{
+    Curve, CurvePoint, CurveSegment, Curves, DegenerateKind, DegeneratePair, intersection_curves,
+    self_intersection_curves,
 };
 pub use nearest::{NearPair, NearPairs, nearest_features, self_nearest_features};
 pub use options::{QueryMode, QueryOptions};

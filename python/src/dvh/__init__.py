@@ -16,6 +16,11 @@ of primitives.
 Closest-point stencils: :func:`nearest_features` and :func:`self_nearest_features` return every
 vertex-face and edge-edge pair within a distance, with the distance, closest points, barycentric
 weights and features, as a structured array of :data:`NEAR_PAIR_DTYPE`.
+
+Intersection curves: :func:`intersection_curves` and :func:`self_intersection_curves` return
+where the surfaces cross as :class:`Curves`: exact segments (one per intersecting triangle pair,
+structured array of :data:`SEGMENT_DTYPE`) chained into curves, and the pairs that meet without
+a segment (:data:`DEGENERATE_DTYPE`).
 """
 
 from ._api import (
@@ -55,9 +60,21 @@ from ._api import (
     triangles_intersect,
     version,
 )
+from ._curves import (
+    DEGENERATE_COPLANAR,
+    DEGENERATE_DTYPE,
+    DEGENERATE_POINT,
+    SEGMENT_DTYPE,
+    Curves,
+    intersection_curves,
+    self_intersection_curves,
+)
 
 __all__ = [
     "CONTACT_DTYPE",
+    "DEGENERATE_COPLANAR",
+    "DEGENERATE_DTYPE",
+    "DEGENERATE_POINT",
     "FEATURE_EDGE_01",
     "FEATURE_EDGE_12",
     "FEATURE_EDGE_20",
@@ -72,7 +89,9 @@ __all__ = [
     "NEAR_PAIR_DTYPE",
     "SCENE_IMPACT_DTYPE",
     "SCENE_NEAR_PAIR_DTYPE",
+    "SEGMENT_DTYPE",
     "CcdStats",
+    "Curves",
     "DvhError",
     "Mesh",
     "QueryStats",
@@ -84,10 +103,12 @@ __all__ = [
     "ccd_vertex_face",
     "collide",
     "continuous_collide",
+    "intersection_curves",
     "nearest_features",
     "proximity",
     "self_collide",
     "self_continuous_collide",
+    "self_intersection_curves",
     "self_nearest_features",
     "self_proximity",
     "triangles_intersect",

@@ -1,5 +1,6 @@
 """``python -m dvh check FILE [FILE2]``: a mesh's self-intersections, or two meshes'
-intersections, decided exactly.
+intersections, decided exactly; with ``--curves OUT.obj``, the curves along which they cross,
+written as OBJ polylines.
 
 Exit status: 0 when nothing intersects, 1 when something does, 2 for a file or argument error.
 """
@@ -15,7 +16,17 @@ from typing import Callable, List, Tuple
 
 import numpy as np
 
-from . import DvhError, Mesh, collide, proximity, self_collide, self_proximity, version
+from . import (
+    DvhError,
+    Mesh,
+    collide,
+    intersection_curves,
+    proximity,
+    self_collide,
+    self_intersection_curves,
+    self_proximity,
+    version,
+)
 from ._meshfile import MeshFileError, read_mesh
 
 
@@ -78,7 +89,7 @@ def _table(rows: List[Tuple[str, str]]) -> str:
 
 def check(args: argparse.Namespace) -> int:
     files = args.files
-    stages = 2 * len(files) + 1
+    stages = 2 * len(files) + 1 + (args.curves is not None)
     progress = _Progress(stages, sys.stderr.isatty() and not args.json)
     meshes, rows = [], []
     try:
@@ -108,6 +119,15 @@ def check(args: argparse.Namespace) -> int:
                 else (lambda: proximity(meshes[0], meshes[1], d, threads=args.threads, stats=True))
             )
         (pairs, stats), t_query = progress.run("querying", query)
+        curves = None
+        if args.curves is not None:
+            curves, t_curves = progress.run(
+                "intersection curves",
+                (lambda: self_intersection_curves(meshes[0], threads=args.threads))
+                if len(meshes) == 1
+                else (lambda: intersection_curves(meshes[0], meshes[1], threads=args.threads)),
+            )
+            curves.write_obj(args.curves)
     except (MeshFileError, OSError) as e:
         progress.finish()
         print(f"dvh check: {e}", file=sys.stderr)
@@ -126,6 +146,7 @@ def check(args: argparse.Namespace) -> int:
                 "count": int(len(pairs)),
                 "query_seconds": t_query,
                 "triangle_tests": stats.triangle_tests,
+                **({} if curves is None else {"curves": _curves_json(curves, args.curves)}),
             },
             sys.stdout,
         )
@@ -140,6 +161,16 @@ def check(args: argparse.Namespace) -> int:
         if len(meshes) == 1:
             involved = [np.unique(pairs)]
         rows.append(("triangles involved", ", ".join(str(len(x)) for x in involved)))
+    if curves is not None:
+        c = _curves_json(curves, args.curves)
+        rows += [
+            (
+                "intersection curves",
+                f"{c['count']} ({c['closed']} closed), {c['segments']} segments, "
+                f"{c['degenerate']} pairs without a segment, in {t_curves * 1e3:.1f} ms",
+            ),
+            ("  written to", args.curves),
+        ]
     print(f"dvh {version()} check (exact)")
     print(_table(rows))
     if len(pairs):
@@ -148,6 +179,17 @@ def check(args: argparse.Namespace) -> int:
         for a, b in shown:
             print(f"    {a} {b}")
     return 1 if len(pairs) else 0
+
+
+def _curves_json(curves, path: str) -> dict:
+    return {
+        "file": path,
+        "count": len(curves),
+        "closed": int(curves.closed.sum()),
+        "segments": len(curves.segments),
+        "degenerate": len(curves.degenerate),
+        "lengths": curves.lengths.tolist(),
+    }
 
 
 def main(argv=None) -> int:
@@ -167,9 +209,16 @@ def main(argv=None) -> int:
     c.add_argument("--threads", type=int, default=0, help="0: every core (the default)")
     c.add_argument("--show", type=int, default=10, help="pairs listed (default 10)")
     c.add_argument("--json", action="store_true", help="print the result as JSON")
+    c.add_argument(
+        "--curves",
+        metavar="OUT.obj",
+        help="also write the exact intersection curves to OUT.obj as polylines",
+    )
     args = parser.parse_args(argv)
     if len(args.files) > 2:
         parser.error("check takes one or two files")
+    if args.curves is not None and args.distance is not None:
+        parser.error("--curves is for intersections: it does not go with --distance")
     return check(args)
 
 

@@ -1,0 +1,317 @@
+// The curves run: on every object pair of the pairwise run's scenes, frame by frame, dvh's
+// intersection curves (dvh_intersection_curves on meshes refit to the frame's world coordinates)
+// against CGAL's Polygon_mesh_processing::surface_intersection on Surface_mesh copies of the same
+// coordinates (Exact_predicates_inexact_constructions_kernel: exact predicates, intersection
+// points constructed exactly and rounded). Where dvh reports no degenerate pair (the meshes
+// cross in general position), the two must give the same points (dvh's distinct segment ends and
+// CGAL's distinct polyline points, point for point within 4 units in the last place of the
+// scene's largest coordinate), the same number of curves and of segments; elsewhere (coplanar
+// contact, a copy) the counts are reported only, CGAL's polylines then meaning something else.
+// Timed: dvh's refit + curves, dvh's refit + collide, CGAL's surface_intersection (its meshes
+// built from the frame's arrays beforehand, not timed: it keeps no tree between calls, so a user
+// builds them every frame).
+//
+// Then the self-collision run's bending meshes: dvh_self_intersection_curves against a CGAL
+// route to the same segments, PMP::self_intersections for the pairs (the same rule for triangles
+// sharing vertices) and CGAL::intersection of each pair's triangles in
+// Exact_predicates_exact_constructions_kernel. Every dvh segment must be its pair's exact
+// intersection (its two ends within 4 units in the last place of the largest coordinate), and
+// the segments plus degenerate pairs must be CGAL's pairs.
+
+#include <dvh.hpp>
+
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/intersection.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/intersections.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <list>
+
+#include "common.hpp"
+#include "runs.hpp"
+
+namespace xc {
+
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Epeck = CGAL::Exact_predicates_exact_constructions_kernel;
+using SurfaceMesh = CGAL::Surface_mesh<K::Point_3>;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+void world_of(Object& o, double t, std::vector<double>& local, std::vector<double>& world) {
+    if (o.deforms)
+        o.morph.apply(o.rest.pos, t, local);
+    else
+        local = o.rest.pos;
+    apply_pose(o.motion(t), local, world);
+}
+
+SurfaceMesh surface(const MeshData& m, const std::vector<double>& pos) {
+    SurfaceMesh s;
+    std::vector<SurfaceMesh::Vertex_index> v(m.vertices());
+    for (size_t i = 0; i < v.size(); i++) v[i] = s.add_vertex(K::Point_3(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]));
+    for (size_t t = 0; t < m.triangles(); t++) s.add_face(v[m.tris[3 * t]], v[m.tris[3 * t + 1]], v[m.tris[3 * t + 2]]);
+    return s;
+}
+
+using Point = std::array<double, 3>;
+
+std::vector<Point> distinct(std::vector<Point> p) {
+    std::sort(p.begin(), p.end());
+    p.erase(std::unique(p.begin(), p.end()), p.end());
+    return p;
+}
+
+// The largest difference between the two sorted point sets, matched in order (infinity when
+// their sizes differ).
+double largest_difference(const std::vector<Point>& a, const std::vector<Point>& b) {
+    if (a.size() != b.size()) return INFINITY;
+    double d = 0;
+    for (size_t i = 0; i < a.size(); i++)
+        for (int k = 0; k < 3; k++) d = std::max(d, std::fabs(a[i][k] - b[i][k]));
+    return d;
+}
+
+}  // namespace
+
+CurvesResults run_curves(const RunOptions& options) {
+    CurvesResults out;
+    auto scenes = make_scenes(options.scenes);
+    for (auto& scene : scenes) {
+        if (!options.only.empty() && scene.name != options.only) continue;
+        std::vector<std::vector<double>> local(scene.objects.size()), world(scene.objects.size());
+        for (size_t i = 0; i < scene.objects.size(); i++) world_of(scene.objects[i], 0.0, local[i], world[i]);
+        std::vector<dvh::Mesh> meshes;
+        for (size_t i = 0; i < scene.objects.size(); i++) {
+            const MeshData& m = scene.objects[i].rest;
+            meshes.emplace_back(world[i].data(), m.vertices(), m.tris.data(), m.triangles(), dvh::BuildOptions{}.refit_threads(1));
+        }
+        dvh::Curves curves;
+        dvh::Pairs pairs;
+        const dvh::QueryOptions one = dvh::QueryOptions{}.threads(1);
+        const int frames = std::min(scene.frames, options.scenes.full ? 20 : 4);
+        for (int f = 0; f < frames; f++) {
+            const double t = (double)f / scene.frames;
+            for (size_t i = 0; i < scene.objects.size(); i++) world_of(scene.objects[i], t, local[i], world[i]);
+            for (auto [i, j] : scene.pairs) {
+                const MeshData &mi = scene.objects[i].rest, &mj = scene.objects[j].rest;
+                CurvesRow row;
+                row.scene = scene.name;
+                row.objects = scene.objects[i].name + " x " + scene.objects[j].name;
+                row.frame = f;
+                row.triangles = mi.triangles() + mj.triangles();
+
+                auto t0 = Clock::now();
+                meshes[i].refit(world[i].data(), mi.vertices());
+                meshes[j].refit(world[j].data(), mj.vertices());
+                dvh::intersection_curves(meshes[i], nullptr, meshes[j], nullptr, one, curves);
+                row.dvh_curves = ms_since(t0);
+                t0 = Clock::now();
+                meshes[i].refit(world[i].data(), mi.vertices());
+                meshes[j].refit(world[j].data(), mj.vertices());
+                dvh::collide(meshes[i], nullptr, meshes[j], nullptr, one, pairs);
+                row.dvh_collide = ms_since(t0);
+                row.segments = curves.size();
+                row.curves = curves.curve_count();
+                row.degenerate = curves.degenerate().size();
+
+                const SurfaceMesh si = surface(mi, world[i]), sj = surface(mj, world[j]);
+                std::list<std::vector<K::Point_3>> polylines;
+                t0 = Clock::now();
+                PMP::surface_intersection(si, sj, std::back_inserter(polylines));
+                row.cgal = ms_since(t0);
+                row.cgal_polylines = polylines.size();
+
+                std::vector<Point> ours, theirs;
+                for (const DvhCurveSegment& s : curves) {
+                    ours.push_back({s.start[0], s.start[1], s.start[2]});
+                    ours.push_back({s.end[0], s.end[1], s.end[2]});
+                }
+                for (const auto& line : polylines) {
+                    row.cgal_segments += line.size() > 0 ? line.size() - 1 : 0;
+                    for (const auto& p : line) theirs.push_back({p.x(), p.y(), p.z()});
+                }
+                ours = distinct(ours);
+                theirs = distinct(theirs);
+                row.dvh_points = ours.size();
+                row.cgal_points = theirs.size();
+                double scale = 0;
+                for (const auto& w : {world[i], world[j]})
+                    for (double x : w) scale = std::max(scale, std::fabs(x));
+                row.difference_ulps = largest_difference(ours, theirs) / (scale * 0x1p-52);
+                row.general = row.degenerate == 0;
+                row.same = row.dvh_points == row.cgal_points && row.difference_ulps <= 4.0 &&
+                           row.curves == row.cgal_polylines && row.segments == row.cgal_segments;
+                std::printf("curves %-10s %-28s frame %3d: %6zu segments, %4zu curves, %5zu degenerate; CGAL %6zu segments, %4zu "
+                            "polylines; points %s (%.1f ulps); dvh %.3f ms (collide %.3f), CGAL %.3f ms\n",
+                            row.scene.c_str(), row.objects.c_str(), f, row.segments, row.curves, row.degenerate,
+                            row.cgal_segments, row.cgal_polylines, row.same ? "the same" : "differ", row.difference_ulps,
+                            row.dvh_curves, row.dvh_collide, row.cgal);
+                out.rows.push_back(row);
+            }
+        }
+    }
+    run_self_curves(options, out);
+    return out;
+}
+
+namespace {
+
+// The ends of the segment where two triangles of one mesh meet, by CGAL in exact constructions,
+// rounded to doubles; false when they meet in something else.
+bool cgal_segment(const double a[9], const double b[9], Point& p, Point& q) {
+    auto tri = [](const double* c) {
+        return Epeck::Triangle_3(Epeck::Point_3(c[0], c[1], c[2]), Epeck::Point_3(c[3], c[4], c[5]),
+                                 Epeck::Point_3(c[6], c[7], c[8]));
+    };
+    auto meet = CGAL::intersection(tri(a), tri(b));
+    if (!meet) return false;
+    const Epeck::Segment_3* s = boost::get<Epeck::Segment_3>(&*meet);
+    if (s == nullptr) return false;
+    // From the exact coordinates (the lazy numbers' own approximations can be off by more).
+    auto rounded = [](const Epeck::Point_3& x) {
+        return Point{CGAL::to_double(CGAL::exact(x.x())), CGAL::to_double(CGAL::exact(x.y())),
+                     CGAL::to_double(CGAL::exact(x.z()))};
+    };
+    p = rounded(s->source());
+    q = rounded(s->target());
+    return true;
+}
+
+}  // namespace
+
+void run_self_curves(const RunOptions& options, CurvesResults& out) {
+    using Face = boost::graph_traits<SurfaceMesh>::face_descriptor;
+    for (auto& s : make_self_scenes(options.scenes)) {
+        if (!options.only.empty() && s.name != options.only) continue;
+        const MeshData& m = s.rest;
+        std::vector<double> pos;
+        s.at(0.0, pos);
+        dvh::Mesh mesh(pos.data(), m.vertices(), m.tris.data(), m.triangles(), dvh::BuildOptions{}.refit_threads(1));
+        dvh::Curves curves;
+        dvh::Pairs pairs;
+        const dvh::QueryOptions one = dvh::QueryOptions{}.threads(1);
+        const int frames = std::min(s.frames, options.scenes.full ? 10 : 3);
+        for (int f = 0; f < frames; f++) {
+            // The later frames, where the meshes pass through themselves.
+            const double t = frames > 1 ? 0.5 + 0.5 * f / (frames - 1) : 1.0;
+            s.at(t, pos);
+            CurvesRow row;
+            row.scene = s.name;
+            row.objects = "self";
+            row.frame = f;
+            row.triangles = m.triangles();
+            auto t0 = Clock::now();
+            mesh.refit(pos.data(), m.vertices());
+            dvh::self_intersection_curves(mesh, one, curves);
+            row.dvh_curves = ms_since(t0);
+            t0 = Clock::now();
+            mesh.refit(pos.data(), m.vertices());
+            dvh::self_collide(mesh, one, pairs);
+            row.dvh_collide = ms_since(t0);
+            row.segments = curves.size();
+            row.curves = curves.curve_count();
+            row.degenerate = curves.degenerate().size();
+
+            const SurfaceMesh sm = surface(m, pos);
+            std::vector<std::pair<Face, Face>> found;
+            t0 = Clock::now();
+            PMP::self_intersections(sm, std::back_inserter(found));
+            std::vector<std::pair<uint64_t, std::array<Point, 2>>> exact;
+            for (const auto& [x, y] : found) {
+                uint32_t a = (uint32_t)x.idx(), b = (uint32_t)y.idx();
+                if (a > b) std::swap(a, b);
+                double ta[9], tb[9];
+                triangle(m, pos, a, ta);
+                triangle(m, pos, b, tb);
+                Point p, q;
+                if (cgal_segment(ta, tb, p, q)) exact.push_back({pair_key(a, b), {p, q}});
+            }
+            row.cgal = ms_since(t0);
+            std::sort(exact.begin(), exact.end());
+            row.cgal_polylines = found.size();  // pairs, for this run
+            row.cgal_segments = exact.size();
+            double scale = 0;
+            for (double x : pos) scale = std::max(scale, std::fabs(x));
+            size_t matched = 0;
+            double worst = 0;
+            for (const DvhCurveSegment& seg : curves) {
+                auto it = std::lower_bound(exact.begin(), exact.end(), pair_key(seg.triangle_a, seg.triangle_b),
+                                           [](const auto& e, uint64_t k) { return e.first < k; });
+                if (it == exact.end() || it->first != pair_key(seg.triangle_a, seg.triangle_b)) continue;
+                const Point a{seg.start[0], seg.start[1], seg.start[2]}, b{seg.end[0], seg.end[1], seg.end[2]};
+                auto diff = [](const Point& x, const Point& y) {
+                    return std::max({std::fabs(x[0] - y[0]), std::fabs(x[1] - y[1]), std::fabs(x[2] - y[2])});
+                };
+                const auto& e = it->second;
+                const double d = std::min(std::max(diff(a, e[0]), diff(b, e[1])), std::max(diff(a, e[1]), diff(b, e[0])));
+                worst = std::max(worst, d);
+                matched++;
+            }
+            row.dvh_points = matched;
+            row.difference_ulps = worst / (scale * 0x1p-52);
+            row.general = true;
+            row.same = matched == row.segments && row.difference_ulps <= 4.0 && row.segments == row.cgal_segments &&
+                       row.segments + row.degenerate == found.size();
+            std::printf("curves %-10s self frame %3d: %6zu segments, %4zu curves, %5zu degenerate; CGAL %6zu pairs, %6zu segments; "
+                        "%s (%.1f ulps); dvh %.3f ms (self_collide %.3f), CGAL %.3f ms\n",
+                        row.scene.c_str(), f, row.segments, row.curves, row.degenerate, found.size(), exact.size(),
+                        row.same ? "the same" : "differ", row.difference_ulps, row.dvh_curves, row.dvh_collide, row.cgal);
+            out.rows.push_back(row);
+        }
+    }
+}
+
+bool report_curves(const CurvesResults& results) {
+    if (results.rows.empty()) return true;
+    std::printf("\nCurves (medians per frame and object pair, ms, one thread; dvh: refit + curves; CGAL: surface_intersection)\n");
+    std::printf("%-10s %7s %9s %8s %9s %9s %11s %9s %9s %8s %8s\n", "scene", "frames", "segments", "general", "differ",
+                "dvh", "dvh collide", "curves/col", "CGAL", "CGAL/dvh", "");
+    bool ok = true;
+    std::vector<std::string> names;
+    for (const auto& r : results.rows)
+        if (std::find(names.begin(), names.end(), r.scene) == names.end()) names.push_back(r.scene);
+    for (const auto& name : names) {
+        std::vector<double> dvh, collide, cgal;
+        size_t frames = 0, segments = 0, general = 0, differ = 0;
+        for (const auto& r : results.rows) {
+            if (r.scene != name) continue;
+            frames++;
+            segments += r.segments;
+            dvh.push_back(r.dvh_curves);
+            collide.push_back(r.dvh_collide);
+            cgal.push_back(r.cgal);
+            if (r.general) {
+                general++;
+                differ += !r.same;
+            }
+        }
+        ok = ok && differ == 0;
+        const double d = median(dvh), c = median(collide), g = median(cgal);
+        std::printf("%-10s %7zu %9zu %8zu %9zu %9.3f %11.3f %9.2fx %9.3f %7.1fx\n", name.c_str(), frames, segments, general, differ, d,
+                    c, c > 0 ? d / c : 0.0, g, d > 0 ? g / d : 0.0);
+    }
+    if (!ok) std::printf("curves: dvh's curves differ from CGAL's on frames in general position\n");
+    return ok;
+}
+
+void write_curves_outputs(const std::string& dir, const CurvesResults& results) {
+    std::ofstream f(dir + "/curves_frames.csv");
+    f << "scene,objects,frame,triangles,segments,curves,degenerate,cgal_segments,cgal_polylines,dvh_points,cgal_points,"
+         "difference_ulps,general,same,dvh_curves_ms,dvh_collide_ms,cgal_ms\n";
+    for (const auto& r : results.rows)
+        f << r.scene << ',' << r.objects << ',' << r.frame << ',' << r.triangles << ',' << r.segments << ',' << r.curves << ','
+          << r.degenerate << ',' << r.cgal_segments << ',' << r.cgal_polylines << ',' << r.dvh_points << ',' << r.cgal_points << ','
+          << r.difference_ulps << ',' << r.general << ',' << r.same << ',' << r.dvh_curves << ',' << r.dvh_collide << ','
+          << r.cgal << '\n';
+}
+
+}  // namespace xc

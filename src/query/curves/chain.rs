@@ -1,0 +1,195 @@
+//! Segments chained into curves by their ends' names, never by their rounded coordinates.
+//!
+//! Two segment ends join when they have the same name ([`CurvePoint`]) and no other end has
+//! it: a name held by one end is where an open curve stops (a boundary edge, a degenerate pair
+//! beside it), a name held by three or more is a junction, where every curve through it stops.
+//! So every segment lies on exactly one curve, and the answer depends only on the names, which
+//! the exact predicates decide.
+//!
+//! The order is fixed by the pairs alone: pieces come in `(triangle_a, triangle_b)` order, a
+//! curve runs the way its least piece does (along `n_a x n_b` of that pair), a closed curve
+//! starts at its least piece, and curves are ordered by their least piece.
+
+use super::result::{Curve, CurveSegment, CurveSet, CurveWork};
+#[cfg(test)]
+use super::result::{CurvePoint, Piece};
+use crate::error::{Error, Result};
+#[cfg(test)]
+use crate::geometry::crossing::EndFeature;
+
+/// A segment end that joins no other.
+const NONE: u32 = u32::MAX;
+
+/// Joins the ends of `work.pieces`: sorts them by name into `work.ends`, marks where each
+/// name's group starts (`work.groups`, then `ends.len()`), and sets each end's partner (the other
+/// end of a group of two). The pieces' points are not read.
+pub(crate) fn link(work: &mut CurveWork) {
+    let CurveWork {
+        pieces,
+        ends,
+        partner,
+        groups,
+        ..
+    } = work;
+    let n = pieces.len();
+    debug_assert!(2 * n < NONE as usize, "two ends per piece, indexed by u32");
+    ends.clear();
+    for (i, p) in pieces.iter().enumerate() {
+        let i = i as u32;
+        ends.push((p.names[0], 2 * i));
+        ends.push((p.names[1], 2 * i + 1));
+    }
+    ends.sort_unstable();
+    partner.clear();
+    partner.resize(2 * n, NONE);
+    groups.clear();
+    let mut at = 0u32;
+    for group in ends.chunk_by(|x, y| x.0 == y.0) {
+        groups.push(at);
+        at += group.len() as u32;
+        if let [(_, e), (_, f)] = *group {
+            partner[e as usize] = f;
+            partner[f as usize] = e;
+        }
+    }
+    groups.push(at);
+}
+
+/// Chains `work.pieces` (in `(triangle_a, triangle_b)` order, linked by [`link`], their points
+/// set) into curves, written to `out` (cleared first).
+pub(crate) fn chain(work: &mut CurveWork, out: &mut CurveSet) -> Result<()> {
+    out.clear();
+    let CurveWork {
+        pieces,
+        partner,
+        taken,
+        walk,
+        order,
+        walk_all,
+        ..
+    } = work;
+    let n = pieces.len();
+    out.segments
+        .try_reserve(n)
+        .and_then(|()| out.points.try_reserve(n))
+        .map_err(|_| Error::OutOfMemory {
+            bytes: n * std::mem::size_of::<CurveSegment>(),
+        })?;
+
+    taken.clear();
+    taken.resize(n, false);
+    order.clear();
+    walk_all.clear();
+    // Open curves: from every end that joins nothing, in piece order; the walk stops at the
+    // curve's other open end (every end between joins exactly one other).
+    for e in 0..2 * n as u32 {
+        if partner[e as usize] != NONE || taken[(e / 2) as usize] {
+            continue;
+        }
+        walk.clear();
+        let mut entry = e;
+        loop {
+            let piece = entry / 2;
+            taken[piece as usize] = true;
+            walk.push((piece, entry % 2 == 1));
+            let next = partner[(entry ^ 1) as usize];
+            if next == NONE {
+                break;
+            }
+            entry = next;
+        }
+        // Run the way the least piece runs.
+        let &(least, reversed) = walk.iter().min_by_key(|(p, _)| *p).expect("one piece");
+        if reversed {
+            walk.reverse();
+            for step in walk.iter_mut() {
+                step.1 = !step.1;
+            }
+        }
+        order.push((least, walk_all.len() as u32, walk.len() as u32, false));
+        walk_all.extend_from_slice(walk);
+    }
+    // What is left are cycles (every end joins one other); each starts at its least piece,
+    // which is the least piece not yet taken, run forwards.
+    for start in 0..n as u32 {
+        if taken[start as usize] {
+            continue;
+        }
+        let first = walk_all.len() as u32;
+        let mut entry = 2 * start;
+        let mut closed = false;
+        loop {
+            let piece = entry / 2;
+            taken[piece as usize] = true;
+            walk_all.push((piece, entry % 2 == 1));
+            let next = partner[(entry ^ 1) as usize];
+            if next == NONE {
+                // Not reached: such an end would have started an open curve.
+                break;
+            }
+            if next / 2 == start {
+                closed = true;
+                break;
+            }
+            entry = next;
+        }
+        order.push((start, first, walk_all.len() as u32 - first, closed));
+    }
+    order.sort_unstable_by_key(|c| c.0);
+
+    for (curve, &(_, first, count, closed)) in order.iter().enumerate() {
+        let begin = out.segments.len();
+        for &(piece, reversed) in &walk_all[first as usize..(first + count) as usize] {
+            let p = &pieces[piece as usize];
+            let (s, e) = if reversed { (1, 0) } else { (0, 1) };
+            out.segments.push(CurveSegment {
+                triangle_a: p.triangle_a,
+                triangle_b: p.triangle_b,
+                curve: curve as u32,
+                reserved: 0,
+                start: p.points[s],
+                end: p.points[e],
+            });
+            out.points.push([p.names[s], p.names[e]]);
+        }
+        out.curves.push(Curve {
+            segments: begin..out.segments.len(),
+            closed,
+        });
+    }
+    Ok(())
+}
+
+/// The pieces' ends, for tests: does every curve chain (each segment starting where the one
+/// before ends, by name and by bits)?
+#[cfg(test)]
+pub(crate) fn is_chained(set: &CurveSet) -> bool {
+    set.curves.iter().all(|c| {
+        let seg = &set.segments[c.segments.clone()];
+        let names = &set.points[c.segments.clone()];
+        let inner = (1..seg.len()).all(|i| {
+            names[i - 1][1] == names[i][0] && bits(&seg[i - 1].end) == bits(&seg[i].start)
+        });
+        let closes = !c.closed
+            || (names[names.len() - 1][1] == names[0][0]
+                && bits(&seg[seg.len() - 1].end) == bits(&seg[0].start));
+        inner && closes
+    })
+}
+
+#[cfg(test)]
+fn bits(p: &[f64; 3]) -> [u64; 3] {
+    p.map(f64::to_bits)
+}
+
+/// A piece's end names, for tests.
+#[cfg(test)]
+pub(crate) fn piece(a: u32, b: u32, names: [CurvePoint; 2]) -> Piece {
+    Piece {
+        triangle_a: a,
+        triangle_b: b,
+        names,
+        points: [[0.0; 3]; 2],
+        features: [EndFeature::CornerOfA(0); 2],
+    }
+}
