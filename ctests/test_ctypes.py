@@ -519,6 +519,66 @@ def main():
     check(lib.dvh_self_nearest_features(None, 1.0, None, near, None) == DVH_STATUS_NULL_ARGUMENT, "NULL mesh refused")
     lib.dvh_near_pairs_free(near)
 
+    # Intersection curves: a flat sheet and one tilted through it cross along one open curve.
+    class DvhCurveSegment(ctypes.Structure):
+        _fields_ = [("triangle_a", ctypes.c_uint32), ("triangle_b", ctypes.c_uint32), ("curve", ctypes.c_uint32),
+                    ("reserved", ctypes.c_uint32), ("start", ctypes.c_double * 3), ("end", ctypes.c_double * 3)]
+
+    check(ctypes.sizeof(DvhCurveSegment) == 64, "DvhCurveSegment is 64 bytes")
+    CurvesPtr = ctypes.c_void_p
+    lib.dvh_curves_new.restype = CurvesPtr
+    lib.dvh_curves_len.restype = ctypes.c_size_t
+    lib.dvh_curves_len.argtypes = [CurvesPtr]
+    lib.dvh_curves_data.restype = ctypes.POINTER(DvhCurveSegment)
+    lib.dvh_curves_data.argtypes = [CurvesPtr]
+    lib.dvh_curves_curve_count.restype = ctypes.c_size_t
+    lib.dvh_curves_curve_count.argtypes = [CurvesPtr]
+    lib.dvh_curves_curve.argtypes = [CurvesPtr, ctypes.c_size_t, ctypes.POINTER(ctypes.c_size_t),
+                                     ctypes.POINTER(ctypes.c_size_t), ctypes.POINTER(ctypes.c_bool)]
+    lib.dvh_curves_degenerate_len.restype = ctypes.c_size_t
+    lib.dvh_curves_degenerate_len.argtypes = [CurvesPtr]
+    lib.dvh_curves_free.argtypes = [CurvesPtr]
+    lib.dvh_intersection_curves.argtypes = [MeshPtr, ctypes.POINTER(DvhPose), MeshPtr, ctypes.POINTER(DvhPose),
+                                            ctypes.POINTER(DvhQueryOptions), CurvesPtr, ctypes.POINTER(DvhQueryStats)]
+    lib.dvh_curves_length_gradient.argtypes = [CurvesPtr, MeshPtr, ctypes.POINTER(DvhPose), MeshPtr,
+                                               ctypes.POINTER(DvhPose), ctypes.POINTER(ctypes.c_double), ctypes.c_size_t,
+                                               ctypes.POINTER(ctypes.c_double), ctypes.c_size_t]
+    flat_pos, flat_tris = grid(4, 0.0)
+    tilted_pos = list(flat_pos)
+    for v in range(len(tilted_pos) // 3):
+        tilted_pos[3 * v + 2] = 0.5 * tilted_pos[3 * v + 1] - 1.03  # crosses z = 0 at y = 2.06
+    status_f, flat = create(flat_pos, flat_tris)
+    status_t, tilted = create(tilted_pos, flat_tris)
+    check(status_f == DVH_STATUS_OK and status_t == DVH_STATUS_OK, "curve meshes created")
+    curves = lib.dvh_curves_new()
+    stats = DvhQueryStats()
+    check(lib.dvh_intersection_curves(flat, None, tilted, None, None, curves, ctypes.byref(stats)) == DVH_STATUS_OK,
+          "intersection curves")
+    n = lib.dvh_curves_len(curves)
+    data = lib.dvh_curves_data(curves)
+    first, count, closed = ctypes.c_size_t(), ctypes.c_size_t(), ctypes.c_bool()
+    check(n > 0 and stats.pairs == n + lib.dvh_curves_degenerate_len(curves) and lib.dvh_curves_curve_count(curves) == 1
+          and lib.dvh_curves_curve(curves, 0, ctypes.byref(first), ctypes.byref(count), ctypes.byref(closed)) == DVH_STATUS_OK
+          and first.value == 0 and count.value == n and not closed.value, "one open curve across the sheet")
+    check(all(abs(data[i].start[1] - 2.06) < 1e-12 and abs(data[i].start[2]) == 0.0 for i in range(n))
+          and all(tuple(data[i].end) == tuple(data[i + 1].start) for i in range(n - 1)), "a chain along y = 2.06 in z = 0")
+    check(lib.dvh_curves_curve(curves, 1, ctypes.byref(first), ctypes.byref(count), ctypes.byref(closed))
+          == DVH_STATUS_INVALID_ARGUMENT and "out of range" in last_error(), "curve index out of range refused")
+    check(lib.dvh_curves_curve(curves, 0, None, ctypes.byref(count), ctypes.byref(closed)) == DVH_STATUS_NULL_ARGUMENT,
+          "NULL out-pointer refused")
+    leaves = DvhQueryOptions(mode=2)
+    check(lib.dvh_intersection_curves(flat, None, tilted, None, ctypes.byref(leaves), curves, None)
+          == DVH_STATUS_INVALID_ARGUMENT and lib.dvh_curves_len(curves) == n, "a coarse mode refused, curves kept")
+    nv = len(flat_pos) // 3
+    ga, gb = (ctypes.c_double * (3 * nv))(), (ctypes.c_double * (3 * nv))()
+    check(lib.dvh_curves_length_gradient(curves, flat, None, tilted, None, ga, nv, gb, nv) == DVH_STATUS_OK
+          and any(x != 0.0 for x in ga), "length gradient")
+    check(lib.dvh_curves_length_gradient(curves, flat, None, tilted, None, ga, nv - 1, gb, nv) == DVH_STATUS_INVALID_ARGUMENT,
+          "a gradient of the wrong length refused")
+    lib.dvh_curves_free(curves)
+    lib.dvh_mesh_free(flat)
+    lib.dvh_mesh_free(tilted)
+
     lib.dvh_pairs_free(pairs)
     lib.dvh_mesh_free(sheet)
     lib.dvh_mesh_free(tent)
