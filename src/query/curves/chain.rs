@@ -160,28 +160,6 @@ pub(crate) fn chain(work: &mut CurveWork, out: &mut CurveSet) -> Result<()> {
     Ok(())
 }
 
-/// The pieces' ends, for tests: does every curve chain (each segment starting where the one
-/// before ends, by name and by bits)?
-#[cfg(test)]
-pub(crate) fn is_chained(set: &CurveSet) -> bool {
-    set.curves.iter().all(|c| {
-        let seg = &set.segments[c.segments.clone()];
-        let names = &set.points[c.segments.clone()];
-        let inner = (1..seg.len()).all(|i| {
-            names[i - 1][1] == names[i][0] && bits(&seg[i - 1].end) == bits(&seg[i].start)
-        });
-        let closes = !c.closed
-            || (names[names.len() - 1][1] == names[0][0]
-                && bits(&seg[seg.len() - 1].end) == bits(&seg[0].start));
-        inner && closes
-    })
-}
-
-#[cfg(test)]
-fn bits(p: &[f64; 3]) -> [u64; 3] {
-    p.map(f64::to_bits)
-}
-
 /// A piece's end names, for tests.
 #[cfg(test)]
 pub(crate) fn piece(a: u32, b: u32, names: [CurvePoint; 2]) -> Piece {

@@ -2,9 +2,9 @@
 //! constructed, random, degenerate and extreme cases; the chaining, the options, the errors and
 //! the length gradient (against central differences).
 
-use super::chain::{chain, is_chained, link, piece};
+use super::chain::{chain, link, piece};
 use super::*;
-use crate::fixtures::curve_judge::{World, judge};
+use crate::fixtures::curve_judge::{World, is_chained, judge};
 use crate::fixtures::{MeshData, Rng, icosphere, soup, torus};
 use crate::geometry::predicates::Point;
 use crate::threads::{Step, at_least_two_threads, shared_count};
@@ -308,7 +308,7 @@ fn max_pairs_bounds_segments_and_degenerate_pairs() {
         assert_eq!(n, max.min(total));
         // Reaching the limit stops the query, as `collide`: truncated, even at exactly all.
         assert_eq!(stats.truncated, max <= total);
-        assert!(is_chained(&curves.result));
+        assert!(is_chained(&curves));
     }
 }
 
@@ -334,7 +334,12 @@ fn chaining_follows_names_only() {
     let mut set = super::result::CurveSet::default();
     link(&mut work);
     chain(&mut work, &mut set).unwrap();
+    let set = Curves {
+        result: set,
+        ..Curves::default()
+    };
     assert!(is_chained(&set));
+    let set = &set.result;
     let runs: Vec<(Vec<(u32, u32)>, bool)> = set
         .curves
         .iter()
