@@ -56,8 +56,8 @@
 //! coordinate overflows; one of magnitude below `2^-1022` is the nearest subnormal (absolute
 //! error at most `2^-1075`). An exact zero is `+0.0`; a corner keeps its input bits.
 
-use super::distance::{V, cross};
-use super::double_double::{DdInterval, Plain, two_sum};
+use super::distance::V;
+use super::double_double::{DdInterval, Fused, Plain, Split, two_sum};
 use super::predicates::{
     Adaptive, BigExact, Orient, Point, Sign, is_safe_point, projected_orientations,
     to_integers_scaled,
@@ -456,25 +456,24 @@ pub(crate) fn edge_meets_plane(p: &Point, q: &Point, t: &Triangle) -> Point {
 /// is computed on first use and kept for the segment's other end.
 struct PlaneOf<'t> {
     t: &'t Triangle,
-    safe: bool,
     normal: Cell<Option<V<DdInterval>>>,
 }
 
 impl<'t> PlaneOf<'t> {
+    /// Costs nothing until a point is asked for (a pair's features need no plane).
     fn new(t: &'t Triangle) -> PlaneOf<'t> {
         PlaneOf {
             t,
-            safe: t.iter().all(is_safe_point),
             normal: Cell::new(None),
         }
     }
 
     /// [`edge_meets_plane`] for this plane.
     fn meet(&self, p: &Point, q: &Point) -> Point {
-        let x = if self.safe
+        let x = if self.t.iter().all(is_safe_point)
             && is_safe_point(p)
             && is_safe_point(q)
-            && let Some(x) = self.meet_fast(p, q)
+            && let Some(x) = self.meet_fast_dispatch(p, q)
         {
             x
         } else {
@@ -484,34 +483,65 @@ impl<'t> PlaneOf<'t> {
         x.map(|c| c + 0.0)
     }
 
+    /// [`PlaneOf::meet_fast`] with the products split by the fused multiply-add where the
+    /// processor has it (the default x86-64 target does not assume it, and Dekker's split is
+    /// most of the arithmetic of a rounded point); the results are the same either way.
+    #[inline]
+    fn meet_fast_dispatch(&self, p: &Point, q: &Point) -> Option<Point> {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("fma") {
+            // SAFETY: the processor has the fused multiply-add.
+            return unsafe { self.meet_fast_fused(p, q) };
+        }
+        self.meet_fast::<Plain>(p, q)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "fma")]
+    fn meet_fast_fused(&self, p: &Point, q: &Point) -> Option<Point> {
+        self.meet_fast::<Fused>(p, q)
+    }
+
     /// [`edge_meets_plane`] in double-double intervals, when every coordinate's enclosure rounds
     /// to one double; `None` otherwise. Only for safe coordinates (products of up to three
     /// differences then stay in the intervals' range).
-    fn meet_fast(&self, p: &Point, q: &Point) -> Option<Point> {
+    #[inline(always)]
+    fn meet_fast<S: Split>(&self, p: &Point, q: &Point) -> Option<Point> {
         let t = self.t;
-        let n = self.normal.get().unwrap_or_else(|| {
-            let n = cross(&difference(&t[1], &t[0]), &difference(&t[2], &t[0]));
-            self.normal.set(Some(n));
-            n
-        });
-        let op = DdInterval::dot::<Plain>(&n, &difference(p, &t[0]));
-        let oq = DdInterval::dot::<Plain>(&n, &difference(q, &t[0]));
+        let n = match self.normal.get() {
+            Some(n) => n,
+            None => {
+                // `cross`, written out: a closure or a generic helper may be compiled apart from
+                // this function, without the fused multiply-add.
+                let (d1, d2) = (difference(&t[1], &t[0]), difference(&t[2], &t[0]));
+                let n = [
+                    d1[1].times::<S>(d2[2]) - d1[2].times::<S>(d2[1]),
+                    d1[2].times::<S>(d2[0]) - d1[0].times::<S>(d2[2]),
+                    d1[0].times::<S>(d2[1]) - d1[1].times::<S>(d2[0]),
+                ];
+                self.normal.set(Some(n));
+                n
+            }
+        };
+        let op = DdInterval::dot::<S>(&n, &difference(p, &t[0]));
+        let oq = DdInterval::dot::<S>(&n, &difference(q, &t[0]));
         let (num, den) = if op.hi >= oq.hi {
             (op, op - oq)
         } else {
             (-op, oq - op)
         };
-        let s = num.divide::<Plain>(&den)?;
+        let s = num.divide::<S>(&den)?;
         let pq = difference(q, p);
         let mut x = [0.0; 3];
         for k in 0..3 {
-            x[k] = nearest(&(DdInterval::point(p[k]) + s.times::<Plain>(pq[k])))?;
+            x[k] = nearest(&(DdInterval::point(p[k]) + s.times::<S>(pq[k])))?;
         }
         Some(x)
     }
 }
 
 /// `a - b` exactly, as double-doubles.
+#[inline(always)]
 fn difference(a: &Point, b: &Point) -> V<DdInterval> {
     std::array::from_fn(|k| {
         let (h, l) = two_sum(a[k], -b[k]);

@@ -685,7 +685,14 @@ fn fast_rounding_agrees_with_the_exact_one() {
         for k in 0..3 {
             assert!(is_nearest(&x[k], exact[k]));
         }
-        if let Some(f) = PlaneOf::new(&t).meet_fast(&p, &q) {
+        let plain = PlaneOf::new(&t).meet_fast::<Plain>(&p, &q);
+        let bits = |x: Option<Point>| x.map(|x| x.map(f64::to_bits));
+        // The fused multiply-add (where the processor has it) splits products as exactly.
+        assert_eq!(
+            bits(plain),
+            bits(PlaneOf::new(&t).meet_fast_dispatch(&p, &q))
+        );
+        if let Some(f) = plain {
             fast += 1;
             assert_eq!(
                 f.map(f64::to_bits),

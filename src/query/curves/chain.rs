@@ -10,9 +10,9 @@
 //! curve runs the way its least piece does (along `n_a x n_b` of that pair), a closed curve
 //! starts at its least piece, and curves are ordered by their least piece.
 
-use super::result::{Curve, CurveSegment, CurveSet, CurveWork};
 #[cfg(test)]
-use super::result::{CurvePoint, Piece};
+use super::result::Piece;
+use super::result::{Curve, CurvePoint, CurveSegment, CurveSet, CurveWork};
 use crate::error::{Error, Result};
 #[cfg(test)]
 use crate::geometry::crossing::EndFeature;
@@ -35,24 +35,47 @@ pub(crate) fn link(work: &mut CurveWork) {
     debug_assert!(2 * n < NONE as usize, "two ends per piece, indexed by u32");
     ends.clear();
     for (i, p) in pieces.iter().enumerate() {
-        let i = i as u32;
-        ends.push((p.names[0], 2 * i));
-        ends.push((p.names[1], 2 * i + 1));
+        let i = i as u64;
+        for (which, name) in p.names.iter().enumerate() {
+            let (fields, kind) = packed(name);
+            ends.push((fields, (kind << 32) | (2 * i + which as u64)));
+        }
     }
     ends.sort_unstable();
     partner.clear();
     partner.resize(2 * n, NONE);
     groups.clear();
     let mut at = 0u32;
-    for group in ends.chunk_by(|x, y| x.0 == y.0) {
+    for group in ends.chunk_by(|x, y| x.0 == y.0 && x.1 >> 32 == y.1 >> 32) {
         groups.push(at);
         at += group.len() as u32;
         if let [(_, e), (_, f)] = *group {
+            let (e, f) = (end_index(e), end_index(f));
             partner[e as usize] = f;
             partner[f as usize] = e;
         }
     }
     groups.push(at);
+}
+
+/// A name as two integers that sort and compare as cheaply as the machine allows (the derived
+/// order of [`CurvePoint`] compared field by field was most of the ends' sort): its vertex
+/// indices, and its kind. Distinct names give distinct pairs.
+fn packed(name: &CurvePoint) -> (u128, u64) {
+    let fields = |f: [u32; 4]| f.iter().fold(0u128, |key, &x| (key << 32) | u128::from(x));
+    match *name {
+        CurvePoint::VertexA(v) => (fields([v, 0, 0, 0]), 0),
+        CurvePoint::VertexB(v) => (fields([v, 0, 0, 0]), 1),
+        CurvePoint::EdgeA { edge, triangle } => (fields([edge[0], edge[1], triangle, 0]), 2),
+        CurvePoint::EdgeB { triangle, edge } => (fields([triangle, edge[0], edge[1], 0]), 3),
+        CurvePoint::Edges { a, b } => (fields([a[0], a[1], b[0], b[1]]), 4),
+    }
+}
+
+/// The segment end (`2 * piece + which`) of an entry of `CurveWork::ends`.
+#[inline]
+pub(crate) fn end_index(packed: u64) -> u32 {
+    packed as u32
 }
 
 /// Chains `work.pieces` (in `(triangle_a, triangle_b)` order, linked by [`link`], their points

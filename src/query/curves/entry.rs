@@ -2,7 +2,7 @@
 //! [`crate::self_collide`] find them; each pair's exact intersection, its segment's ends named
 //! by mesh features; the segments chained by those names.
 
-use super::chain::{chain, link};
+use super::chain::{chain, end_index, link};
 use super::result::{CurvePoint, CurveWork, Curves, DegenerateKind, DegeneratePair, Found, Piece};
 use crate::error::{Error, Result};
 use crate::geometry::crossing::{
@@ -273,7 +273,7 @@ impl Sides<'_> {
                 bytes: n * std::mem::size_of::<Point>(),
             })?;
         let first = |g: usize| {
-            let e = ends[groups[g] as usize].1;
+            let e = end_index(ends[groups[g] as usize].1);
             self.point(&pieces[(e / 2) as usize], (e % 2) as usize)
         };
         if threads <= 1 || n < PARALLEL_MIN_PAIRS {
@@ -297,6 +297,7 @@ impl Sides<'_> {
         }
         for (g, point) in group_points.iter().enumerate() {
             for &(_, e) in &ends[groups[g] as usize..groups[g + 1] as usize] {
+                let e = end_index(e);
                 pieces[(e / 2) as usize].points[(e % 2) as usize] = *point;
             }
         }

@@ -172,8 +172,9 @@ pub(crate) struct CurveWork {
     pub found: Vec<Found>,
     /// The segments before chaining.
     pub pieces: Vec<Piece>,
-    /// Every segment end `(name, 2 * piece + which)`, sorted by name.
-    pub ends: Vec<(CurvePoint, u32)>,
+    /// Every segment end: its name packed as `(fields, kind << 32 | 2 * piece + which)`,
+    /// sorted, so the ends of one name are together.
+    pub ends: Vec<(u128, u64)>,
     /// Where each name's group of ends starts in `ends`, then `ends.len()`.
     pub groups: Vec<u32>,
     /// Each group's point.
