@@ -101,6 +101,7 @@ struct CurvesRow {
     size_t triangles = 0, segments = 0, curves = 0, degenerate = 0;
     size_t cgal_segments = 0, cgal_polylines = 0, dvh_points = 0, cgal_points = 0;
     double difference_ulps = 0;  // of the largest coordinate, between the sorted point sets
+    double exact_ulps = 0;       // dvh's points from their pairs' exact intersections, where judged (beyond 4 units from CGAL's)
     bool general = false, same = false;  // no degenerate pair; the same points, curves and segments as CGAL's
     double dvh_curves = 0, dvh_collide = 0, cgal = 0;  // ms: refit + curves, refit + collide, surface_intersection
 };

@@ -3,7 +3,7 @@
 
 use super::input::Bytes;
 use dvh::ffi::*;
-use dvh::fixtures::curve_judge::{World, judge};
+use dvh::fixtures::curve_judge::{World, judge, reported_pairs};
 use dvh::fixtures::oracle::self_collide_brute_force;
 use dvh::{BuildOptions, Curves, Mesh, Pair, Pose, QueryOptions};
 
@@ -276,19 +276,7 @@ pub fn curves(data: &[u8]) {
             if stats.truncated {
                 // Some of the pairs: judged as those.
                 assert_eq!(got as u64, q.max_pairs);
-                let mut kept: Vec<Pair> = rust
-                    .segments()
-                    .iter()
-                    .map(|s| Pair {
-                        a: s.triangle_a,
-                        b: s.triangle_b,
-                    })
-                    .chain(rust.degenerate().iter().map(|d| Pair {
-                        a: d.triangle_a,
-                        b: d.triangle_b,
-                    }))
-                    .collect();
-                kept.sort_unstable();
+                let kept = reported_pairs(&rust);
                 assert!(kept.iter().all(|p| expected.binary_search(p).is_ok()));
                 judge(&rust, &wa, &wb, one, &kept, false);
             } else {
