@@ -168,13 +168,62 @@ pub(crate) fn triangle_pair_features(a: &Triangle, b: &Triangle) -> PairIntersec
 
 /// The point of the end at `feature` of the segment where `a` and `b` cross (as
 /// [`triangle_pair_intersection`] gives it, bit for bit).
+#[cfg(test)]
 pub(crate) fn end_point(a: &Triangle, b: &Triangle, feature: EndFeature) -> Point {
+    end_point_kept(a, b, feature, (0, 0), &mut Normals::default())
+}
+
+/// The normals of the last plane of each side that a rounded point was found in, kept for the
+/// next point: the points of one triangle's plane are rounded one after another when they are
+/// taken in the order of their names, and the normal is over a third of a point's arithmetic.
+#[derive(Default)]
+pub(crate) struct Normals {
+    /// `(triangle, normal)` of side `a`, then of side `b`.
+    kept: [Option<(u32, V<DdInterval>)>; 2],
+}
+
+impl Normals {
+    /// The plane of triangle `t`, numbered `index` on `side` (0: `a`, 1: `b`), with its normal
+    /// if it is kept.
+    fn plane<'t>(&self, side: usize, index: u32, t: &'t Triangle) -> PlaneOf<'t> {
+        let normal = self.kept[side].filter(|k| k.0 == index).map(|k| k.1);
+        PlaneOf {
+            t,
+            normal: Cell::new(normal),
+        }
+    }
+
+    /// Keeps the normal `plane` computed, if it did.
+    fn keep(&mut self, side: usize, index: u32, plane: &PlaneOf) {
+        if let Some(n) = plane.normal.get() {
+            self.kept[side] = Some((index, n));
+        }
+    }
+}
+
+/// [`end_point`], for the triangles numbered `indices` (`a`'s, `b`'s; for one mesh, both of
+/// it), with the normals kept in `normals`.
+pub(crate) fn end_point_kept(
+    a: &Triangle,
+    b: &Triangle,
+    feature: EndFeature,
+    indices: (u32, u32),
+    normals: &mut Normals,
+) -> Point {
     let corner = |t: &Triangle, k: u8| t[usize::from(k)];
+    // Where edge `pq` meets the plane of side `side`'s triangle `t`.
+    let mut meet = |side: usize, t: &Triangle, p: &Point, q: &Point| {
+        let index = if side == 0 { indices.0 } else { indices.1 };
+        let plane = normals.plane(side, index, t);
+        let x = plane.meet(p, q);
+        normals.keep(side, index, &plane);
+        x
+    };
     match feature {
         EndFeature::CornerOfA(k) | EndFeature::SharedCorner { a: k, .. } => corner(a, k),
         EndFeature::CornerOfB(k) => corner(b, k),
-        EndFeature::EdgeOfA { i, j } => PlaneOf::new(b).meet(&corner(a, i), &corner(a, j)),
-        EndFeature::EdgeOfB { i, j } => PlaneOf::new(a).meet(&corner(b, i), &corner(b, j)),
+        EndFeature::EdgeOfA { i, j } => meet(1, b, &corner(a, i), &corner(a, j)),
+        EndFeature::EdgeOfB { i, j } => meet(0, a, &corner(b, i), &corner(b, j)),
         EndFeature::Edges {
             a: (i, j),
             b: (k, l),
@@ -190,9 +239,9 @@ pub(crate) fn end_point(a: &Triangle, b: &Triangle, feature: EndFeature) -> Poin
                 }
             };
             if off(&p) || off(&q) {
-                PlaneOf::new(b).meet(&p, &q)
+                meet(1, b, &p, &q)
             } else {
-                PlaneOf::new(a).meet(&corner(b, k), &corner(b, l))
+                meet(0, a, &corner(b, k), &corner(b, l))
             }
         }
     }

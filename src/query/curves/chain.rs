@@ -59,14 +59,15 @@ pub(crate) fn link(work: &mut CurveWork) {
 }
 
 /// A name as two integers that sort and compare as cheaply as the machine allows (the derived
-/// order of [`CurvePoint`] compared field by field was most of the ends' sort): its vertex
-/// indices, and its kind. Distinct names give distinct pairs.
+/// order of [`CurvePoint`] compared field by field was most of the ends' sort): its indices,
+/// a crossed triangle's first, and its kind. Distinct names give distinct pairs.
 fn packed(name: &CurvePoint) -> (u128, u64) {
     let fields = |f: [u32; 4]| f.iter().fold(0u128, |key, &x| (key << 32) | u128::from(x));
     match *name {
         CurvePoint::VertexA(v) => (fields([v, 0, 0, 0]), 0),
         CurvePoint::VertexB(v) => (fields([v, 0, 0, 0]), 1),
-        CurvePoint::EdgeA { edge, triangle } => (fields([edge[0], edge[1], triangle, 0]), 2),
+        // The triangle first, as for `EdgeB`: the points in one plane then come together.
+        CurvePoint::EdgeA { edge, triangle } => (fields([triangle, edge[0], edge[1], 0]), 2),
         CurvePoint::EdgeB { triangle, edge } => (fields([triangle, edge[0], edge[1], 0]), 3),
         CurvePoint::Edges { a, b } => (fields([a[0], a[1], b[0], b[1]]), 4),
     }

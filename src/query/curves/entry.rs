@@ -6,7 +6,8 @@ use super::chain::{chain, end_index, link};
 use super::result::{CurvePoint, CurveWork, Curves, DegenerateKind, DegeneratePair, Found, Piece};
 use crate::error::{Error, Result};
 use crate::geometry::crossing::{
-    EndFeature, PairIntersection, end_point, triangle_pair_features, triangle_pair_intersection,
+    EndFeature, Normals, PairIntersection, end_point_kept, triangle_pair_features,
+    triangle_pair_intersection,
 };
 use crate::geometry::pose::Pose;
 use crate::geometry::predicates::Point;
@@ -244,13 +245,15 @@ impl Sides<'_> {
 
 impl Sides<'_> {
     /// The point of end `which` of `piece`, rounded once from its features.
-    fn point(&self, piece: &Piece, which: usize) -> Point {
+    fn point(&self, piece: &Piece, which: usize, normals: &mut Normals) -> Point {
         let ta = self.a.0.triangles()[piece.triangle_a as usize];
         let tb = self.b.0.triangles()[piece.triangle_b as usize];
-        end_point(
+        end_point_kept(
             &Self::corners(self.a, ta),
             &Self::corners(self.b, tb),
             piece.features[which],
+            (piece.triangle_a, piece.triangle_b),
+            normals,
         )
     }
 
@@ -272,12 +275,14 @@ impl Sides<'_> {
             .map_err(|_| Error::OutOfMemory {
                 bytes: n * std::mem::size_of::<Point>(),
             })?;
-        let first = |g: usize| {
+        // In name order, so that the points of one plane come one after another.
+        let first = |g: usize, normals: &mut Normals| {
             let e = end_index(ends[groups[g] as usize].1);
-            self.point(&pieces[(e / 2) as usize], (e % 2) as usize)
+            self.point(&pieces[(e / 2) as usize], (e % 2) as usize, normals)
         };
         if threads <= 1 || n < PARALLEL_MIN_PAIRS {
-            group_points.extend((0..n).map(first));
+            let mut normals = Normals::default();
+            group_points.extend((0..n).map(|g| first(g, &mut normals)));
         } else {
             let size = n.div_ceil(threads * SHARES_PER_THREAD);
             let shares: Vec<(usize, &mut [MaybeUninit<Point>])> = group_points.spare_capacity_mut()
@@ -287,8 +292,9 @@ impl Sides<'_> {
                 .map(|(k, to)| (k * size, to))
                 .collect();
             threads::in_turns(threads::Step::Crossings, threads, shares, &|(from, to)| {
+                let mut normals = Normals::default();
                 for (k, slot) in to.iter_mut().enumerate() {
-                    slot.write(first(from + k));
+                    slot.write(first(from + k, &mut normals));
                 }
             });
             // SAFETY: the shares cover the first `n` slots, and each wrote every slot of its
