@@ -90,6 +90,33 @@ pub(crate) enum EndFeature {
 }
 
 impl EndFeature {
+    /// The name of a point whose carriers in `a` and in `b` are these, by the rule of the
+    /// module documentation (a corner wins, then two edges, then an edge and an interior);
+    /// `None` for a point inside both.
+    fn of_carriers(in_a: Carrier, in_b: Carrier) -> Option<EndFeature> {
+        Some(match (in_a, in_b) {
+            (Carrier::Corner(i), Carrier::Corner(j)) => EndFeature::SharedCorner {
+                a: i as u8,
+                b: j as u8,
+            },
+            (Carrier::Corner(i), _) => EndFeature::CornerOfA(i as u8),
+            (_, Carrier::Corner(j)) => EndFeature::CornerOfB(j as u8),
+            (Carrier::Edge(i, j), Carrier::Edge(k, l)) => EndFeature::Edges {
+                a: (i as u8, j as u8),
+                b: (k as u8, l as u8),
+            },
+            (Carrier::Edge(i, j), Carrier::Interior) => EndFeature::EdgeOfA {
+                i: i as u8,
+                j: j as u8,
+            },
+            (Carrier::Interior, Carrier::Edge(i, j)) => EndFeature::EdgeOfB {
+                i: i as u8,
+                j: j as u8,
+            },
+            (Carrier::Interior, Carrier::Interior) => return None,
+        })
+    }
+
     /// The same feature with the roles of the triangles swapped.
     #[cfg(test)]
     pub(crate) fn mirrored(self) -> EndFeature {
@@ -443,29 +470,8 @@ impl Pair<'_> {
             Source::B(y) => (Pair::inside_interval(self.sa), y.carrier(self.sb)),
             Source::Both(x, y) => (x.carrier(self.sa), y.carrier(self.sb)),
         };
-        let feature = match (in_a, in_b) {
-            (Carrier::Corner(i), Carrier::Corner(j)) => EndFeature::SharedCorner {
-                a: i as u8,
-                b: j as u8,
-            },
-            (Carrier::Corner(i), _) => EndFeature::CornerOfA(i as u8),
-            (_, Carrier::Corner(j)) => EndFeature::CornerOfB(j as u8),
-            (Carrier::Edge(i, j), Carrier::Edge(k, l)) => EndFeature::Edges {
-                a: (i as u8, j as u8),
-                b: (k as u8, l as u8),
-            },
-            (Carrier::Edge(i, j), Carrier::Interior) => EndFeature::EdgeOfA {
-                i: i as u8,
-                j: j as u8,
-            },
-            (Carrier::Interior, Carrier::Edge(i, j)) => EndFeature::EdgeOfB {
-                i: i as u8,
-                j: j as u8,
-            },
-            (Carrier::Interior, Carrier::Interior) => {
-                unreachable!("an end of the overlap lies on a triangle's boundary")
-            }
-        };
+        let feature = EndFeature::of_carriers(in_a, in_b)
+            .expect("an end of the overlap lies on a triangle's boundary");
         if !ROUND {
             return SegmentEnd {
                 feature,

@@ -4,35 +4,9 @@
 
 use super::*;
 use crate::fixtures::Rng;
+use crate::fixtures::rational::{Q, QPoint, q, qcross, qdot, qp, qsub};
 use crate::geometry::predicates::Plane;
 use num_traits::Signed;
-
-type Q = BigRational;
-type QPoint = [Q; 3];
-
-fn q(x: f64) -> Q {
-    Q::from_float(x).expect("finite")
-}
-
-fn qp(p: &Point) -> QPoint {
-    p.map(q)
-}
-
-fn qsub(a: &QPoint, b: &QPoint) -> QPoint {
-    std::array::from_fn(|k| &a[k] - &b[k])
-}
-
-fn qdot(a: &QPoint, b: &QPoint) -> Q {
-    &a[0] * &b[0] + &a[1] * &b[1] + &a[2] * &b[2]
-}
-
-fn qcross(a: &QPoint, b: &QPoint) -> QPoint {
-    [
-        &a[1] * &b[2] - &a[2] * &b[1],
-        &a[2] * &b[0] - &a[0] * &b[2],
-        &a[0] * &b[1] - &a[1] * &b[0],
-    ]
-}
 
 fn is_zero(v: &QPoint) -> bool {
     v.iter().all(Zero::is_zero)
@@ -166,27 +140,8 @@ fn expected_feature(a: &Triangle, b: &Triangle, x: &QPoint) -> EndFeature {
         }
         Carrier::Interior
     };
-    match (carrier(a), carrier(b)) {
-        (Carrier::Corner(i), Carrier::Corner(j)) => EndFeature::SharedCorner {
-            a: i as u8,
-            b: j as u8,
-        },
-        (Carrier::Corner(i), _) => EndFeature::CornerOfA(i as u8),
-        (_, Carrier::Corner(j)) => EndFeature::CornerOfB(j as u8),
-        (Carrier::Edge(i, j), Carrier::Edge(k, l)) => EndFeature::Edges {
-            a: (i as u8, j as u8),
-            b: (k as u8, l as u8),
-        },
-        (Carrier::Edge(i, j), Carrier::Interior) => EndFeature::EdgeOfA {
-            i: i as u8,
-            j: j as u8,
-        },
-        (Carrier::Interior, Carrier::Edge(i, j)) => EndFeature::EdgeOfB {
-            i: i as u8,
-            j: j as u8,
-        },
-        (Carrier::Interior, Carrier::Interior) => panic!("an end inside both triangles"),
-    }
+    // The naming rule itself is the library's; the carriers are found here, exactly.
+    EndFeature::of_carriers(carrier(a), carrier(b)).expect("an end inside both triangles")
 }
 
 /// The exact point a reported feature names, checked to be one point for every part of it.

@@ -5,31 +5,11 @@
 use super::values::sqrt_rational;
 use super::*;
 use crate::fixtures::Rng;
-use num_rational::BigRational;
+use crate::fixtures::rational::{Q, QPoint, q, qcross, qdot, qp as qv, qsub};
 use num_traits::{One, ToPrimitive, Zero};
 
-type Q = BigRational;
-type QV = [Q; 3];
+type QV = QPoint;
 
-fn q(x: f64) -> Q {
-    Q::from_float(x).unwrap()
-}
-fn qv(p: &Point) -> QV {
-    p.map(q)
-}
-fn qsub(a: &QV, b: &QV) -> QV {
-    [0, 1, 2].map(|k| &a[k] - &b[k])
-}
-fn qdot(a: &QV, b: &QV) -> Q {
-    &a[0] * &b[0] + &a[1] * &b[1] + &a[2] * &b[2]
-}
-fn qcross(a: &QV, b: &QV) -> QV {
-    [
-        &a[1] * &b[2] - &a[2] * &b[1],
-        &a[2] * &b[0] - &a[0] * &b[2],
-        &a[0] * &b[1] - &a[1] * &b[0],
-    ]
-}
 fn qlerp(a: &QV, b: &QV, s: &Q) -> QV {
     [0, 1, 2].map(|k| &a[k] + s * (&b[k] - &a[k]))
 }
