@@ -6,7 +6,8 @@
 //!
 //! `cargo bench --bench curves` (about 2 minutes; needs Debian's libcgal-demo for the meshes).
 
-use criterion::{Criterion, criterion_group, criterion_main};
+use criterion::measurement::WallTime;
+use criterion::{BenchmarkGroup, Criterion, criterion_group, criterion_main};
 use dvh::fixtures::{Morph, cgal_data_available, cgal_mesh};
 use dvh::{
     BuildOptions, Curves, Mesh, Pairs, QueryOptions, collide, intersection_curves, self_collide,
@@ -53,6 +54,22 @@ fn folded(name: &str) -> (Mesh, Vec<Vec<f64>>) {
     (mesh, frames)
 }
 
+/// Times `step` over the frames in turn: it refits to frame `f`, queries and returns the
+/// result's size.
+fn over_frames(
+    g: &mut BenchmarkGroup<'_, WallTime>,
+    label: String,
+    mut step: impl FnMut(usize) -> usize,
+) {
+    let mut frame = 0;
+    g.bench_function(label, |bench| {
+        bench.iter(|| {
+            frame = (frame + 1) % FRAMES;
+            black_box(step(frame))
+        })
+    });
+}
+
 fn two_meshes(c: &mut Criterion) {
     let (mut a, fa) = deforming("elephant", [0.0; 3], 1);
     let (mut b, fb) = deforming("mannequin-devil", [0.25, 0.05, 0.0], 2);
@@ -67,26 +84,19 @@ fn two_meshes(c: &mut Criterion) {
     g.sample_size(20);
     for threads in [1, 0] {
         let options = QueryOptions::default().with_threads(threads);
-        let mut frame = 0;
         let mut pairs = Pairs::new();
-        g.bench_function(format!("refit + collide, threads {threads}"), |bench| {
-            bench.iter(|| {
-                frame = (frame + 1) % FRAMES;
-                a.refit(&fa[frame]).unwrap();
-                b.refit(&fb[frame]).unwrap();
-                collide(&a, None, &b, None, &options, &mut pairs).unwrap();
-                black_box(pairs.len())
-            })
+        over_frames(&mut g, format!("refit + collide, threads {threads}"), |f| {
+            a.refit(&fa[f]).unwrap();
+            b.refit(&fb[f]).unwrap();
+            collide(&a, None, &b, None, &options, &mut pairs).unwrap();
+            pairs.len()
         });
         let mut curves = Curves::new();
-        g.bench_function(format!("refit + curves, threads {threads}"), |bench| {
-            bench.iter(|| {
-                frame = (frame + 1) % FRAMES;
-                a.refit(&fa[frame]).unwrap();
-                b.refit(&fb[frame]).unwrap();
-                intersection_curves(&a, None, &b, None, &options, &mut curves).unwrap();
-                black_box(curves.len())
-            })
+        over_frames(&mut g, format!("refit + curves, threads {threads}"), |f| {
+            a.refit(&fa[f]).unwrap();
+            b.refit(&fb[f]).unwrap();
+            intersection_curves(&a, None, &b, None, &options, &mut curves).unwrap();
+            curves.len()
         });
     }
     g.finish();
@@ -104,28 +114,26 @@ fn self_curves(c: &mut Criterion) {
     g.sample_size(20);
     for threads in [1, 0] {
         let options = QueryOptions::default().with_threads(threads);
-        let mut frame = 0;
         let mut pairs = Pairs::new();
-        g.bench_function(
+        over_frames(
+            &mut g,
             format!("refit + self_collide, threads {threads}"),
-            |bench| {
-                bench.iter(|| {
-                    frame = (frame + 1) % FRAMES;
-                    m.refit(&frames[frame]).unwrap();
-                    self_collide(&m, &options, &mut pairs).unwrap();
-                    black_box(pairs.len())
-                })
+            |f| {
+                m.refit(&frames[f]).unwrap();
+                self_collide(&m, &options, &mut pairs).unwrap();
+                pairs.len()
             },
         );
         let mut curves = Curves::new();
-        g.bench_function(format!("refit + self curves, threads {threads}"), |bench| {
-            bench.iter(|| {
-                frame = (frame + 1) % FRAMES;
-                m.refit(&frames[frame]).unwrap();
+        over_frames(
+            &mut g,
+            format!("refit + self curves, threads {threads}"),
+            |f| {
+                m.refit(&frames[f]).unwrap();
                 self_intersection_curves(&m, &options, &mut curves).unwrap();
-                black_box(curves.len())
-            })
-        });
+                curves.len()
+            },
+        );
     }
     g.finish();
 }

@@ -105,76 +105,64 @@ def same_points(curves, tf_points, scale: float):
     return len(ends), len(theirs), bool(np.abs(a - b).max() <= 1e-9 * scale)
 
 
-def two_meshes(name, A, B, args):
-    (VA, FA), (VB, FB) = A, B
-    fa, fb = frames(VA, args.frames, 1), frames(VB, args.frames, 2)
-    ma, mb = dvh.Mesh(fa[0], FA), dvh.Mesh(fb[0], FB)
+def timed_frames(name, args, steps):
+    """Times each frame's calls: ``steps(f)`` gives the frame's dvh curves and collide calls
+    (each refits first), its trueform call (or None) and its libigl call (or None)."""
     rows = {"dvh refit + curves": [], "dvh refit + collide": [], "trueform": [], "libigl": []}
     mismatches, segments = 0, []
     for f in range(args.frames):
         progress(f"  {name}: frame {f + 1}/{args.frames}")
-
-        def curves():
-            ma.refit(fa[f])
-            mb.refit(fb[f])
-            return dvh.intersection_curves(ma, mb)
-
-        def pairs():
-            ma.refit(fa[f])
-            mb.refit(fb[f])
-            return dvh.collide(ma, mb)
-
+        curves, pairs, trueform, libigl = steps(f)
         rows["dvh refit + curves"].append(fastest(curves, args.reps))
         rows["dvh refit + collide"].append(fastest(pairs, args.reps))
         c = curves()
         segments.append(len(c.segments))
-        if tf is not None:
-            def trueform():
-                return tf.intersection_curves(tf.Mesh(FA, fa[f]), tf.Mesh(FB, fb[f]))
-
+        if trueform is not None:
             rows["trueform"].append(fastest(trueform, args.reps))
             _, points = trueform()
             mismatches += not same_points(c, points, 1.0)[2]
-        if igl_cgal is not None and f < args.igl_frames:
-            rows["libigl"].append(
-                fastest(lambda: igl_cgal.intersect_other(fa[f], FA, fb[f], FB), 1)
-            )
+        if libigl is not None and f < args.igl_frames:
+            rows["libigl"].append(fastest(libigl, 1))
     return rows, mismatches, segments
+
+
+def two_meshes(name, A, B, args):
+    (VA, FA), (VB, FB) = A, B
+    fa, fb = frames(VA, args.frames, 1), frames(VB, args.frames, 2)
+    ma, mb = dvh.Mesh(fa[0], FA), dvh.Mesh(fb[0], FB)
+
+    def steps(f):
+        def refit():
+            ma.refit(fa[f])
+            mb.refit(fb[f])
+
+        return (
+            lambda: (refit(), dvh.intersection_curves(ma, mb))[1],
+            lambda: (refit(), dvh.collide(ma, mb))[1],
+            None if tf is None
+            else lambda: tf.intersection_curves(tf.Mesh(FA, fa[f]), tf.Mesh(FB, fb[f])),
+            None if igl_cgal is None
+            else lambda: igl_cgal.intersect_other(fa[f], FA, fb[f], FB),
+        )
+
+    return timed_frames(name, args, steps)
 
 
 def one_mesh(name, M, args):
     V, F = M
     fv = frames(folded(V), args.frames, 3, 0.01)
     m = dvh.Mesh(fv[0], F)
-    rows = {"dvh refit + curves": [], "dvh refit + collide": [], "trueform": [], "libigl": []}
-    mismatches, segments = 0, []
-    for f in range(args.frames):
-        progress(f"  {name}: frame {f + 1}/{args.frames}")
 
-        def curves():
-            m.refit(fv[f])
-            return dvh.self_intersection_curves(m)
+    def steps(f):
+        return (
+            lambda: (m.refit(fv[f]), dvh.self_intersection_curves(m))[1],
+            lambda: (m.refit(fv[f]), dvh.self_collide(m))[1],
+            None if tf is None else lambda: tf.self_intersection_curves(tf.Mesh(F, fv[f])),
+            None if igl_cgal is None
+            else lambda: igl_cgal.remesh_self_intersections(fv[f], F),
+        )
 
-        def pairs():
-            m.refit(fv[f])
-            return dvh.self_collide(m)
-
-        rows["dvh refit + curves"].append(fastest(curves, args.reps))
-        rows["dvh refit + collide"].append(fastest(pairs, args.reps))
-        c = curves()
-        segments.append(len(c.segments))
-        if tf is not None:
-            def trueform():
-                return tf.self_intersection_curves(tf.Mesh(F, fv[f]))
-
-            rows["trueform"].append(fastest(trueform, args.reps))
-            _, points = trueform()
-            mismatches += not same_points(c, points, 1.0)[2]
-        if igl_cgal is not None and f < args.igl_frames:
-            rows["libigl"].append(
-                fastest(lambda: igl_cgal.remesh_self_intersections(fv[f], F), 1)
-            )
-    return rows, mismatches, segments
+    return timed_frames(name, args, steps)
 
 
 def main() -> int:
