@@ -22,7 +22,8 @@ Per frame, each repeated ``--reps`` times and the fastest kept, medians over the
   runs on the first ``--igl-frames`` frames only.
 
 Each frame checks that trueform's curve points are dvh's segment ends (the same points within
-1e-9 of the scene's size, as many distinct points).
+1e-9 of the scene's size), but for the points where trueform splits its self curves where three
+sheets meet, which must lie inside dvh's segments.
 
     python python/bench/curves_peers.py [--frames N] [--reps R] [--quick] [--cgal-data ARCHIVE]
 """
@@ -95,14 +96,36 @@ def fastest(fn, reps: int) -> float:
 
 def same_points(curves, tf_points, scale: float):
     """(dvh's distinct segment ends, trueform's distinct points, do they match within 1e-9 of
-    the scale?)"""
+    the scale?) Every dvh end must be one of trueform's points, and every trueform point a dvh
+    end or a point inside a dvh segment: trueform's curves of one mesh are an arrangement, split
+    where three sheets meet (a point where two of dvh's segments, of different pairs, cross)."""
     ends = np.unique(np.vstack([curves.segments["start"], curves.segments["end"]]), axis=0)
     theirs = np.unique(np.asarray(tf_points, dtype=np.float64).reshape(-1, 3), axis=0)
-    if len(ends) != len(theirs):
-        return len(ends), len(theirs), False
-    key = lambda P: np.lexsort(np.round(P / (1e-7 * scale)).T[::-1])  # noqa: E731
-    a, b = ends[key(ends)], theirs[key(theirs)]
-    return len(ends), len(theirs), bool(np.abs(a - b).max() <= 1e-9 * scale)
+    tol = 1e-9 * scale
+
+    def nearest(P, Q):
+        """For each point of P, the distance to the nearest of Q (by sorted x, then a scan)."""
+        order = np.argsort(Q[:, 0])
+        Qs = Q[order]
+        out = np.empty(len(P))
+        for k, p in enumerate(P):
+            lo = np.searchsorted(Qs[:, 0], p[0] - tol)
+            hi = np.searchsorted(Qs[:, 0], p[0] + tol, side="right")
+            out[k] = np.abs(Qs[lo:hi] - p).max(axis=1).min() if hi > lo else np.inf
+        return out
+
+    if len(ends) == 0 or len(theirs) == 0:
+        return len(ends), len(theirs), len(ends) == len(theirs)
+    ours_found = bool((nearest(ends, theirs) <= tol).all())
+    extra = theirs[nearest(theirs, ends) > tol]
+    if len(extra):
+        a, b = curves.segments["start"], curves.segments["end"]
+        d = b - a
+        for p in extra:
+            t = np.clip(((p - a) * d).sum(axis=1) / np.maximum((d * d).sum(axis=1), 1e-300), 0, 1)
+            if np.abs(a + t[:, None] * d - p).max(axis=1).min() > tol:
+                return len(ends), len(theirs), False
+    return len(ends), len(theirs), ours_found
 
 
 def timed_frames(name, args, steps):
