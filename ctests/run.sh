@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Builds and runs the C tests against an installed copy of the library (which also tests the
-# install and its pkg-config file): under AddressSanitizer + UndefinedBehaviorSanitizer, the
+# install, its pkg-config file and its CMake package): under AddressSanitizer + UndefinedBehaviorSanitizer, the
 # out-of-memory test unsanitised, the header as C99 and as C++, the C++ layer (dvh.hpp) and its
 # test as C++17 and C++20 under the same sanitizers, the README's C and C++ examples, a static
-# link, and the Python ctypes test.
+# link, a CMake project using the installed package, and the Python ctypes test.
 #
 #   ctests/run.sh          all of that (about 3 minutes on 2 cores, the library's build included)
 #   ctests/run.sh --full   and the C tests once more under valgrind memcheck (zero errors, zero
@@ -70,6 +70,36 @@ echo "static link"
 static_libs=$(pkg-config --static --libs dvh | sed 's/-ldvh\b//')
 gcc -std=c99 -O1 "${warn[@]}" $cflags ctests/test_api.c -o "$work/test_api_static" "$prefix/lib/libdvh.a" $static_libs
 "$work/test_api_static" >/dev/null
+
+echo "CMake package: a consumer project, find_package(dvh) and the imported targets"
+version=$(sed -n 's/^version = "\(.*\)"/\1/p' Cargo.toml | head -n 1)
+IFS=. read -r major minor patch <<<"$version"
+if [ "$major" = 0 ]; then abi="0.$minor"; else abi="$major"; fi
+# From a copy of the install elsewhere: the package finds its files from its own place.
+cp -a "$prefix" "$work/moved"
+cmake -S ctests/cmake_consumer -B "$work/consumer" -DCMAKE_PREFIX_PATH="$work/moved" \
+    -DDVH_WANTED="$abi" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$work/consumer" >/dev/null
+"$work/consumer/consumer_cpp"
+"$work/consumer/consumer_c_static"
+ldd "$work/consumer/consumer_cpp" | grep -q "$work/moved/lib/libdvh.so" || { echo "consumer_cpp does not load the moved install's libdvh"; exit 1; }
+if ldd "$work/consumer/consumer_c_static" | grep -q libdvh; then echo "consumer_c_static loads libdvh"; exit 1; fi
+# The version file follows the soname: another ABI is refused, the same ABI with any patch found.
+if [ "$major" = 0 ]; then refused=("0.$((minor + 1))" "1.0" "0.$minor.$((patch + 1))"); else refused=("$((major + 1)).0" "$major.$((minor + 1))"); fi
+[ "$major.$minor" != "0.0" ] && [ "$minor" != 0 ] && refused+=("$major.$((minor - 1))")
+for wanted in "${refused[@]}"; do
+    if cmake -S ctests/cmake_consumer -B "$work/refused" -DCMAKE_PREFIX_PATH="$prefix" -DDVH_WANTED="$wanted" >/dev/null 2>&1; then
+        echo "find_package(dvh $wanted) accepted dvh $version"
+        exit 1
+    fi
+    rm -rf "$work/refused"
+done
+for wanted in "$abi" "$version" ""; do
+    cmake -S ctests/cmake_consumer -B "$work/accepted" -DCMAKE_PREFIX_PATH="$prefix" -DDVH_WANTED="$wanted" >/dev/null ||
+        { echo "find_package(dvh $wanted) refused dvh $version"; exit 1; }
+    rm -rf "$work/accepted"
+done
+test -s "$prefix/share/doc/dvh/THIRD-PARTY-LICENSES.txt"
 
 echo "README C example"
 awk '/^```c$/{on=1; next} /^```$/{on=0} on' README.md > "$work/readme.c"

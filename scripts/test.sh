@@ -2,22 +2,26 @@
 # The test suite. Installs the Debian packages it needs when they are missing (as root, or
 # through sudo).
 #
-#   scripts/test.sh          every part once: formatting, clippy, the documentation, every Rust
-#                            test (unit, property, integration, documentation; the fuzz seeds and
-#                            regressions), the C tests under AddressSanitizer and
-#                            UndefinedBehaviorSanitizer, the header as C and C++, the C++
-#                            layer's tests, the install, the Python package in a fresh virtual
-#                            environment (and Python through ctypes), a short cross-check
-#                            against FCL judged by CGAL, and the demo (about 17 minutes on 2
-#                            cores with the Rust dependencies built; more from a clean build
-#                            and the package installs on a new machine)
+#   scripts/test.sh          every part once: formatting, clippy, the documentation, the
+#                            dependencies' licences, every Rust test (unit, property,
+#                            integration, documentation; the fuzz seeds and regressions), the C
+#                            tests under AddressSanitizer and UndefinedBehaviorSanitizer, the
+#                            header as C and C++, the C++ layer's tests, the install with its
+#                            pkg-config and CMake packages, the Python package's distribution
+#                            wheel in a fresh virtual environment (and Python through ctypes), a
+#                            short cross-check against FCL judged by CGAL, and the demo (about
+#                            17 minutes on 2 cores with the Rust dependencies built; more from a
+#                            clean build and the package installs on a new machine)
 #   scripts/test.sh --full   all of that and the long runs: the C tests under valgrind, the
-#                            soak, the benchmark runner's tests and short runs (every method and
-#                            knob, its scenes checked against the cross-check's), the cross-check
-#                            on one thread as well as on every core, the criterion benchmarks'
-#                            build, the demo's release build, the Python benchmark script's
-#                            quick run, and every fuzz target's corpus replayed (about 21
-#                            minutes from a clean clone on 2 cores; what CI runs)
+#                            soak, the crate as packaged for crates.io (built, documented, its
+#                            examples and documentation tests run from the package), the Python
+#                            sdist built by pip, the benchmark runner's tests and short runs
+#                            (every method and knob, its scenes checked against the
+#                            cross-check's), the cross-check on one thread as well as on every
+#                            core, the criterion benchmarks' build, the demo's release build,
+#                            the Python benchmark scripts' quick runs, and every fuzz target's
+#                            corpus replayed (about 28 minutes from a clean clone on 2 cores;
+#                            what CI runs)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 full=false
@@ -41,6 +45,10 @@ cargo fmt --all -- --check
 cargo clippy --workspace --all-targets --quiet -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --quiet
 
+step "licences"
+# Every dependency's licence allows dvh's; the bundled code's notices are current.
+python3 scripts/licences.py check
+
 step "Rust tests"
 # Unit, property, integration and documentation tests; a missing mesh archive is a failure here.
 DVH_REQUIRE_CGAL_DATA=1 cargo test --quiet
@@ -56,9 +64,8 @@ cross_check/run.sh | sed -n "/^Summary/,\$p"
 $full && cross_check/run.sh --threads 1 | sed -n "/^Summary/,\$p"
 
 step "Python package"
-# A fresh virtual environment, `pip install ./python`, the pytest suite and the README's example.
-# After the C steps: its release build of the library (maturin's settings) and theirs replace
-# each other in target/, so it runs once the last of theirs is done.
+# The distribution wheel (scripts/wheel.sh) in a fresh virtual environment without Rust, the
+# pytest suite and the README's example; --full also builds the sdist with pip.
 if $full; then scripts/python.sh --full; else scripts/python.sh; fi
 
 step "demo"
@@ -80,6 +87,10 @@ if $full; then
     # binaries that only need to build cost about 8 minutes.
     cargo test --benches --no-run --quiet
     cargo test -p dvh-runner --quiet
+
+    step "crate package"
+    # What crates.io would get: packaged, published dry, built and documented from the package.
+    scripts/package.sh
 
     step "soak"
     scripts/soak.sh --short

@@ -21,6 +21,10 @@ Intersection curves: :func:`intersection_curves` and :func:`self_intersection_cu
 where the surfaces cross as :class:`Curves`: exact segments (one per intersecting triangle pair,
 structured array of :data:`SEGMENT_DTYPE`) chained into curves, and the pairs that meet without
 a segment (:data:`DEGENERATE_DTYPE`).
+
+Files: :func:`read_mesh` reads OFF and OBJ (and, with meshio or trimesh installed, PLY, STL and
+more); ``python -m dvh check`` checks one or two mesh files, or with ``--batch`` a whole data
+set or an animation's frames on several processes or a Dask cluster.
 """
 
 from ._api import (
@@ -60,6 +64,7 @@ from ._api import (
     triangles_intersect,
     version,
 )
+from ._meshfile import MeshFileError, read_mesh
 from ._curves import (
     DEGENERATE_COPLANAR,
     DEGENERATE_DTYPE,
@@ -94,6 +99,7 @@ __all__ = [
     "Curves",
     "DvhError",
     "Mesh",
+    "MeshFileError",
     "QueryStats",
     "RefitStats",
     "Scene",
@@ -106,6 +112,7 @@ __all__ = [
     "intersection_curves",
     "nearest_features",
     "proximity",
+    "read_mesh",
     "self_collide",
     "self_continuous_collide",
     "self_intersection_curves",

@@ -1,8 +1,12 @@
 """``python -m dvh check FILE [FILE2]``: a mesh's self-intersections, or two meshes'
 intersections, decided exactly; with ``--curves OUT.obj``, the curves along which they cross,
-written as OBJ polylines.
+written as OBJ polylines. ``python -m dvh check --batch PATH...``: many meshes (files,
+directories, globs), or the frames of one mesh with ``--frames``, each checked for
+self-intersections and with ``--against FILE`` against that mesh, on several processes
+(``--jobs N``) or a Dask cluster (``--dask ADDRESS``).
 
-Exit status: 0 when nothing intersects, 1 when something does, 2 for a file or argument error.
+Exit status: 0 when nothing intersects, 1 when something does, 2 for a file or argument error
+(with ``--batch``: when any input could not be checked).
 """
 
 from __future__ import annotations
@@ -192,6 +196,34 @@ def _curves_json(curves, path: str) -> dict:
     }
 
 
+def batch(args: argparse.Namespace) -> int:
+    from . import _batch
+
+    start = time.perf_counter()
+    try:
+        rows, where = _batch.run(
+            args.batch,
+            against=args.against,
+            frames=args.frames,
+            jobs=args.jobs,
+            dask=args.dask,
+            volume=args.volume,
+            threads=args.threads,
+            progress=sys.stderr.isatty() and not (args.json or args.csv),
+        )
+    except (RuntimeError, OSError) as e:
+        print(f"dvh check: {e}", file=sys.stderr)
+        return 2
+    seconds = time.perf_counter() - start
+    if args.json:
+        print(_batch.to_json(rows))
+    elif args.csv:
+        sys.stdout.write(_batch.to_csv(rows))
+    else:
+        print(_batch.summary(rows, args.against, args.frames, where, seconds))
+    return _batch.exit_status(rows)
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m dvh", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True)
@@ -203,10 +235,16 @@ def main(argv=None) -> int:
         "a vertex or an edge count only where they also meet elsewhere), or of two meshes. "
         "Exit status 0: none; 1: some; 2: an error.",
     )
-    c.add_argument("files", nargs="+", metavar="FILE", help="one or two mesh files")
+    c.add_argument("files", nargs="*", metavar="FILE", help="one or two mesh files")
     c.add_argument("--distance", type=float, help="report pairs within this distance instead")
     c.add_argument("--volume", default="aabb", choices=["aabb", "dvh", "sbv"])
-    c.add_argument("--threads", type=int, default=0, help="0: every core (the default)")
+    c.add_argument(
+        "--threads",
+        type=int,
+        default=None,
+        help="threads of each query; 0: every core (the default, but 1 per process with "
+        "--jobs or --dask)",
+    )
     c.add_argument("--show", type=int, default=10, help="pairs listed (default 10)")
     c.add_argument("--json", action="store_true", help="print the result as JSON")
     c.add_argument(
@@ -214,9 +252,45 @@ def main(argv=None) -> int:
         metavar="OUT.obj",
         help="also write the exact intersection curves to OUT.obj as polylines",
     )
+    b = c.add_argument_group(
+        "batch checks",
+        "--batch PATH... checks every mesh the paths name (files, directories: their mesh files, "
+        "globs), one result per input; the positional FILEs are then not given.",
+    )
+    b.add_argument("--batch", nargs="+", metavar="PATH", help="the meshes to check")
+    b.add_argument("--against", metavar="FILE", help="also check each input against this mesh")
+    b.add_argument(
+        "--frames",
+        action="store_true",
+        help="the inputs, sorted by name, are frames of one mesh (same triangles; refit, not "
+        "rebuilt), numbered from 0",
+    )
+    where = b.add_mutually_exclusive_group()
+    where.add_argument("--jobs", type=int, default=1, metavar="N", help="processes here (default 1)")
+    where.add_argument(
+        "--dask", metavar="ADDRESS", help="run on the Dask cluster whose scheduler is at ADDRESS"
+    )
+    b.add_argument("--csv", action="store_true", help="print the results as CSV")
     args = parser.parse_args(argv)
-    if len(args.files) > 2:
-        parser.error("check takes one or two files")
+    if args.batch is not None:
+        if args.files:
+            parser.error("--batch takes its inputs after it: no FILE before it")
+        if args.curves is not None or args.distance is not None:
+            parser.error("--curves and --distance are for one or two files, not --batch")
+        if args.json and args.csv:
+            parser.error("--json and --csv: choose one")
+        if args.jobs < 1:
+            parser.error(f"--jobs must be at least 1; got {args.jobs}")
+        return batch(args)
+    for flag, given in (("--against", args.against is not None), ("--frames", args.frames),
+                        ("--dask", args.dask is not None), ("--csv", args.csv),
+                        ("--jobs", args.jobs != 1)):
+        if given:
+            parser.error(f"{flag} goes with --batch")
+    if not 1 <= len(args.files) <= 2:
+        parser.error("check takes one or two files (or --batch PATH...)")
+    if args.threads is None:
+        args.threads = 0
     if args.curves is not None and args.distance is not None:
         parser.error("--curves is for intersections: it does not go with --distance")
     return check(args)
