@@ -144,6 +144,19 @@ def test_check_reports_self_intersections_exactly(tmp_path, capsys, reader, monk
     assert len(calls) == 2 * (len(files) - 2)
 
 
+def test_stl_corners_at_one_point_are_one_vertex(tmp_path, capsys, reader):
+    """STL keeps each triangle's corners apart; read as they are, neighbours would share no
+    vertex and touch along every edge. Welded, a closed sphere does not meet itself."""
+    if reader == "built-in":
+        pytest.skip("STL needs meshio or trimesh")
+    pos, tris = uv_sphere(8)
+    pos = pos.astype(np.float32).astype(np.float64)
+    write_stl(tmp_path / "sphere.stl", pos, tris)
+    p, t = read_mesh(str(tmp_path / "sphere.stl"))
+    assert len(p) == len(pos) and np.array_equal(p[t], pos[tris])
+    assert check_json(capsys, tmp_path / "sphere.stl") == set()
+
+
 def test_check_two_meshes_through_every_reader(tmp_path, capsys, reader, monkeypatch):
     (pa, ta), (pb, tb) = dyadic_soup(40, seed=12), dyadic_soup(40, seed=13)
     want = {tuple(p) for p in brute_collide(dvh, pa, ta, pb, tb).tolist()}

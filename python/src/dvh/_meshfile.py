@@ -95,11 +95,22 @@ def read_obj(path: str) -> Tuple[np.ndarray, np.ndarray]:
     ).reshape(-1, 3)
 
 
+def _welded(positions: np.ndarray, triangles: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    """One vertex for each set of corners at exactly the same point. STL stores every triangle's
+    corners apart: unwelded, every two neighbours would share no vertex and touch along their
+    edge, which a self-intersection check must report."""
+    if len(positions) == 0:
+        return positions, triangles
+    unique, inverse = np.unique(positions, axis=0, return_inverse=True)
+    return unique, inverse.reshape(-1)[triangles]
+
+
 def read_mesh(path: str) -> Tuple[np.ndarray, np.ndarray]:
     """Vertices and triangles of a mesh file, by its extension: OFF and OBJ with the built-in
     readers (which read every decimal exactly and name the line of any error); any other format
-    through meshio or else trimesh, when one of them is installed. (The built-in readers come
-    first for their formats: meshio 5.3 never returns from a truncated OFF file.)"""
+    through meshio or else trimesh, when one of them is installed, an STL file's corners at
+    exactly the same point made one vertex. (The built-in readers come first for their formats:
+    meshio 5.3 never returns from a truncated OFF file.)"""
     ext = os.path.splitext(path)[1].lower()
     if not os.path.isfile(path):
         raise MeshFileError(f"{path}: no such file")
@@ -107,6 +118,7 @@ def read_mesh(path: str) -> Tuple[np.ndarray, np.ndarray]:
         return read_off(path)
     if ext == ".obj":
         return read_obj(path)
+    mesh = None
     try:
         import meshio  # type: ignore
 
@@ -114,16 +126,19 @@ def read_mesh(path: str) -> Tuple[np.ndarray, np.ndarray]:
         tris = [c.data for c in m.cells if c.type == "triangle"]
         if not tris:
             raise MeshFileError(f"{path}: no triangles")
-        return np.asarray(m.points, dtype=np.float64)[:, :3], np.vstack(tris).astype(np.int64)
+        mesh = np.asarray(m.points, dtype=np.float64)[:, :3], np.vstack(tris).astype(np.int64)
     except ImportError:
         pass
-    try:
-        import trimesh  # type: ignore
+    if mesh is None:
+        try:
+            import trimesh  # type: ignore
 
-        t = trimesh.load(path, force="mesh", process=False)
-        return np.asarray(t.vertices, dtype=np.float64), np.asarray(t.faces, dtype=np.int64)
-    except ImportError:
-        pass
+            t = trimesh.load(path, force="mesh", process=False)
+            mesh = np.asarray(t.vertices, dtype=np.float64), np.asarray(t.faces, dtype=np.int64)
+        except ImportError:
+            pass
+    if mesh is not None:
+        return _welded(*mesh) if ext == ".stl" else mesh
     raise MeshFileError(
         f"{path}: {ext or 'this'} files need meshio or trimesh (pip install meshio); "
         "OFF and OBJ are read without them"
