@@ -18,12 +18,37 @@ def _fan(face: List[int], out: List[List[int]]) -> None:
         out.append([face[0], face[k], face[k + 1]])
 
 
+def _off_of_triangles(text: str):
+    """The common OFF file, read in bulk: an `OFF` header, three coordinates per vertex and
+    triangles only, no comments or colours. `None` for anything else, which the line-by-line
+    reader reads (and where it fails, says which line)."""
+    if "#" in text:
+        return None
+    tok = text.split()
+    if len(tok) < 4 or tok[0] != "OFF":
+        return None
+    try:
+        nv, nf = int(tok[1]), int(tok[2])
+        if nv < 0 or nf < 0 or len(tok) != 4 + 3 * nv + 4 * nf:
+            return None
+        # Each string converted as float() converts it: the nearest double, as the reader below.
+        positions = np.array(tok[4 : 4 + 3 * nv], dtype=np.float64).reshape(-1, 3)
+        faces = np.array(tok[4 + 3 * nv :], dtype=np.int64).reshape(-1, 4)
+    except ValueError:
+        return None
+    if not np.all(faces[:, 0] == 3):
+        return None
+    return positions, faces[:, 1:].copy()
+
+
 def read_off(path: str) -> Tuple[np.ndarray, np.ndarray]:
     """An OFF file's vertices and triangles (polygons split into fans; colours ignored)."""
     with open(path, "r", encoding="utf-8", errors="replace") as f:
-        lines = [
-            (n, ln.split("#", 1)[0].split()) for n, ln in enumerate(f, 1)
-        ]
+        text = f.read()
+    bulk = _off_of_triangles(text)
+    if bulk is not None:
+        return bulk
+    lines = [(n, ln.split("#", 1)[0].split()) for n, ln in enumerate(text.splitlines(), 1)]
     lines = [(n, tok) for n, tok in lines if tok]
     if not lines or not lines[0][1][0].endswith("OFF"):
         raise MeshFileError(f"{path}: not an OFF file (no OFF header)")
