@@ -82,8 +82,11 @@ cmake -S ctests/cmake_consumer -B "$work/consumer" -DCMAKE_PREFIX_PATH="$work/mo
 cmake --build "$work/consumer" >/dev/null
 "$work/consumer/consumer_cpp"
 "$work/consumer/consumer_c_static"
-ldd "$work/consumer/consumer_cpp" | grep -q "$work/moved/lib/libdvh.so" || { echo "consumer_cpp does not load the moved install's libdvh"; exit 1; }
-if ldd "$work/consumer/consumer_c_static" | grep -q libdvh; then echo "consumer_c_static loads libdvh"; exit 1; fi
+# (ldd's output taken whole: `ldd | grep -q` fails under pipefail when grep stops reading early.)
+loads=$(ldd "$work/consumer/consumer_cpp")
+grep -q "$work/moved/lib/libdvh.so" <<<"$loads" || { echo "consumer_cpp does not load the moved install's libdvh: $loads"; exit 1; }
+loads=$(ldd "$work/consumer/consumer_c_static")
+if grep -q libdvh <<<"$loads"; then echo "consumer_c_static loads libdvh: $loads"; exit 1; fi
 # The version file follows the soname: another ABI is refused, the same ABI with any patch found.
 if [ "$major" = 0 ]; then refused=("0.$((minor + 1))" "1.0" "0.$minor.$((patch + 1))"); else refused=("$((major + 1)).0" "$major.$((minor + 1))"); fi
 [ "$major.$minor" != "0.0" ] && [ "$minor" != 0 ] && refused+=("$major.$((minor - 1))")

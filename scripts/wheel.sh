@@ -45,7 +45,8 @@ cd "$root"
 wheel=$(ls "$build"/*.whl)
 # The tag auditwheel finds from the symbols the library uses must be the one claimed, or older.
 shown=$("$tools/bin/auditwheel" show "$wheel")
-policy=$(grep -o '"manylinux_2_[0-9]*_x86_64"' <<<"$shown" | head -n 1 | tr -d '"')
+policy=$(grep -o 'manylinux_2_[0-9]*_x86_64' <<<"$shown" || true)
+policy=${policy%%$'\n'*}
 glibc_minor=$(sed -n 's/manylinux_2_\([0-9]*\)_x86_64/\1/p' <<<"$policy")
 if [ -z "$glibc_minor" ] || [ "$glibc_minor" -gt 28 ]; then
     echo "$shown" >&2
