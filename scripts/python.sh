@@ -36,12 +36,9 @@ scripts/wheel.sh "$work/dist" 2>"$work/wheel.log" || {
     exit 1
 }
 wheel=$(ls "$work"/dist/*.whl)
-# Only the system's directories on the path: no cargo, no rustc, nothing of the build.
+# Only the system's directories on the path (rustup's cargo and rustc are not among them), and
+# binaries only: nothing can be built, so the wheel must install as it is.
 clean_path="$venv/bin:/usr/local/bin:/usr/bin:/bin"
-if PATH="$clean_path" command -v cargo >/dev/null || PATH="$clean_path" command -v rustc >/dev/null; then
-    echo "a Rust toolchain is on the system path: the wheel's install would not show that it needs none" >&2
-    exit 1
-fi
 (cd "$work" && PATH="$clean_path" "${pip[@]}" install --only-binary=:all: "$wheel[test]")
 # IPC Toolkit's distance functions: the closest-point tests' second, floating-point reference.
 "${pip[@]}" install ipctk
