@@ -74,7 +74,9 @@ gcc -std=c99 -O1 "${warn[@]}" $cflags ctests/test_api.c -o "$work/test_api_stati
 echo "CMake package: a consumer project, find_package(dvh) and the imported targets"
 version=$(sed -n 's/^version = "\(.*\)"/\1/p' Cargo.toml | head -n 1)
 IFS=. read -r major minor patch <<<"$version"
-if [ "$major" = 0 ]; then abi="0.$minor"; else abi="$major"; fi
+# The ABI the install names (libdvh.so -> libdvh.so.SOVERSION), as install.sh decided it.
+abi=$(readlink "$prefix/lib/libdvh.so")
+abi=${abi#libdvh.so.}
 # From a copy of the install elsewhere: the package finds its files from its own place.
 cp -a "$prefix" "$work/moved"
 cmake -S ctests/cmake_consumer -B "$work/consumer" -DCMAKE_PREFIX_PATH="$work/moved" \

@@ -22,7 +22,7 @@ import os
 import re
 import subprocess
 import sys
-from typing import Dict, List, Set
+from typing import List, Set
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 NOTICES = os.path.join(ROOT, "THIRD-PARTY-LICENSES.txt")
@@ -70,19 +70,19 @@ def allows(expression: str, allowed: Set[str]) -> bool:
             take()  # an exception only widens what the licence allows
         return name in allowed
 
-    def both() -> bool:
-        v = term()
-        while peek() == "AND":
+    def joined(word: str, operand, combine) -> bool:
+        # Every operand is read, whatever the ones before gave: the parse must reach the end.
+        v = operand()
+        while peek() == word:
             take()
-            v = term() and v
+            v = combine(operand(), v)
         return v
 
+    def both() -> bool:
+        return joined("AND", term, lambda x, y: x and y)
+
     def either() -> bool:
-        v = both()
-        while peek() == "OR":
-            take()
-            v = both() or v
-        return v
+        return joined("OR", both, lambda x, y: x or y)
 
     result = either()
     if pos != len(tokens):
@@ -104,7 +104,7 @@ def reachable(meta: dict, kinds: Set[object]) -> Set[str]:
     nodes = {n["id"]: n for n in meta["resolve"]["nodes"]}
     members = set(meta["workspace_members"])
     seen: Set[str] = set()
-    stack = [m for m in members]
+    stack = list(members)
     while stack:
         for dep in nodes[stack.pop()]["deps"]:
             if any(k["kind"] in kinds for k in dep["dep_kinds"]) and dep["pkg"] not in seen:
