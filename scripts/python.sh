@@ -1,6 +1,5 @@
 #!/usr/bin/env bash
-# The Python package's tests, as a new user meets it: the wheel built for distribution
-# (scripts/wheel.sh: manylinux, stripped, with its licences) installed into a fresh virtual
+# The Python package's tests, as a new user meets it: a wheel installed into a fresh virtual
 # environment where no Rust toolchain is on the path, its Python dependencies from PyPI; then
 # `import dvh`, the pytest suite (every query against brute force, the closest-point stencils
 # also against IPC Toolkit's distance functions, `pip install ipctk`; the errors, the arrays,
@@ -8,11 +7,17 @@
 # batch checks on processes and on a local Dask cluster) and the README's Python example, run
 # on the installed package from outside the repository.
 #
-#   scripts/python.sh          about 4 minutes from a clean build on 2 cores, a minute once built
-#   scripts/python.sh --full   and the peer benchmarks' quick runs, without the peers (they are
-#                              skipped when not installed), so that they keep working; and the
-#                              sdist installed by pip into another fresh environment, built from
-#                              source with cargo, as where no wheel fits (3 minutes more)
+#   scripts/python.sh          the wheel packed from the release library `scripts/install.sh`
+#                              builds (scripts/local_wheel.py: nothing compiled again, so in the
+#                              test suite, after the C tests, it costs only the installs and the
+#                              tests: about 1.5 minutes on 2 cores)
+#   scripts/python.sh --full   the distribution wheel instead (scripts/wheel.sh: manylinux,
+#                              stripped, with its licences; a second release build), checked to
+#                              hold the same files as the packed one but for the library; the
+#                              peer benchmarks' quick runs, without the peers (they are skipped
+#                              when not installed), so that they keep working; and the sdist
+#                              installed by pip into another fresh environment, built from source
+#                              with cargo, as where no wheel fits (about 6 minutes more)
 #
 # PYTHON names the interpreter (default python3); DVH_PYTHON_VENV keeps the environment in that
 # directory instead of a temporary one.
@@ -31,11 +36,34 @@ venv=${DVH_PYTHON_VENV:-$work/venv}
 rm -rf "$venv"
 "$python" -m venv "$venv"
 pip=("$venv/bin/python" -m pip --disable-pip-version-check --quiet)
-scripts/wheel.sh "$work/dist" 2>"$work/wheel.log" || {
-    cat "$work/wheel.log" >&2
-    exit 1
-}
-wheel=$(ls "$work"/dist/*.whl)
+# cffi (a dependency of the package) makes the packed wheel's declarations; tomli reads its
+# metadata where Python has no tomllib.
+"${pip[@]}" install --only-binary=:all: cffi 'tomli; python_version < "3.11"'
+./scripts/install.sh "$work/prefix" >/dev/null
+"$venv/bin/python" scripts/local_wheel.py "$work/prefix/lib/libdvh.so" "$work/packed" >/dev/null
+wheel=$(ls "$work"/packed/*.whl)
+if $full; then
+    scripts/wheel.sh "$work/dist" 2>"$work/wheel.log" || {
+        cat "$work/wheel.log" >&2
+        exit 1
+    }
+    # The two routes load the same code: every file of the one is the other's, byte for byte,
+    # but the library (the same crate, linked by zig for manylinux and stripped) and the files
+    # that describe the wheel itself.
+    "$venv/bin/python" - "$wheel" "$work"/dist/*.whl <<'PY'
+import sys, zipfile
+packed, distributed = (zipfile.ZipFile(p) for p in sys.argv[1:])
+own = lambda n: n.endswith((".dist-info/WHEEL", ".dist-info/RECORD", "/lib_dvh.so")) or "/sboms/" in n
+a = {n: packed.read(n) for n in packed.namelist() if not own(n)}
+b = {n: distributed.read(n) for n in distributed.namelist() if not own(n)}
+if a.keys() != b.keys():
+    sys.exit(f"the wheels' files differ: {sorted(a.keys() ^ b.keys())}")
+differ = sorted(n for n in a if a[n] != b[n])
+if differ:
+    sys.exit(f"the packed and the distribution wheel differ in {differ}")
+PY
+    wheel=$(ls "$work"/dist/*.whl)
+fi
 # Only the system's directories on the path (rustup's cargo and rustc are not among them), and
 # binaries only: nothing can be built, so the wheel must install as it is.
 clean_path="$venv/bin:/usr/local/bin:/usr/bin:/bin"

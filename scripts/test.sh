@@ -34,6 +34,11 @@ case "${1:-}" in
     ;;
 esac
 started=$SECONDS
+# A run from a clean target/ (a new clone, CI) writes no incremental caches it would never read
+# again: about 10% of the build. CARGO_INCREMENTAL=1 keeps them for repeated runs.
+export CARGO_INCREMENTAL=${CARGO_INCREMENTAL:-0}
+# The randomized tests' long form (dvh::fixtures::cases) with the long runs.
+$full && export DVH_TEST_FULL=1
 step() { echo "== $1 ($((SECONDS - started)) s)"; }
 
 packages=(pkg-config g++ cmake libfcl-dev libccd-dev libeigen3-dev libcgal-dev libcgal-demo libgmp-dev libmpfr-dev)
@@ -51,7 +56,16 @@ python3 scripts/licences.py check
 
 step "Rust tests"
 # Unit, property, integration and documentation tests; a missing mesh archive is a failure here.
-DVH_REQUIRE_CGAL_DATA=1 cargo test --quiet
+# cargo-nextest (where installed) runs every test binary's tests side by side rather than one
+# binary after another, so a long test of one never leaves the other core idle; the
+# documentation tests are cargo's alone.
+export DVH_REQUIRE_CGAL_DATA=1
+if cargo nextest --version >/dev/null 2>&1; then
+    cargo nextest run --cargo-quiet --status-level fail --final-status-level slow --hide-progress-bar
+    cargo test --quiet --doc
+else
+    cargo test --quiet
+fi
 
 step "C ABI"
 # The C tests under sanitizers (and valgrind with --full), install, pkg-config, Python ctypes.

@@ -38,7 +38,8 @@ struct Found {
 
 /// Builds `a` and `b` with every volume kind and checks the four queries (exact mode, and first
 /// hit) against brute force; `d` is the proximity distance. Returns the pair counts (the same
-/// for every volume kind).
+/// for every volume kind). The brute-force answers depend on the coordinates only, so they are
+/// computed once, on the first build.
 fn check(
     a: &MeshData,
     pa: Option<&Pose>,
@@ -48,7 +49,7 @@ fn check(
     what: &str,
 ) -> Found {
     let mut pairs = Pairs::new();
-    let mut found = None;
+    let mut expected = None;
     for volume in [VolumeKind::Dvh, VolumeKind::Sbv, VolumeKind::Aabb] {
         let ma = Mesh::new(&a.positions, &a.triangles, &options(volume)).expect("mesh a");
         let mb = Mesh::new(&b.positions, &b.triangles, &options(volume)).expect("mesh b");
@@ -57,51 +58,47 @@ fn check(
         let what = format!("{what}, {volume:?}");
         let exact = QueryOptions::default();
         let first = QueryOptions::with_mode(QueryMode::FirstHit);
+        let (collide_set, self_set, near_set, self_near_set) = expected.get_or_insert_with(|| {
+            let near = proximity_brute_force(&ma, pa, &mb, pb, d);
+            let pairs = brute_force(&ma, pa, &mb, pb);
+            assert!(
+                pairs.iter().all(|p| near.binary_search(p).is_ok()),
+                "an intersecting pair is not within {d:e}: {what}"
+            );
+            (
+                pairs,
+                self_brute_force(&ma),
+                near,
+                self_proximity_brute_force(&ma, d),
+            )
+        });
 
-        let expected = brute_force(&ma, pa, &mb, pb);
         collide(&ma, pa, &mb, pb, &exact, &mut pairs).expect("collide");
-        assert_eq!(sorted(&pairs), expected, "collide: {what}");
+        assert_eq!(&sorted(&pairs), collide_set, "collide: {what}");
         collide(&ma, pa, &mb, pb, &first, &mut pairs).expect("collide");
         assert_eq!(
             pairs.len(),
-            usize::from(!expected.is_empty()),
+            usize::from(!collide_set.is_empty()),
             "first hit: {what}"
         );
-
-        let expected_self = self_brute_force(&ma);
         self_collide(&ma, &exact, &mut pairs).expect("self");
-        assert_eq!(sorted(&pairs), expected_self, "self-collision: {what}");
-
-        let expected_near = proximity_brute_force(&ma, pa, &mb, pb, d);
+        assert_eq!(&sorted(&pairs), self_set, "self-collision: {what}");
         proximity(&ma, pa, &mb, pb, d, &exact, &mut pairs).expect("proximity");
-        assert_eq!(sorted(&pairs), expected_near, "proximity {d:e}: {what}");
-        assert!(
-            expected
-                .iter()
-                .all(|p| expected_near.binary_search(p).is_ok()),
-            "an intersecting pair is not within {d:e}: {what}"
-        );
-
-        let expected_self_near = self_proximity_brute_force(&ma, d);
+        assert_eq!(&sorted(&pairs), near_set, "proximity {d:e}: {what}");
         self_proximity(&ma, d, &exact, &mut pairs).expect("self-proximity");
         assert_eq!(
-            sorted(&pairs),
-            expected_self_near,
+            &sorted(&pairs),
+            self_near_set,
             "self-proximity {d:e}: {what}"
         );
-
-        let now = Found {
-            collide: expected.len(),
-            self_a: expected_self.len(),
-            near: expected_near.len(),
-            self_near: expected_self_near.len(),
-        };
-        if let Some(before) = &found {
-            assert_eq!(&now, before, "{what}");
-        }
-        found = Some(now);
     }
-    found.expect("three volume kinds")
+    let (collide_set, self_set, near_set, self_near_set) = expected.expect("three volume kinds");
+    Found {
+        collide: collide_set.len(),
+        self_a: self_set.len(),
+        near: near_set.len(),
+        self_near: self_near_set.len(),
+    }
 }
 
 /// A torus through a sphere, with a crumpled sheet through both: contact, self-contact, near

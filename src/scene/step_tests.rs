@@ -300,7 +300,7 @@ fn sources() -> Vec<Source> {
 fn scene_queries_equal_pairwise_and_self_queries() {
     let sources = sources();
     let (mut self_impacts, mut pair_impacts, mut stencils, mut self_contacts) = (0, 0, 0, 0);
-    for seed in 0..6 {
+    for seed in 0..crate::fixtures::cases(3, 6) as u64 {
         let mut rng = Rng::new(700 + seed);
         let (mut scene, models) = random_scene(&sources, &mut rng);
         let mut excluded = HashSet::new();

@@ -429,7 +429,8 @@ fn around(rng: &mut Rng, c: Point, size: f64) -> Triangle {
 fn crossing_float_triangles_agree_with_the_judge() {
     let mut rng = Rng::new(5);
     let mut tally = Tally::default();
-    for _ in 0..1500 {
+    let n = crate::fixtures::cases(400, 1500);
+    for _ in 0..n {
         let a: Triangle = std::array::from_fn(|_| std::array::from_fn(|_| rng.range(-1.0, 1.0)));
         let c: Point = std::array::from_fn(|k| {
             let w = [rng.unit(), rng.unit(), rng.unit()];
@@ -439,7 +440,7 @@ fn crossing_float_triangles_agree_with_the_judge() {
         let b = around(&mut rng, c, size);
         check_all(&a, &b, &mut tally);
     }
-    assert!(tally.0[Kind::Segment as usize] > 1100, "{tally:?}");
+    assert!(tally.0[Kind::Segment as usize] > n * 7 / 10, "{tally:?}");
 }
 
 #[test]
@@ -448,7 +449,8 @@ fn extreme_scales_and_offsets_agree_with_the_judge() {
     let mut tally = Tally::default();
     // `x 2^k`, exactly where the result is representable (two steps reach the subnormals).
     let scaled = |x: f64, k: i32| x * 2f64.powi(k / 2) * 2f64.powi(k - k / 2);
-    for case in 0..2000 {
+    let n = crate::fixtures::cases(500, 2000);
+    for case in 0..n {
         let a: Triangle = std::array::from_fn(|_| std::array::from_fn(|_| rng.range(-1.0, 1.0)));
         let c: Point = std::array::from_fn(|k| (a[0][k] + a[1][k] + a[2][k]) / 3.0);
         let b = around(&mut rng, c, 1.0);
@@ -479,7 +481,7 @@ fn extreme_scales_and_offsets_agree_with_the_judge() {
         }
         check_some(&a, &b, &mut tally, case);
     }
-    assert!(tally.0[Kind::Segment as usize] > 1200, "{tally:?}");
+    assert!(tally.0[Kind::Segment as usize] > n * 3 / 5, "{tally:?}");
 }
 
 #[test]

@@ -335,7 +335,7 @@ fn the_filter_never_rejects_at_the_exact_distance() {
     // d the least double at or beyond the exact distance, and the double below: the first is
     // within, the second not, and the floating-point filter must leave both to the exact test.
     let mut rng = Rng::new(0xf11_7e5);
-    for case in 0..2000 {
+    for case in 0..crate::fixtures::cases(500, 2000) {
         let (scale, offset) = [(1.0, 0.0), (1e-200, 0.0), (1e200, 1e201), (1.0, 1e12)][case % 4];
         let p = random_points(&mut rng, scale, offset);
         for pair in [Primitive::VertexFace, Primitive::EdgeEdge] {

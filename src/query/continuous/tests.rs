@@ -12,13 +12,24 @@ fn run(a: &Mesh, b: Option<&Mesh>, options: &CcdOptions, out: &mut Impacts) -> C
     }
 }
 
+/// Brute force's impacts of `a` and `b` (or `a` with itself), exact and conservative.
+type Expected = [Vec<Impact>; 2];
+
+fn brute_force(a: &Mesh, b: Option<&Mesh>) -> Expected {
+    [CcdMode::Exact, CcdMode::Conservative].map(|mode| continuous_brute_force(a, b, mode))
+}
+
 /// The query against brute force, with every option that must not change the answer, and
-/// against the options that cut it.
-fn check(a: &Mesh, b: Option<&Mesh>, what: &str) -> usize {
+/// against the options that cut it. `expected` is brute force's answer for these positions and
+/// motions, computed here when `None` (meshes of every volume kind share it: it depends on
+/// the coordinates only).
+fn check(a: &Mesh, b: Option<&Mesh>, expected: &mut Option<Expected>, what: &str) -> usize {
     let mut out = Impacts::new();
-    let mut expected_by_mode = Vec::new();
-    for mode in [CcdMode::Exact, CcdMode::Conservative] {
-        let expected = continuous_brute_force(a, b, mode);
+    let expected_by_mode = expected.get_or_insert_with(|| brute_force(a, b));
+    for (mode, expected) in [CcdMode::Exact, CcdMode::Conservative]
+        .into_iter()
+        .zip(expected_by_mode.iter())
+    {
         // Meshes this small are queried on the calling thread whatever the thread count: threads
         // are compared on larger ones.
         let threads = 1;
@@ -45,11 +56,10 @@ fn check(a: &Mesh, b: Option<&Mesh>, what: &str) -> usize {
             assert!(stats.truncated && out.len() == 3, "{what}");
             assert!(out.iter().all(|i| expected.contains(i)));
         }
-        expected_by_mode.push(expected);
     }
     // Conservative: never misses, never later.
-    let (exact, conservative) = (&expected_by_mode[0], &expected_by_mode[1]);
-    for i in exact {
+    let [exact, conservative] = expected_by_mode;
+    for i in exact.iter() {
         let c = conservative
             .iter()
             .find(|c| c.key() == i.key())
@@ -59,35 +69,58 @@ fn check(a: &Mesh, b: Option<&Mesh>, what: &str) -> usize {
     exact.len()
 }
 
+const VOLUMES: [VolumeKind; 3] = [VolumeKind::Aabb, VolumeKind::Dvh, VolumeKind::Sbv];
+
 #[test]
 fn two_meshes_equal_brute_force() {
     let mut rng = Rng::new(17);
     let s = icosphere(1);
     let t = torus(0.5, 0.2, 12, 6);
+    // Each trial's motions, the same for every volume kind.
+    let motions: Vec<[Vec<f64>; 4]> = (0..3)
+        .map(|trial| {
+            [
+                moved(
+                    &s.positions,
+                    [-1.6, 0.1 * trial as f64, 0.0],
+                    0.02,
+                    &mut rng,
+                ),
+                moved(&s.positions, [1.6, -0.1, 0.05], 0.02, &mut rng),
+                moved(&t.positions, [0.0; 3], 0.03, &mut rng),
+                moved(&t.positions, [0.0, 0.0, 0.1], 0.03, &mut rng),
+            ]
+        })
+        .collect();
+    // Per trial: a against b and swapped; then b standing still.
+    let mut expected = vec![None; 2 * motions.len() + 1];
     let mut found = 0;
-    for volume in [VolumeKind::Aabb, VolumeKind::Dvh, VolumeKind::Sbv] {
+    for volume in VOLUMES {
         let mut a = build(&s, volume);
         let mut b = build(&t, volume);
-        for trial in 0..3 {
-            let from = moved(
-                &s.positions,
-                [-1.6, 0.1 * trial as f64, 0.0],
-                0.02,
-                &mut rng,
-            );
-            let to = moved(&s.positions, [1.6, -0.1, 0.05], 0.02, &mut rng);
-            a.refit_motion(&from, &to).unwrap();
-            let from_b = moved(&t.positions, [0.0; 3], 0.03, &mut rng);
-            let to_b = moved(&t.positions, [0.0, 0.0, 0.1], 0.03, &mut rng);
-            b.refit_motion(&from_b, &to_b).unwrap();
+        for (trial, [from, to, from_b, to_b]) in motions.iter().enumerate() {
+            a.refit_motion(from, to).unwrap();
+            b.refit_motion(from_b, to_b).unwrap();
             a.validate().unwrap();
-            found += check(&a, Some(&b), &format!("{volume:?} {trial}"));
-            found += check(&b, Some(&a), &format!("{volume:?} {trial} swapped"));
+            let what = format!("{volume:?} {trial}");
+            found += check(&a, Some(&b), &mut expected[2 * trial], &what);
+            found += check(
+                &b,
+                Some(&a),
+                &mut expected[2 * trial + 1],
+                &format!("{what} swapped"),
+            );
         }
         // A stationary mesh: contact at the end positions only.
         b.refit(&t.positions).unwrap();
         assert!(!b.is_moving() && a.is_moving());
-        check(&a, Some(&b), &format!("{volume:?}, b still"));
+        let last = expected.len() - 1;
+        check(
+            &a,
+            Some(&b),
+            &mut expected[last],
+            &format!("{volume:?}, b still"),
+        );
     }
     assert!(
         found > 100,
@@ -100,35 +133,50 @@ fn one_mesh_equals_brute_force() {
     let mut rng = Rng::new(5);
     let t = torus(0.5, 0.2, 16, 8);
     let g = grid(8, 1.0);
-    let mut found = 0;
-    for volume in [VolumeKind::Aabb, VolumeKind::Dvh, VolumeKind::Sbv] {
-        let mut m = build(&t, volume);
-        for trial in 0..3 {
+    let motions: Vec<[Vec<f64>; 2]> = (0..3)
+        .map(|trial| {
             let jitter = 0.03 + 0.03 * trial as f64;
-            let from = moved(&t.positions, [0.0; 3], jitter, &mut rng);
-            let to = moved(&t.positions, [0.0; 3], jitter, &mut rng);
-            m.refit_motion(&from, &to).unwrap();
-            found += check(&m, None, &format!("torus {volume:?} {trial}"));
+            [
+                moved(&t.positions, [0.0; 3], jitter, &mut rng),
+                moved(&t.positions, [0.0; 3], jitter, &mut rng),
+            ]
+        })
+        .collect();
+    // A flat sheet folding over itself: every neighbour coplanar at the start.
+    let folded: Vec<f64> = g
+        .positions
+        .chunks_exact(3)
+        .flat_map(|p| {
+            let (x, y) = (p[0], p[1]);
+            if x > 0.5 {
+                [1.0 - x + 0.03 * y, y, 0.02 - 0.05 * (x - 0.5)]
+            } else {
+                [x, y, 0.0]
+            }
+        })
+        .collect();
+    // Per trial the torus; then the folding sheet and the flat one.
+    let mut expected = vec![None; motions.len() + 2];
+    let mut found = 0;
+    for volume in VOLUMES {
+        let mut m = build(&t, volume);
+        for (trial, [from, to]) in motions.iter().enumerate() {
+            m.refit_motion(from, to).unwrap();
+            let what = format!("torus {volume:?} {trial}");
+            found += check(&m, None, &mut expected[trial], &what);
         }
-        // A flat sheet folding over itself: every neighbour coplanar at the start.
         let mut sheet = build(&g, volume);
-        let folded: Vec<f64> = g
-            .positions
-            .chunks_exact(3)
-            .flat_map(|p| {
-                let (x, y) = (p[0], p[1]);
-                if x > 0.5 {
-                    [1.0 - x + 0.03 * y, y, 0.02 - 0.05 * (x - 0.5)]
-                } else {
-                    [x, y, 0.0]
-                }
-            })
-            .collect();
         sheet.refit_motion(&g.positions, &folded).unwrap();
-        found += check(&sheet, None, &format!("sheet {volume:?}"));
+        let n = motions.len();
+        found += check(&sheet, None, &mut expected[n], &format!("sheet {volume:?}"));
         // Still: neighbours touch, nothing else does.
         sheet.refit(&g.positions).unwrap();
-        check(&sheet, None, &format!("flat sheet {volume:?}"));
+        check(
+            &sheet,
+            None,
+            &mut expected[n + 1],
+            &format!("flat sheet {volume:?}"),
+        );
     }
     assert!(
         found > 20,
