@@ -48,7 +48,7 @@ scripts/ensure-packages.sh "${packages[@]}"
 step "formatting, clippy, documentation"
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets --quiet -- -D warnings
-RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --quiet
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --quiet --package dvh
 
 step "licences"
 # Every dependency's licence allows dvh's; the bundled code's notices are current.

@@ -56,6 +56,8 @@ pub fn triangles_intersect(t1: &Triangle, t2: &Triangle) -> bool {
 /// no adaptive (or big-integer) arithmetic ran. Coordinates outside the adaptive predicates' safe
 /// range are never settled. Slower than [`triangles_intersect`]; not for production queries
 /// (served by `dvh::fixtures`).
+///
+/// [`triangles_intersect`]: crate::exact::triangles_intersect
 #[cfg_attr(not(feature = "fixtures"), allow(dead_code))]
 pub fn settled_by_filter(t1: &Triangle, t2: &Triangle) -> (bool, bool) {
     if !t1.iter().chain(t2.iter()).all(is_safe_point) {
