@@ -61,7 +61,7 @@ step "Rust tests"
 # documentation tests are cargo's alone.
 export DVH_REQUIRE_CGAL_DATA=1
 if cargo nextest --version >/dev/null 2>&1; then
-    cargo nextest run --cargo-quiet --status-level fail --final-status-level slow --hide-progress-bar
+    cargo nextest run --cargo-quiet --no-fail-fast --status-level fail --final-status-level slow --hide-progress-bar
     cargo test --quiet --doc
 else
     cargo test --quiet

@@ -4,7 +4,7 @@
 use super::boundary::{
     Failure, choice, guard, guard_value, slice_from, times_three, write_unless_null,
 };
-use super::calls::{CallOptions, one_mesh, two_meshes, whole_scene};
+use super::calls::{Call, CallOptions};
 use super::handles::*;
 use super::mesh::refit_guarded;
 use super::results;
@@ -217,18 +217,13 @@ pub unsafe extern "C" fn dvh_continuous_collide(
     impacts_out: *mut DvhImpacts,
     stats_out: *mut DvhCcdStats,
 ) -> DvhStatus {
+    let call = Call::new("dvh_continuous_collide", options, impacts_out, stats_out);
+    let unposed = |m| (m, std::ptr::null());
     // SAFETY: the caller's contract is this function's (no poses: NULL is the identity).
     unsafe {
-        two_meshes(
-            (a, std::ptr::null()),
-            (b, std::ptr::null()),
-            options,
-            impacts_out,
-            "impacts_out",
-            stats_out,
-            "dvh_continuous_collide",
-            |ma, _, mb, _, o, out| continuous_collide(ma, mb, o, out),
-        )
+        call.two_meshes(unposed(a), unposed(b), |ma, _, mb, _, o, out| {
+            continuous_collide(ma, mb, o, out)
+        })
     }
 }
 
@@ -252,18 +247,14 @@ pub unsafe extern "C" fn dvh_self_continuous_collide(
     impacts_out: *mut DvhImpacts,
     stats_out: *mut DvhCcdStats,
 ) -> DvhStatus {
+    let call = Call::new(
+        "dvh_self_continuous_collide",
+        options,
+        impacts_out,
+        stats_out,
+    );
     // SAFETY: the caller's contract is this function's.
-    unsafe {
-        one_mesh(
-            mesh,
-            options,
-            impacts_out,
-            "impacts_out",
-            stats_out,
-            "dvh_self_continuous_collide",
-            self_continuous_collide,
-        )
-    }
+    unsafe { call.one_mesh(mesh, self_continuous_collide) }
 }
 
 /// A new, empty impact buffer, or NULL when memory ran out. Owned by the caller, released with
@@ -353,18 +344,14 @@ pub unsafe extern "C" fn dvh_scene_continuous_collide(
     impacts_out: *mut DvhSceneImpacts,
     stats_out: *mut DvhCcdStats,
 ) -> DvhStatus {
+    let call = Call::new(
+        "dvh_scene_continuous_collide",
+        options,
+        impacts_out,
+        stats_out,
+    );
     // SAFETY: the caller's contract is this function's.
-    unsafe {
-        whole_scene(
-            scene,
-            options,
-            impacts_out,
-            "impacts_out",
-            stats_out,
-            "dvh_scene_continuous_collide",
-            |s, o, out| s.continuous_collide(o, out),
-        )
-    }
+    unsafe { call.whole_scene(scene, |s, o, out| s.continuous_collide(o, out)) }
 }
 
 /// A new, empty buffer for a scene's impacts, or NULL when memory ran out. Owned by the caller,

@@ -2,7 +2,7 @@
 
 use super::access::read;
 use super::boundary::{Failure, guard, times_three};
-use super::calls::{one_mesh, pose, two_meshes};
+use super::calls::{Call, pose};
 use super::handles::*;
 use super::results::{self, part};
 use super::types::*;
@@ -218,19 +218,9 @@ pub unsafe extern "C" fn dvh_intersection_curves(
     curves_out: *mut DvhCurves,
     stats_out: *mut DvhQueryStats,
 ) -> DvhStatus {
+    let call = Call::new("dvh_intersection_curves", options, curves_out, stats_out);
     // SAFETY: the caller's contract is this function's.
-    unsafe {
-        two_meshes(
-            (a, pose_a),
-            (b, pose_b),
-            options,
-            curves_out,
-            "curves_out",
-            stats_out,
-            "dvh_intersection_curves",
-            intersection_curves,
-        )
-    }
+    unsafe { call.two_meshes((a, pose_a), (b, pose_b), intersection_curves) }
 }
 
 /// The curves along which `mesh` crosses itself: those of the pairs `dvh_self_collide` reports
@@ -255,18 +245,14 @@ pub unsafe extern "C" fn dvh_self_intersection_curves(
     curves_out: *mut DvhCurves,
     stats_out: *mut DvhQueryStats,
 ) -> DvhStatus {
+    let call = Call::new(
+        "dvh_self_intersection_curves",
+        options,
+        curves_out,
+        stats_out,
+    );
     // SAFETY: the caller's contract is this function's.
-    unsafe {
-        one_mesh(
-            mesh,
-            options,
-            curves_out,
-            "curves_out",
-            stats_out,
-            "dvh_self_intersection_curves",
-            self_intersection_curves,
-        )
-    }
+    unsafe { call.one_mesh(mesh, self_intersection_curves) }
 }
 
 /// `vertex_count` points (three doubles each) at `ptr`, to write, after checking what can be

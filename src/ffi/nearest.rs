@@ -1,7 +1,7 @@
 //! Closest-point stencils through the C ABI: the queries of two meshes, of one and of a whole
 //! scene, and their result buffers.
 
-use super::calls::{one_mesh, two_meshes, whole_scene};
+use super::calls::Call;
 use super::handles::*;
 use super::results;
 use super::types::*;
@@ -58,18 +58,12 @@ pub unsafe extern "C" fn dvh_nearest_features(
     pairs_out: *mut DvhNearPairs,
     stats_out: *mut DvhQueryStats,
 ) -> DvhStatus {
+    let call = Call::new("dvh_nearest_features", options, pairs_out, stats_out);
     // SAFETY: the caller's contract is this function's.
     unsafe {
-        two_meshes(
-            (a, pose_a),
-            (b, pose_b),
-            options,
-            pairs_out,
-            "pairs_out",
-            stats_out,
-            "dvh_nearest_features",
-            |ma, pa, mb, pb, o, out| nearest_features(ma, pa, mb, pb, distance, o, out),
-        )
+        call.two_meshes((a, pose_a), (b, pose_b), |ma, pa, mb, pb, o, out| {
+            nearest_features(ma, pa, mb, pb, distance, o, out)
+        })
     }
 }
 
@@ -94,18 +88,9 @@ pub unsafe extern "C" fn dvh_self_nearest_features(
     pairs_out: *mut DvhNearPairs,
     stats_out: *mut DvhQueryStats,
 ) -> DvhStatus {
+    let call = Call::new("dvh_self_nearest_features", options, pairs_out, stats_out);
     // SAFETY: the caller's contract is this function's.
-    unsafe {
-        one_mesh(
-            mesh,
-            options,
-            pairs_out,
-            "pairs_out",
-            stats_out,
-            "dvh_self_nearest_features",
-            |m, o, out| self_nearest_features(m, distance, o, out),
-        )
-    }
+    unsafe { call.one_mesh(mesh, |m, o, out| self_nearest_features(m, distance, o, out)) }
 }
 
 /// A new, empty stencil buffer, or NULL when memory ran out. Owned by the caller, released with
@@ -194,18 +179,9 @@ pub unsafe extern "C" fn dvh_scene_nearest_features(
     pairs_out: *mut DvhSceneNearPairs,
     stats_out: *mut DvhQueryStats,
 ) -> DvhStatus {
+    let call = Call::new("dvh_scene_nearest_features", options, pairs_out, stats_out);
     // SAFETY: the caller's contract is this function's.
-    unsafe {
-        whole_scene(
-            scene,
-            options,
-            pairs_out,
-            "pairs_out",
-            stats_out,
-            "dvh_scene_nearest_features",
-            |s, o, out| s.nearest_features(distance, o, out),
-        )
-    }
+    unsafe { call.whole_scene(scene, |s, o, out| s.nearest_features(distance, o, out)) }
 }
 
 /// A new, empty buffer for a scene's stencils, or NULL when memory ran out. Owned by the caller,

@@ -2,7 +2,7 @@
 //! triangle test.
 
 use super::boundary::{Failure, choice, guard, guard_value, slice_from};
-use super::calls::{CallOptions, one_mesh, two_meshes};
+use super::calls::{Call, CallOptions};
 use super::handles::*;
 use super::results;
 use super::types::*;
@@ -147,19 +147,9 @@ pub unsafe extern "C" fn dvh_collide(
     pairs_out: *mut DvhPairs,
     stats_out: *mut DvhQueryStats,
 ) -> DvhStatus {
+    let call = Call::new("dvh_collide", options, pairs_out, stats_out);
     // SAFETY: the caller's contract is this function's.
-    unsafe {
-        two_meshes(
-            (a, pose_a),
-            (b, pose_b),
-            options,
-            pairs_out,
-            "pairs_out",
-            stats_out,
-            "dvh_collide",
-            collide,
-        )
-    }
+    unsafe { call.two_meshes((a, pose_a), (b, pose_b), collide) }
 }
 
 impl CallOptions for DvhQueryOptions {
@@ -199,18 +189,9 @@ pub unsafe extern "C" fn dvh_self_collide(
     pairs_out: *mut DvhPairs,
     stats_out: *mut DvhQueryStats,
 ) -> DvhStatus {
+    let call = Call::new("dvh_self_collide", options, pairs_out, stats_out);
     // SAFETY: the caller's contract is this function's.
-    unsafe {
-        one_mesh(
-            mesh,
-            options,
-            pairs_out,
-            "pairs_out",
-            stats_out,
-            "dvh_self_collide",
-            self_collide,
-        )
-    }
+    unsafe { call.one_mesh(mesh, self_collide) }
 }
 
 /// Every pair `(triangle of a, triangle of b)` of closed triangles at Euclidean distance
@@ -244,18 +225,12 @@ pub unsafe extern "C" fn dvh_proximity(
     pairs_out: *mut DvhPairs,
     stats_out: *mut DvhQueryStats,
 ) -> DvhStatus {
+    let call = Call::new("dvh_proximity", options, pairs_out, stats_out);
     // SAFETY: the caller's contract is this function's.
     unsafe {
-        two_meshes(
-            (a, pose_a),
-            (b, pose_b),
-            options,
-            pairs_out,
-            "pairs_out",
-            stats_out,
-            "dvh_proximity",
-            |ma, pa, mb, pb, o, out| proximity(ma, pa, mb, pb, distance, o, out),
-        )
+        call.two_meshes((a, pose_a), (b, pose_b), |ma, pa, mb, pb, o, out| {
+            proximity(ma, pa, mb, pb, distance, o, out)
+        })
     }
 }
 
@@ -281,18 +256,9 @@ pub unsafe extern "C" fn dvh_self_proximity(
     pairs_out: *mut DvhPairs,
     stats_out: *mut DvhQueryStats,
 ) -> DvhStatus {
+    let call = Call::new("dvh_self_proximity", options, pairs_out, stats_out);
     // SAFETY: the caller's contract is this function's.
-    unsafe {
-        one_mesh(
-            mesh,
-            options,
-            pairs_out,
-            "pairs_out",
-            stats_out,
-            "dvh_self_proximity",
-            |m, o, out| self_proximity(m, distance, o, out),
-        )
-    }
+    unsafe { call.one_mesh(mesh, |m, o, out| self_proximity(m, distance, o, out)) }
 }
 
 /// The exact triangle test the queries use: do the closed triangles `t1` and `t2` (9 doubles

@@ -23,6 +23,8 @@ pub(crate) trait Results: Handle + Sized {
     type Item;
     /// The name of the buffer's argument in the accessors, for messages.
     const ARGUMENT: &'static str;
+    /// The name of the buffer's argument in the queries that write it (`ARGUMENT` + `_out`).
+    const OUT: &'static str;
     /// A new, empty buffer.
     fn empty() -> Self;
     /// How many results `inner` holds.
@@ -41,6 +43,7 @@ pub(crate) trait Kinded: Results {
 impl Results for DvhPairs {
     type Item = DvhPair;
     const ARGUMENT: &'static str = "pairs";
+    const OUT: &'static str = "pairs_out";
 
     fn empty() -> DvhPairs {
         DvhPairs(Body::new(Self::TAG, Pairs::new()))
@@ -65,6 +68,7 @@ impl Kinded for DvhPairs {
 impl Results for DvhCurves {
     type Item = DvhCurveSegment;
     const ARGUMENT: &'static str = "curves";
+    const OUT: &'static str = "curves_out";
 
     fn empty() -> DvhCurves {
         DvhCurves(Body::new(Self::TAG, Curves::new()))
@@ -83,6 +87,7 @@ impl Results for DvhCurves {
 impl Results for DvhContacts {
     type Item = DvhContact;
     const ARGUMENT: &'static str = "contacts";
+    const OUT: &'static str = "contacts_out";
 
     fn empty() -> DvhContacts {
         DvhContacts(Body::new(Self::TAG, Contacts::new()))
@@ -107,6 +112,7 @@ impl Kinded for DvhContacts {
 impl Results for DvhImpacts {
     type Item = DvhImpact;
     const ARGUMENT: &'static str = "impacts";
+    const OUT: &'static str = "impacts_out";
 
     fn empty() -> DvhImpacts {
         DvhImpacts(Body::new(Self::TAG, Impacts::new()))
@@ -125,6 +131,7 @@ impl Results for DvhImpacts {
 impl Results for DvhNearPairs {
     type Item = DvhNearPair;
     const ARGUMENT: &'static str = "pairs";
+    const OUT: &'static str = "pairs_out";
 
     fn empty() -> DvhNearPairs {
         DvhNearPairs(Body::new(Self::TAG, NearPairs::new()))
@@ -143,6 +150,7 @@ impl Results for DvhNearPairs {
 impl Results for DvhSceneImpacts {
     type Item = DvhSceneImpact;
     const ARGUMENT: &'static str = "impacts";
+    const OUT: &'static str = "impacts_out";
 
     fn empty() -> DvhSceneImpacts {
         DvhSceneImpacts(Body::new(Self::TAG, SceneImpacts::new()))
@@ -161,6 +169,7 @@ impl Results for DvhSceneImpacts {
 impl Results for DvhSceneNearPairs {
     type Item = DvhSceneNearPair;
     const ARGUMENT: &'static str = "pairs";
+    const OUT: &'static str = "pairs_out";
 
     fn empty() -> DvhSceneNearPairs {
         DvhSceneNearPairs(Body::new(Self::TAG, SceneNearPairs::new()))

@@ -5,7 +5,7 @@
 
 use super::access::{SCENE_TAG, Write, read, release, write};
 use super::boundary::{Failure, guard, guard_value, slice_from, times_three, try_box};
-use super::calls::{pose, whole_scene};
+use super::calls::{Call, pose};
 use super::handles::*;
 use super::mesh::StridedF32;
 use super::results;
@@ -481,18 +481,9 @@ pub unsafe extern "C" fn dvh_scene_collide(
     contacts_out: *mut DvhContacts,
     stats_out: *mut DvhSceneStats,
 ) -> DvhStatus {
+    let call = Call::new("dvh_scene_collide", options, contacts_out, stats_out);
     // SAFETY: the caller's contract is this function's.
-    unsafe {
-        whole_scene(
-            scene,
-            options,
-            contacts_out,
-            "contacts_out",
-            stats_out,
-            "dvh_scene_collide",
-            |s, o, out| s.collide(o, out),
-        )
-    }
+    unsafe { call.whole_scene(scene, |s, o, out| s.collide(o, out)) }
 }
 
 /// A new, empty contact buffer, or NULL when memory ran out. Owned by the caller, released with

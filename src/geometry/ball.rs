@@ -8,9 +8,9 @@
 //! by far more than their own roundings. Products add [`TINY`] for what underflow can lose. An
 //! overflow makes the radius infinite or NaN, and the sign unknown.
 
-use super::distance::Num;
+use super::distance::{Num, sign_within};
 use super::predicates::Sign;
-use std::ops::{Add, Mul, Sub};
+use std::ops::{Add, Mul, Neg, Sub};
 
 const fn pow2(e: i64) -> f64 {
     f64::from_bits(((1023 + e) as u64) << 52)
@@ -52,14 +52,22 @@ impl Add for Ball {
     }
 }
 
+impl Neg for Ball {
+    type Output = Ball;
+    #[inline(always)]
+    fn neg(self) -> Ball {
+        Ball {
+            mid: -self.mid,
+            rad: self.rad,
+        }
+    }
+}
+
 impl Sub for Ball {
     type Output = Ball;
     #[inline(always)]
     fn sub(self, o: Ball) -> Ball {
-        self + Ball {
-            mid: -o.mid,
-            rad: o.rad,
-        }
+        self + -o
     }
 }
 
@@ -83,16 +91,7 @@ impl Mul for Ball {
 impl Num for Ball {
     #[inline(always)]
     fn sign(&self) -> Option<Sign> {
-        // A NaN part fails every comparison: unknown.
-        if self.mid > self.rad {
-            Some(1)
-        } else if -self.mid > self.rad {
-            Some(-1)
-        } else if self.is_zero() {
-            Some(0)
-        } else {
-            None
-        }
+        sign_within(self.mid, self.rad, self.is_zero())
     }
 }
 

@@ -138,6 +138,21 @@ pub(crate) trait Num: Ring {
     fn sign(&self) -> Option<Sign>;
 }
 
+/// The sign of a number within `error` of `value` (a NaN in either leaves it unknown), or 0 when
+/// it is known to be `exact_zero`.
+#[inline(always)]
+pub(crate) fn sign_within(value: f64, error: f64, exact_zero: bool) -> Option<Sign> {
+    if value > error {
+        Some(1)
+    } else if -value > error {
+        Some(-1)
+    } else if exact_zero {
+        Some(0)
+    } else {
+        None
+    }
+}
+
 impl Num for Interval {
     fn sign(&self) -> Option<Sign> {
         if self.lo > 0.0 {

@@ -19,6 +19,17 @@ pub mod predicates;
 pub mod sphere;
 pub mod tri_tri;
 
+/// The six orders of a triangle's three corners, for the tests that check an answer under each.
+#[cfg(test)]
+pub(crate) const CORNER_ORDERS: [[usize; 3]; 6] = [
+    [0, 1, 2],
+    [1, 2, 0],
+    [2, 0, 1],
+    [0, 2, 1],
+    [2, 1, 0],
+    [1, 0, 2],
+];
+
 /// Which primitive pair a test takes, as four points: a point and a triangle's corners, or two
 /// segments' ends.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]

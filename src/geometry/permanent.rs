@@ -22,7 +22,7 @@
 //!   through later products by at most their factors' permanents: below `2^-170` of the final
 //!   permanent, also covered by [`SLACK`].
 
-use super::distance::Num;
+use super::distance::{Num, sign_within};
 use super::predicates::Sign;
 use std::ops::{Add, Mul, Sub};
 
@@ -120,17 +120,8 @@ impl Mul for Permanent {
 impl Num for Permanent {
     #[inline(always)]
     fn sign(&self) -> Option<Sign> {
-        let error = self.error();
-        if self.value > error {
-            Some(1)
-        } else if -self.value > error {
-            Some(-1)
-        } else if self.permanent == 0.0 {
-            // Every term is an exact zero.
-            Some(0)
-        } else {
-            None
-        }
+        // A zero permanent: every term is an exact zero.
+        sign_within(self.value, self.error(), self.permanent == 0.0)
     }
 }
 

@@ -1,6 +1,6 @@
 //! Intersection of two meshes: the entry point and its pair test.
 
-use super::engine::{NodeVolumes, OneMesh, Prepared, QueryMesh, Reach, TriangleTest, query_lazy};
+use super::engine::{NodeVolumes, OneMesh, Prepared, QueryMesh, Reach, TriangleTest, query};
 use super::options::QueryOptions;
 use super::pairs::{Pairs, QueryStats};
 use crate::error::Result;
@@ -48,7 +48,7 @@ pub(crate) fn collide_lazy<'m>(
     options: &QueryOptions,
     out: &mut Pairs,
 ) -> Result<QueryStats> {
-    query_lazy(a, b, Intersect, options, out)
+    query::<_, true>(a, b, Intersect, options, out)
 }
 
 /// Which triangles of two meshes intersect.

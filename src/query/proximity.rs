@@ -40,7 +40,7 @@ pub fn proximity(
     out: &mut Pairs,
 ) -> Result<QueryStats> {
     check_distance(distance)?;
-    query(
+    query::<_, false>(
         (a, pose_a, None),
         (b, pose_b, None),
         Near {

@@ -31,6 +31,15 @@ pub(crate) fn map_vertices(positions: &[f64], f: impl Fn(&[f64]) -> [f64; 3]) ->
     positions.chunks_exact(3).flat_map(f).collect()
 }
 
+/// The positions of a flat sheet in the plane z = 0 (a unit grid) with its far half (x > 0.5)
+/// turned back over the near half: `far(x, y)` is where a vertex of that half goes.
+pub(crate) fn folded(positions: &[f64], far: impl Fn(f64, f64) -> [f64; 3]) -> Vec<f64> {
+    map_vertices(positions, |p| {
+        let (x, y) = (p[0], p[1]);
+        if x > 0.5 { far(x, y) } else { [x, y, 0.0] }
+    })
+}
+
 /// Mesh `m` built with volume kind `volume`.
 pub(crate) fn build(m: &MeshData, volume: VolumeKind) -> Mesh {
     Mesh::new(

@@ -3,15 +3,14 @@
 //! allowed, their contacts merged in order.
 
 use super::select::{Reach, WITH_ITSELF, marks};
-use super::share::{Shared, append};
+use super::share::{Shared, Work, append};
 use super::{Apart, Body, Object, Scene, volume_box};
 use crate::error::{Error, Result};
 use crate::geometry::aabb::Aabb;
 use crate::mesh::Mesh;
 use crate::query::{
-    PairKind, Pairs, QueryMode, QueryOptions, collide_lazy, result_buffer, self_collide,
+    PairKind, Pairs, QueryMode, QueryOptions, QueryStats, collide_lazy, result_buffer, self_collide,
 };
-use crate::threads;
 use crate::volume::LazyBoxes;
 use std::sync::Arc;
 
@@ -30,6 +29,22 @@ pub struct Contact {
     pub a: u32,
     /// Index in `object_b`'s mesh.
     pub b: u32,
+}
+
+impl Contact {
+    /// The contacts of objects `object_a` and `object_b` whose meshes' query found `pairs`.
+    pub(crate) fn of_pairs(
+        object_a: u32,
+        object_b: u32,
+        pairs: &Pairs,
+    ) -> impl ExactSizeIterator<Item = Contact> + '_ {
+        pairs.iter().map(move |p| Contact {
+            object_a,
+            object_b,
+            a: p.a,
+            b: p.b,
+        })
+    }
 }
 
 /// Counters of one scene query.
@@ -64,18 +79,8 @@ pub struct SceneStats {
 #[derive(Debug, Default)]
 pub struct Contacts {
     items: Vec<Contact>,
-    /// Where a query merges its contacts; swapped with `items` when it succeeds.
-    spare: Vec<Contact>,
     kind: PairKind,
-    shared: Shared<Work, Contact>,
-}
-
-/// One thread's scratch: the pair queries' result buffer and its counters.
-#[derive(Debug, Default)]
-struct Work {
-    pairs: Pairs,
-    bv_tests: u64,
-    triangle_tests: u64,
+    shared: Shared<Work<Pairs, QueryStats>, Contact>,
 }
 
 result_buffer!(
@@ -88,7 +93,7 @@ result_buffer!(
 
 /// Object pair `(i, j)`'s contacts, appended to `found` (an object with itself when `i == j`).
 fn query_pair(
-    work: &mut Work,
+    work: &mut Work<Pairs, QueryStats>,
     objects: &[Option<Object>],
     lazy: &[Option<LazyBoxes>],
     (i, j): (u32, u32),
@@ -101,7 +106,7 @@ fn query_pair(
     );
     let stats = if i == j {
         // Refit whole before the query (see `Scene::collide`): no lazy view.
-        self_collide(&oa.mesh, opts, &mut work.pairs)?
+        self_collide(&oa.mesh, opts, &mut work.buffer)?
     } else {
         collide_lazy(
             (
@@ -115,20 +120,11 @@ fn query_pair(
                 lazy.get(j as usize).and_then(Option::as_ref),
             ),
             opts,
-            &mut work.pairs,
+            &mut work.buffer,
         )?
     };
-    work.bv_tests += stats.bv_tests;
-    work.triangle_tests += stats.triangle_tests;
-    append(
-        found,
-        work.pairs.iter().map(|p| Contact {
-            object_a: i,
-            object_b: j,
-            a: p.a,
-            b: p.b,
-        }),
-    )?;
+    work.stats.add(&stats);
+    append(found, Contact::of_pairs(i, j, &work.buffer))?;
     Ok(stats.truncated)
 }
 
@@ -298,33 +294,24 @@ impl Scene {
         out: &mut Contacts,
         stats: &mut SceneStats,
     ) -> Result<()> {
-        let mut opts = *options;
-        if candidates.len() > 1 {
-            // The pairs share the threads; each pair's query runs on the thread that took it.
-            opts.threads = 1;
-        }
         let objects = &self.objects[..];
-        out.shared.run(
-            candidates,
-            threads::resolve(options.threads),
-            |w| {
-                w.bv_tests = 0;
-                w.triangle_tests = 0;
-            },
-            &|w, pair, found| query_pair(w, objects, lazy, pair, &opts, found),
-        )?;
+        out.shared
+            .run(candidates, options.threads, &|w, pair, threads, found| {
+                let opts = options.with_threads(threads);
+                query_pair(w, objects, lazy, pair, &opts, found)
+            })?;
         let limit = options.max_pairs.unwrap_or(usize::MAX);
-        stats.truncated |= out.shared.merge(limit, &mut out.spare)?;
+        stats.truncated |= out.shared.merge(limit)?;
         for s in out.shared.spans() {
             stats.object_pairs_colliding += u64::from(s.len > 0);
         }
         for w in out.shared.works() {
-            stats.bv_tests += w.bv_tests;
-            stats.triangle_tests += w.triangle_tests;
+            stats.bv_tests += w.stats.bv_tests;
+            stats.triangle_tests += w.stats.triangle_tests;
         }
         stats.object_pairs_tested = candidates.len() as u64;
-        stats.contacts = out.spare.len() as u64;
-        std::mem::swap(&mut out.items, &mut out.spare);
+        out.shared.publish(&mut out.items);
+        stats.contacts = out.items.len() as u64;
         out.kind = if options.mode.reports_nodes() {
             PairKind::Nodes
         } else {

@@ -3,11 +3,10 @@
 //! positions, the earliest impact found so far shared by all of them.
 
 use super::select::{Reach, marks};
-use super::share::{Shared, append};
+use super::share::{append, scene_results};
 use super::{Body, Scene, WorldCopy};
 use crate::error::{Error, Result};
-use crate::query::{CcdOptions, CcdStats, Impact, Impacts, impacts_sharing, result_buffer};
-use crate::threads;
+use crate::query::{CcdOptions, CcdStats, Impact, Impacts, impacts_sharing};
 use std::sync::atomic::AtomicU64;
 
 /// An impact between two objects of a scene, or within one object with self-contact on:
@@ -24,41 +23,17 @@ pub struct SceneImpact {
     pub impact: Impact,
 }
 
-/// A caller-owned, reusable result buffer for [`Scene::continuous_collide`], with the scratch
-/// space of the threads that fill it. Use one per calling thread.
-#[derive(Debug, Default)]
-pub struct SceneImpacts {
-    items: Vec<SceneImpact>,
-    /// Where a query merges its impacts; swapped with `items` when it succeeds.
-    spare: Vec<SceneImpact>,
-    shared: Shared<Work, SceneImpact>,
-}
-
-result_buffer!(
+scene_results!(
+    /// A caller-owned, reusable result buffer for [`Scene::continuous_collide`], with the
+    /// scratch space of the threads that fill it. Use one per calling thread.
     SceneImpacts,
     SceneImpact,
+    Impacts,
+    CcdStats,
     "impacts",
     as_slice: "The impacts of the last successful query, sorted by `(object_a, object_b)`, then \
                as the pair's own query sorts them."
 );
-
-impl SceneImpacts {
-    /// Bytes of memory the buffer holds beyond the struct itself: the result, its spare, and
-    /// the scratch space of the threads that filled it.
-    pub fn memory_bytes(&self) -> usize {
-        crate::csr::heap_bytes(&self.items)
-            + crate::csr::heap_bytes(&self.spare)
-            + self.shared.memory_bytes(|w| w.impacts.memory_bytes())
-    }
-}
-
-/// One thread's scratch: the pair queries' result buffer and their counters.
-#[derive(Debug, Default)]
-struct Work {
-    impacts: Impacts,
-    bv_tests: u64,
-    primitive_tests: u64,
-}
 
 impl Scene {
     /// Every impact during the objects' steps between two objects that the filters allow and
@@ -180,38 +155,25 @@ impl Scene {
         } else {
             options.max_impacts.unwrap_or(usize::MAX)
         };
-        let mut opts = *options;
-        if candidates.len() > 1 {
-            // The pairs share the threads; each pair's query runs on the thread that took it.
-            opts.threads = 1;
-        }
         let best = AtomicU64::new(1.0f64.to_bits());
-        let objects = &self.objects[..];
-        let object = |id: u32| objects[id as usize].as_ref().expect("a candidate is live");
-        out.shared.run(
-            candidates,
-            threads::resolve(options.threads),
-            |w| {
-                w.bv_tests = 0;
-                w.primitive_tests = 0;
-            },
-            &|w: &mut Work, (i, j), found: &mut Vec<SceneImpact>| {
-                let a = object(i).world_mesh();
-                let b = (i != j).then(|| object(j).world_mesh());
-                let s = impacts_sharing(a, b, &opts, &mut w.impacts, &best)?;
-                w.bv_tests += s.bv_tests;
-                w.primitive_tests += s.primitive_tests;
+        out.shared
+            .run(candidates, options.threads, &|w, (i, j), threads, found| {
+                let a = self.candidate(i).world_mesh();
+                let b = (i != j).then(|| self.candidate(j).world_mesh());
+                let opts = options.with_threads(threads);
+                let s = impacts_sharing(a, b, &opts, &mut w.buffer, &best)?;
+                w.stats.bv_tests += s.bv_tests;
+                w.stats.primitive_tests += s.primitive_tests;
                 append(
                     found,
-                    w.impacts.iter().map(|&impact| SceneImpact {
+                    w.buffer.iter().map(|&impact| SceneImpact {
                         object_a: i,
                         object_b: j,
                         impact,
                     }),
                 )?;
                 Ok(s.truncated)
-            },
-        )?;
+            })?;
         if options.earliest_only {
             // Each pair reported its earliest at or before the scene's earliest so far; the
             // first of the earliest in the scene's order wins.
@@ -223,26 +185,27 @@ impl Scene {
                     }
                 }
             }
-            out.spare.clear();
-            out.spare.try_reserve(1).map_err(|_| Error::OutOfMemory {
+            let merged = out.shared.merged();
+            merged.clear();
+            merged.try_reserve(1).map_err(|_| Error::OutOfMemory {
                 bytes: std::mem::size_of::<SceneImpact>(),
             })?;
-            out.spare.extend(first.filter(|_| limit > 0));
+            merged.extend(first.filter(|_| limit > 0));
             stats.truncated = limit == 0;
         } else {
-            stats.truncated = out.shared.merge(limit, &mut out.spare)?;
+            stats.truncated = out.shared.merge(limit)?;
         }
         for w in out.shared.works() {
-            stats.bv_tests += w.bv_tests;
-            stats.primitive_tests += w.primitive_tests;
+            stats.bv_tests += w.stats.bv_tests;
+            stats.primitive_tests += w.stats.primitive_tests;
         }
-        stats.impacts = out.spare.len() as u64;
+        out.shared.publish(&mut out.items);
+        stats.impacts = out.items.len() as u64;
         stats.earliest_toi = out
-            .spare
+            .items
             .iter()
             .map(|x| x.impact.toi)
             .fold(f64::INFINITY, f64::min);
-        std::mem::swap(&mut out.items, &mut out.spare);
         Ok(stats)
     }
 }

@@ -85,6 +85,19 @@ struct WorldCopy {
 }
 
 impl Object {
+    /// A new object (stamp 0, self-contact off, no world copy yet).
+    fn new(mesh: Arc<Mesh>, body: Body, group: u32, mask: u32) -> Object {
+        Object {
+            mesh,
+            body,
+            group,
+            mask,
+            stamp: 0,
+            self_contact: false,
+            world: None,
+        }
+    }
+
     /// The pose to query the object with (`None` for world coordinates).
     fn pose(&self) -> Option<&Pose> {
         match &self.body {
@@ -236,22 +249,12 @@ impl Scene {
                 copy
             }
         };
-        Ok(self.insert(
-            Object {
-                mesh,
-                body: Body::Rigid {
-                    pose,
-                    local,
-                    start: None,
-                },
-                group,
-                mask,
-                stamp: 0,
-                self_contact: false,
-                world: None,
-            },
-            world,
-        ))
+        let body = Body::Rigid {
+            pose,
+            local,
+            start: None,
+        };
+        Ok(self.insert(Object::new(mesh, body, group, mask), world))
     }
 
     /// Adds a deformable object: `mesh`'s current positions as world coordinates, changed by
@@ -263,18 +266,11 @@ impl Scene {
     pub fn add_deformable(&mut self, mesh: &Mesh, group: u32, mask: u32) -> Result<u32> {
         self.make_room(mesh.state_bytes())?;
         let world = Aabb::of_points(mesh.positions());
+        let body = Body::Deformable {
+            fresh: Freshness::current(),
+        };
         Ok(self.insert(
-            Object {
-                mesh: Arc::new(mesh.clone()),
-                body: Body::Deformable {
-                    fresh: Freshness::current(),
-                },
-                group,
-                mask,
-                stamp: 0,
-                self_contact: false,
-                world: None,
-            },
+            Object::new(Arc::new(mesh.clone()), body, group, mask),
             world,
         ))
     }
@@ -291,6 +287,13 @@ impl Scene {
         }
         let mut probe: Vec<u8> = Vec::new();
         probe.try_reserve_exact(bytes).map_err(|_| oom(bytes))
+    }
+
+    /// Object `id`, named by a query's candidate pair (so it is live).
+    fn candidate(&self, id: u32) -> &Object {
+        self.objects[id as usize]
+            .as_ref()
+            .expect("a candidate is live")
     }
 
     fn next_stamp(&mut self) -> u64 {

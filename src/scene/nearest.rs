@@ -3,13 +3,12 @@
 
 use super::Scene;
 use super::select::{Reach, marks};
-use super::share::{Shared, append};
+use super::share::{append, scene_results};
 use crate::error::{Error, Result};
 use crate::query::{
     NearPair, NearPairs, QueryMode, QueryOptions, QueryStats, check_distance, nearest_features,
-    result_buffer, self_nearest_features,
+    self_nearest_features,
 };
-use crate::threads;
 
 /// A stencil between two objects of a scene, or within one object with self-contact on: `pair`
 /// as [`crate::nearest_features`] reports it with object `object_a`'s mesh first and
@@ -25,40 +24,17 @@ pub struct SceneNearPair {
     pub pair: NearPair,
 }
 
-/// A caller-owned, reusable result buffer for [`Scene::nearest_features`], with the scratch
-/// space of the threads that fill it. Use one per calling thread.
-#[derive(Debug, Default)]
-pub struct SceneNearPairs {
-    items: Vec<SceneNearPair>,
-    /// Where a query merges its stencils; swapped with `items` when it succeeds.
-    spare: Vec<SceneNearPair>,
-    shared: Shared<Work, SceneNearPair>,
-}
-
-result_buffer!(
+scene_results!(
+    /// A caller-owned, reusable result buffer for [`Scene::nearest_features`], with the
+    /// scratch space of the threads that fill it. Use one per calling thread.
     SceneNearPairs,
     SceneNearPair,
+    NearPairs,
+    QueryStats,
     "stencils",
     as_slice: "The stencils of the last successful query, sorted by `(object_a, object_b)`, then \
                as the pair's own query sorts them."
 );
-
-impl SceneNearPairs {
-    /// Bytes of memory the buffer holds beyond the struct itself: the result, its spare, and
-    /// the scratch space of the threads that filled it.
-    pub fn memory_bytes(&self) -> usize {
-        crate::csr::heap_bytes(&self.items)
-            + crate::csr::heap_bytes(&self.spare)
-            + self.shared.memory_bytes(|w| w.near.memory_bytes())
-    }
-}
-
-/// One thread's scratch: the pair queries' result buffer and their counters.
-#[derive(Debug, Default)]
-struct Work {
-    near: NearPairs,
-    stats: QueryStats,
-}
 
 impl Scene {
     /// Every vertex-face and edge-edge stencil within `distance` between two objects that the
@@ -114,21 +90,12 @@ impl Scene {
         options: &QueryOptions,
         out: &mut SceneNearPairs,
     ) -> Result<QueryStats> {
-        let mut opts = *options;
-        if candidates.len() > 1 {
-            // The pairs share the threads; each pair's query runs on the thread that took it.
-            opts.threads = 1;
-        }
-        let objects = &self.objects[..];
-        let object = |id: u32| objects[id as usize].as_ref().expect("a candidate is live");
-        out.shared.run(
-            candidates,
-            threads::resolve(options.threads),
-            |w| w.stats = QueryStats::default(),
-            &|w: &mut Work, (i, j), found: &mut Vec<SceneNearPair>| {
-                let (a, b) = (object(i), object(j));
+        out.shared
+            .run(candidates, options.threads, &|w, (i, j), threads, found| {
+                let (a, b) = (self.candidate(i), self.candidate(j));
+                let opts = options.with_threads(threads);
                 let s = if i == j {
-                    self_nearest_features(&a.mesh, distance, &opts, &mut w.near)?
+                    self_nearest_features(&a.mesh, distance, &opts, &mut w.buffer)?
                 } else {
                     nearest_features(
                         &a.mesh,
@@ -137,32 +104,31 @@ impl Scene {
                         b.pose(),
                         distance,
                         &opts,
-                        &mut w.near,
+                        &mut w.buffer,
                     )?
                 };
                 w.stats.add(&s);
                 append(
                     found,
-                    w.near.iter().map(|&pair| SceneNearPair {
+                    w.buffer.iter().map(|&pair| SceneNearPair {
                         object_a: i,
                         object_b: j,
                         pair,
                     }),
                 )?;
                 Ok(s.truncated)
-            },
-        )?;
+            })?;
         let limit = options.max_pairs.unwrap_or(usize::MAX);
         let mut stats = QueryStats {
-            truncated: out.shared.merge(limit, &mut out.spare)?,
+            truncated: out.shared.merge(limit)?,
             ..QueryStats::default()
         };
         for w in out.shared.works() {
             stats.add(&w.stats);
             stats.frontier_pairs += w.stats.frontier_pairs;
         }
-        stats.pairs = out.spare.len() as u64;
-        std::mem::swap(&mut out.items, &mut out.spare);
+        out.shared.publish(&mut out.items);
+        stats.pairs = out.items.len() as u64;
         Ok(stats)
     }
 }

@@ -1,6 +1,7 @@
 //! Scenes over a step: self-contact, motions, continuous collision and stencils, each held to the
 //! pairwise and self queries on stand-alone meshes holding the same world positions.
 
+use super::tests::exclude_ends;
 use super::*;
 use crate::fixtures::{MeshData, Morph, Rng, icosphere, torus};
 use crate::{
@@ -166,12 +167,7 @@ fn pairwise_contacts(
             let b = meshes[j as usize].as_ref().unwrap();
             crate::collide(a, None, b, None, options, &mut pairs).unwrap();
         }
-        out.extend(pairs.iter().map(|p| Contact {
-            object_a: i,
-            object_b: j,
-            a: p.a,
-            b: p.b,
-        }));
+        out.extend(Contact::of_pairs(i, j, &pairs));
     }
     out
 }
@@ -304,12 +300,7 @@ fn scene_queries_equal_pairwise_and_self_queries() {
         let mut rng = Rng::new(700 + seed);
         let (mut scene, models) = random_scene(&sources, &mut rng);
         let mut excluded = HashSet::new();
-        let live: Vec<u32> = (0..models.len() as u32)
-            .filter(|&i| models[i as usize].is_some())
-            .collect();
-        let (x, y) = (live[0], live[live.len() - 1]);
-        scene.exclude_pair(y, x).unwrap();
-        excluded.insert((x, y));
+        exclude_ends(&mut scene, &models, &mut excluded);
         let mut impacts = SceneImpacts::new();
         for mode in [CcdMode::Exact, CcdMode::Conservative] {
             let all = CcdOptions::default().with_mode(mode);

@@ -14,6 +14,25 @@ struct Model {
     mask: u32,
 }
 
+/// The ids of the live models.
+pub(super) fn live<T>(models: &[Option<T>]) -> Vec<u32> {
+    (0..models.len() as u32)
+        .filter(|&i| models[i as usize].is_some())
+        .collect()
+}
+
+/// Excludes the pair of the first and the last live model from `scene`, and records it.
+pub(super) fn exclude_ends<T>(
+    scene: &mut Scene,
+    models: &[Option<T>],
+    excluded: &mut HashSet<(u32, u32)>,
+) {
+    let live = live(models);
+    let (x, y) = (live[0], live[live.len() - 1]);
+    scene.exclude_pair(y, x).unwrap();
+    excluded.insert((x, y));
+}
+
 /// The pose that moves by `t`, without turning.
 fn translated(t: [f64; 3]) -> Pose {
     Pose::new(Pose::IDENTITY.rotation(), t).unwrap()
@@ -58,12 +77,7 @@ fn pairwise(
                 &mut pairs,
             )
             .unwrap();
-            out.extend(pairs.iter().map(|p| Contact {
-                object_a: i,
-                object_b: j,
-                a: p.a,
-                b: p.b,
-            }));
+            out.extend(Contact::of_pairs(i, j, &pairs));
         }
     }
     out
@@ -171,21 +185,15 @@ fn scene_equals_pairwise_queries() {
             }
             // Remove one, add one (it may take the removed id), exclude a pair.
             if frame % 2 == 1 {
-                let live: Vec<u32> = (0..models.len() as u32)
-                    .filter(|&i| models[i as usize].is_some())
-                    .collect();
+                let live = live(&models);
                 let gone = live[rng.below(live.len() as u64) as usize];
                 scene.remove(gone).unwrap();
                 models[gone as usize] = None;
                 excluded.retain(|&(i, j)| i != gone && j != gone);
                 add(&mut scene, &mut models, &mut rng);
             }
-            let live: Vec<u32> = (0..models.len() as u32)
-                .filter(|&i| models[i as usize].is_some())
-                .collect();
-            let (x, y) = (live[0], live[live.len() - 1]);
-            scene.exclude_pair(y, x).unwrap();
-            excluded.insert((x, y));
+            exclude_ends(&mut scene, &models, &mut excluded);
+            let live = live(&models);
             for mode in [
                 QueryMode::Triangles,
                 QueryMode::FirstHit,

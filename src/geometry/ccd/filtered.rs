@@ -432,7 +432,8 @@ mod tests {
                 time_of_impact(Primitive::EdgeEdge, &s, &e, 1.0),
             );
             for (scale, shift) in [
-                (2f64.powi(-1060), 0.0),
+                // 2^-1060 (subnormal) in two steps: see `decompose_is_exact`.
+                (2f64.powi(-530) * 2f64.powi(-530), 0.0),
                 (2f64.powi(-520), 0.0),
                 (2f64.powi(990), 0.0),
                 (1.0, 2f64.powi(50)),

@@ -109,13 +109,7 @@ mod tests {
         let s = [a0, a1, [-1.0, 1.0, 0.0], [1.0, 1.0, 0.0]];
         assert_eq!(edge_edge_toi(&s, &s), None);
         // Collinear, sliding into each other: b's near end reaches a's at t = 1/5.
-        let s = [[0.0; 3], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [3.0, 0.0, 0.0]];
-        let e = [
-            [0.0; 3],
-            [1.0, 0.0, 0.0],
-            [-3.0, 0.0, 0.0],
-            [-2.0, 0.0, 0.0],
-        ];
+        let (s, e) = crate::fixtures::ccd_judge::COLLINEAR_AT_A_FIFTH;
         let fifth = BigRational::new(1.into(), 5.into());
         assert_eq!(edge_edge_toi(&s, &e), Some(floor_f64(&fifth)));
         // Two zero-length edges meeting at t = 3/4.
@@ -126,20 +120,7 @@ mod tests {
 
     #[test]
     fn an_irrational_time_is_rounded_down() {
-        // A point above a triangle whose corners rise at different rates while two of them
-        // slide: the plane reaches the point at a root of a cubic that is not a double.
-        let s = [
-            [0.2, 0.2, 0.5],
-            [0.0, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [0.0, 1.0, 0.0],
-        ];
-        let e = [
-            [0.2, 0.2, 0.5],
-            [0.0, 0.0, 1.0],
-            [1.0, 1.0, 0.0],
-            [0.0, 1.0, 2.0],
-        ];
+        let (s, e) = crate::fixtures::ccd_judge::IRRATIONAL_SWEEP;
         let toi = vertex_face_toi(&s, &e).expect("the plane sweeps through the point");
         // Independently: where the floating-point orientation changes sign, by bisection.
         let orient = |t: f64| {

@@ -234,15 +234,6 @@ fn check(a: &Triangle, b: &Triangle) -> Kind {
     kind
 }
 
-const PERMUTATIONS: [[usize; 3]; 6] = [
-    [0, 1, 2],
-    [1, 2, 0],
-    [2, 0, 1],
-    [0, 2, 1],
-    [2, 1, 0],
-    [1, 0, 2],
-];
-
 /// The feature of the permuted pair renamed to the original corners (`pa[k]` is the original
 /// index of corner `k` of the permuted `a`).
 fn renamed(f: EndFeature, pa: [usize; 3], pb: [usize; 3]) -> EndFeature {
@@ -282,8 +273,8 @@ fn check_symmetry(a: &Triangle, b: &Triangle) {
         base.mirrored(),
         "{a:?} {b:?}"
     );
-    for (n, pa) in PERMUTATIONS.iter().enumerate() {
-        for (m, pb) in PERMUTATIONS.iter().enumerate() {
+    for (n, pa) in crate::geometry::CORNER_ORDERS.iter().enumerate() {
+        for (m, pb) in crate::geometry::CORNER_ORDERS.iter().enumerate() {
             let a2 = pa.map(|k| a[k]);
             let b2 = pb.map(|k| b[k]);
             let flipped = (n >= 3) != (m >= 3);

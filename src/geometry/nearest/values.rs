@@ -9,7 +9,7 @@ use crate::geometry::predicates::{Point, to_integers_scaled};
 use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed, ToPrimitive, Zero};
-use std::ops::{Add, Mul, Sub};
+use std::ops::{Add, Mul, Neg, Sub};
 
 /// Arithmetic for the values: intervals, or exact rationals.
 trait Field: Ring {
@@ -77,13 +77,20 @@ impl Add for Frac {
     }
 }
 
+impl Neg for Frac {
+    type Output = Frac;
+    fn neg(self) -> Frac {
+        Frac {
+            num: -self.num,
+            den: self.den,
+        }
+    }
+}
+
 impl Sub for Frac {
     type Output = Frac;
     fn sub(self, o: Frac) -> Frac {
-        self + Frac {
-            num: -o.num,
-            den: o.den,
-        }
+        self + -o
     }
 }
 

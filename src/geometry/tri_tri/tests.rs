@@ -42,14 +42,7 @@ fn the_filter_settles_clear_pairs_and_not_touching_ones() {
 /// Asserts the expected answer under every vertex order and argument order, and through both
 /// predicate implementations.
 fn check(t1: Triangle, t2: Triangle, expected: bool) {
-    let perms = [
-        [0, 1, 2],
-        [1, 2, 0],
-        [2, 0, 1],
-        [0, 2, 1],
-        [2, 1, 0],
-        [1, 0, 2],
-    ];
+    let perms = crate::geometry::CORNER_ORDERS;
     for p in perms {
         for q in perms {
             let a = [t1[p[0]], t1[p[1]], t1[p[2]]];

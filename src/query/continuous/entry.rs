@@ -33,7 +33,7 @@ pub fn continuous_collide(
     out: &mut Impacts,
 ) -> Result<CcdStats> {
     let best = AtomicU64::new(1.0f64.to_bits());
-    impacts(a, Some(b), options, out, &best)
+    impacts_sharing(a, Some(b), options, out, &best)
 }
 
 /// Every pair of one mesh's primitives that meets during its last motion, with the earliest
@@ -46,23 +46,7 @@ pub fn self_continuous_collide(
     out: &mut Impacts,
 ) -> Result<CcdStats> {
     let best = AtomicU64::new(1.0f64.to_bits());
-    impacts(mesh, None, options, out, &best)
-}
-
-/// [`continuous_collide`] of `a` and `b`, or [`self_continuous_collide`] of `a` (`b` is `None`),
-/// as part of a larger query: with [`CcdOptions::earliest_only`], `best` holds the bits of the
-/// earliest impact time that query has found so far (1 at first), and is lowered by this one
-/// (each primitive test searches only up to it, ties included). The impact reported is then the
-/// earliest of this pair's at or before the time `best` held when its primitives were tested:
-/// the pair's own earliest whenever that is no later than the whole query's.
-pub(crate) fn impacts_sharing(
-    a: &Mesh,
-    b: Option<&Mesh>,
-    options: &CcdOptions,
-    out: &mut Impacts,
-    best: &AtomicU64,
-) -> Result<CcdStats> {
-    impacts(a, b, options, out, best)
+    impacts_sharing(mesh, None, options, out, &best)
 }
 
 /// The traversal over the motion: leaf pairs whose volumes overlap (the volumes of a moving
@@ -86,8 +70,13 @@ impl<'m> Reach<'m> for SweptVolumes {
     }
 }
 
-/// [`continuous_collide`] of `a` and `b`, or [`self_continuous_collide`] of `a` (`b` is `None`).
-fn impacts(
+/// [`continuous_collide`] of `a` and `b`, or [`self_continuous_collide`] of `a` (`b` is `None`),
+/// as part of a larger query: with [`CcdOptions::earliest_only`], `best` holds the bits of the
+/// earliest impact time that query has found so far (1 at first), and is lowered by this one
+/// (each primitive test searches only up to it, ties included). The impact reported is then the
+/// earliest of this pair's at or before the time `best` held when its primitives were tested:
+/// the pair's own earliest whenever that is no later than the whole query's.
+pub(crate) fn impacts_sharing(
     a: &Mesh,
     b: Option<&Mesh>,
     options: &CcdOptions,

@@ -1,7 +1,7 @@
 use super::*;
 use crate::fixtures::oracle::continuous_brute_force;
 use crate::fixtures::{Rng, grid, icosphere, torus};
-use crate::query::testing::{build, moved};
+use crate::query::testing::{build, folded, moved};
 use crate::threads::{Step, sharing};
 use crate::{CcdMode, Error, Instant, Mesh, VolumeKind};
 
@@ -143,18 +143,9 @@ fn one_mesh_equals_brute_force() {
         })
         .collect();
     // A flat sheet folding over itself: every neighbour coplanar at the start.
-    let folded: Vec<f64> = g
-        .positions
-        .chunks_exact(3)
-        .flat_map(|p| {
-            let (x, y) = (p[0], p[1]);
-            if x > 0.5 {
-                [1.0 - x + 0.03 * y, y, 0.02 - 0.05 * (x - 0.5)]
-            } else {
-                [x, y, 0.0]
-            }
-        })
-        .collect();
+    let folded = folded(&g.positions, |x, y| {
+        [1.0 - x + 0.03 * y, y, 0.02 - 0.05 * (x - 0.5)]
+    });
     // Per trial the torus; then the folding sheet and the flat one.
     let mut expected = vec![None; motions.len() + 2];
     let mut found = 0;

@@ -39,6 +39,17 @@ fn two_meshes(a: &Mesh, pa: Option<&Pose>, b: &Mesh, pb: Option<&Pose>, oriented
     curves
 }
 
+/// Self curves of `m`, judged (`oriented`: their orientation too).
+fn one_mesh(m: &Mesh, oriented: bool) -> Curves {
+    let mut pairs = Pairs::new();
+    crate::self_collide(m, &QueryOptions::default(), &mut pairs).unwrap();
+    let mut curves = Curves::new();
+    self_intersection_curves(m, &QueryOptions::default(), &mut curves).unwrap();
+    let w = World::new(m, None);
+    judge(&curves, &w, &w, true, pairs.as_slice(), oriented);
+    curves
+}
+
 fn same(x: &Curves, y: &Curves) -> bool {
     x.segments() == y.segments()
         && x.curves() == y.curves()
@@ -212,13 +223,7 @@ fn folded_sheet(n: usize, seed: u64) -> MeshData {
 #[test]
 fn a_folded_sheet_crosses_itself_in_chains() {
     for seed in 0..3 {
-        let m = build(&folded_sheet(24, seed));
-        let mut pairs = Pairs::new();
-        crate::self_collide(&m, &QueryOptions::default(), &mut pairs).unwrap();
-        let mut curves = Curves::new();
-        self_intersection_curves(&m, &QueryOptions::default(), &mut curves).unwrap();
-        let w = World::new(&m, None);
-        judge(&curves, &w, &w, true, pairs.as_slice(), false);
+        let curves = one_mesh(&build(&folded_sheet(24, seed)), false);
         assert!(!curves.is_empty());
     }
 }
@@ -227,13 +232,7 @@ fn a_folded_sheet_crosses_itself_in_chains() {
 fn a_crumpled_sphere_crosses_itself_in_chains() {
     let mut s = icosphere(3);
     s.perturb(0.15, 21);
-    let m = build(&s);
-    let mut pairs = Pairs::new();
-    crate::self_collide(&m, &QueryOptions::default(), &mut pairs).unwrap();
-    let mut curves = Curves::new();
-    self_intersection_curves(&m, &QueryOptions::default(), &mut curves).unwrap();
-    let w = World::new(&m, None);
-    judge(&curves, &w, &w, true, pairs.as_slice(), false);
+    let curves = one_mesh(&build(&s), false);
     assert!(curves.len() > 50);
 }
 
@@ -246,13 +245,7 @@ fn two_meshes_as_one_cross_in_the_same_curves() {
     let mut both = a.clone();
     both.append(&b);
     let two = two_meshes(&build(&a), None, &build(&b), None, true);
-    let m = build(&both);
-    let mut curves = Curves::new();
-    self_intersection_curves(&m, &QueryOptions::default(), &mut curves).unwrap();
-    let w = World::new(&m, None);
-    let mut pairs = Pairs::new();
-    crate::self_collide(&m, &QueryOptions::default(), &mut pairs).unwrap();
-    judge(&curves, &w, &w, true, pairs.as_slice(), true);
+    let curves = one_mesh(&build(&both), true);
     let shift = a.triangle_count() as u32;
     let bits = |p: Point| p.map(f64::to_bits);
     let of = |c: &Curves, shift: u32| -> Vec<_> {

@@ -5,8 +5,7 @@
 use super::parallel::{Descend, Finish, Job, share_out};
 use super::query_traits::{Reach, TriangleTest};
 use super::side::{
-    LazyBoxVolumes, Local, MeshVolumes, MixedVolumes, NodeVolumes, Placement, Posed,
-    with_node_volumes,
+    LazyBoxVolumes, Local, MeshVolumes, MixedVolumes, Placement, Posed, Typed, with_node_volumes,
 };
 use super::sink::{Sink, Stop};
 use super::sort::sort_pairs;
@@ -27,27 +26,18 @@ use crate::volume::LazyBoxes;
 pub(crate) type QueryMesh<'m> = (&'m Mesh, Option<&'m Pose>, Option<&'m LazyBoxes<'m>>);
 
 /// A query of two meshes, each in place or posed, in any mode: `test` asks what of their
-/// triangle pairs (intersection, nearness).
-pub(crate) fn query<'m, T: TriangleTest<'m>>(
+/// triangle pairs (intersection, nearness). With `LAZY`, either mesh may have boxes refit lazily
+/// (deformable scene objects); without, neither has, and no traversal of lazy boxes is
+/// compiled for the query.
+pub(crate) fn query<'m, T: TriangleTest<'m>, const LAZY: bool>(
     a: QueryMesh<'m>,
     b: QueryMesh<'m>,
     test: T,
     options: &QueryOptions,
     out: &mut Pairs,
 ) -> Result<QueryStats> {
-    debug_assert!(a.2.is_none() && b.2.is_none());
-    run_query(a, Some(b), AnyMode::<T, false>(test), options, out)
-}
-
-/// [`query`] where either mesh may have boxes refit lazily (deformable scene objects).
-pub(crate) fn query_lazy<'m, T: TriangleTest<'m>>(
-    a: QueryMesh<'m>,
-    b: QueryMesh<'m>,
-    test: T,
-    options: &QueryOptions,
-    out: &mut Pairs,
-) -> Result<QueryStats> {
-    run_query(a, Some(b), AnyMode::<T, true>(test), options, out)
+    debug_assert!(LAZY || (a.2.is_none() && b.2.is_none()));
+    run_query(a, Some(b), AnyMode::<T, LAZY>(test), options, out)
 }
 
 /// A query of one mesh against itself (no pose, boxes refit), in any mode: `test` asks what of
@@ -110,17 +100,7 @@ trait Work<'m>: Copy {
 
     fn reach(&self) -> Self::Reach;
     /// Runs the query on the typed sides.
-    fn run<PA, KA, PB, KB>(
-        self,
-        run: Run<'_, 'm>,
-        a: (PA, KA),
-        b: (PB, KB),
-    ) -> (Option<Stop>, bool)
-    where
-        PA: Placement<'m>,
-        KA: NodeVolumes<'m>,
-        PB: Placement<'m>,
-        KB: NodeVolumes<'m>;
+    fn run<A: Typed<'m>, B: Typed<'m>>(self, run: Run<'_, 'm>, a: A, b: B) -> (Option<Stop>, bool);
 }
 
 /// A query with a triangle test, in the mode its options ask for.
@@ -136,13 +116,7 @@ impl<'m, T: TriangleTest<'m>, const LAZY: bool> Work<'m> for AnyMode<T, LAZY> {
         self.0
     }
 
-    fn run<PA, KA, PB, KB>(self, run: Run<'_, 'm>, a: (PA, KA), b: (PB, KB)) -> (Option<Stop>, bool)
-    where
-        PA: Placement<'m>,
-        KA: NodeVolumes<'m>,
-        PB: Placement<'m>,
-        KB: NodeVolumes<'m>,
-    {
+    fn run<A: Typed<'m>, B: Typed<'m>>(self, run: Run<'_, 'm>, a: A, b: B) -> (Option<Stop>, bool) {
         match run.mode {
             mode if mode.reports_nodes() => run.node_pairs(a, b),
             _ => {
@@ -173,13 +147,7 @@ impl<'m, R: Reach<'m>, const POSED: bool> Work<'m> for NodesOf<R, POSED> {
         self.0
     }
 
-    fn run<PA, KA, PB, KB>(self, run: Run<'_, 'm>, a: (PA, KA), b: (PB, KB)) -> (Option<Stop>, bool)
-    where
-        PA: Placement<'m>,
-        KA: NodeVolumes<'m>,
-        PB: Placement<'m>,
-        KB: NodeVolumes<'m>,
-    {
+    fn run<A: Typed<'m>, B: Typed<'m>>(self, run: Run<'_, 'm>, a: A, b: B) -> (Option<Stop>, bool) {
         debug_assert!(run.mode.reports_nodes());
         run.node_pairs(a, b)
     }
@@ -364,14 +332,12 @@ const PARALLEL_MIN_TRIANGLES: usize = 4096;
 impl<'m> Run<'_, 'm> {
     /// Runs the query, handing terminal pairs to `terminal`; returns why it stopped early, if it
     /// did, and whether the pairs are sorted already.
-    fn run<PA, KA, PB, KB, N>(self, a: (PA, KA), b: (PB, KB), terminal: N) -> (Option<Stop>, bool)
-    where
-        PA: Placement<'m>,
-        KA: NodeVolumes<'m>,
-        PB: Placement<'m>,
-        KB: NodeVolumes<'m>,
-        N: Terminal<'m>,
-    {
+    fn run<A: Typed<'m>, B: Typed<'m>, N: Terminal<'m>>(
+        self,
+        a: A,
+        b: B,
+        terminal: N,
+    ) -> (Option<Stop>, bool) {
         let job = Job {
             a,
             b,
@@ -394,12 +360,7 @@ impl<'m> Run<'_, 'm> {
             return share_out(&job, ws, threads, finish, self.stats);
         }
         let w = &mut ws.workers[0];
-        self.out.clear();
-        let mut sink = Sink {
-            out: self.out,
-            limit: self.limit,
-            stop: None,
-        };
+        let mut sink = Sink::new(self.out, self.limit);
         if let Some(stop) = job.begin(&mut w.a, &mut w.b) {
             return (Some(stop), false);
         }
@@ -410,13 +371,7 @@ impl<'m> Run<'_, 'm> {
     }
 
     /// Runs a query of a coarse mode: under its budget of volume tests, or to the end.
-    fn node_pairs<PA, KA, PB, KB>(self, a: (PA, KA), b: (PB, KB)) -> (Option<Stop>, bool)
-    where
-        PA: Placement<'m>,
-        KA: NodeVolumes<'m>,
-        PB: Placement<'m>,
-        KB: NodeVolumes<'m>,
-    {
+    fn node_pairs<A: Typed<'m>, B: Typed<'m>>(self, a: A, b: B) -> (Option<Stop>, bool) {
         match self.mode {
             QueryMode::Budget(budget) => self.best_first(a, b, budget),
             _ => {
@@ -428,18 +383,12 @@ impl<'m> Run<'_, 'm> {
 
     /// Runs the query under a budget of volume tests ([`QueryMode::Budget`]), on the calling
     /// thread, reporting node pairs.
-    fn best_first<PA, KA, PB, KB>(
+    fn best_first<A: Typed<'m>, B: Typed<'m>>(
         self,
-        a: (PA, KA),
-        b: (PB, KB),
+        a: A,
+        b: B,
         budget: u64,
-    ) -> (Option<Stop>, bool)
-    where
-        PA: Placement<'m>,
-        KA: NodeVolumes<'m>,
-        PB: Placement<'m>,
-        KB: NodeVolumes<'m>,
-    {
+    ) -> (Option<Stop>, bool) {
         let job = Job {
             a,
             b,
@@ -452,12 +401,7 @@ impl<'m> Run<'_, 'm> {
             ws.workers.push(Worker::default());
         }
         let w = &mut ws.workers[0];
-        self.out.clear();
-        let mut sink = Sink {
-            out: self.out,
-            limit: self.limit,
-            stop: None,
-        };
+        let mut sink = Sink::new(self.out, self.limit);
         if let Some(stop) = job.begin(&mut w.a, &mut w.b) {
             return (Some(stop), false);
         }
@@ -512,17 +456,11 @@ fn with_volumes_a<'m, P: Placement<'m>, W: Work<'m>>(
 
 /// Types side `b` by its placement; its volumes are of kind `K`, as side `a`'s, unless they are
 /// refit lazily.
-fn with_placement_b<'m, PA, KA, K, W>(
-    a: (PA, KA),
+fn with_placement_b<'m, A: Typed<'m>, K: MeshVolumes<'m>, W: Work<'m>>(
+    a: A,
     b: SideB<'m, '_, W>,
     _: K,
-) -> (Option<Stop>, bool)
-where
-    PA: Placement<'m>,
-    KA: NodeVolumes<'m>,
-    K: MeshVolumes<'m>,
-    W: Work<'m>,
-{
+) -> (Option<Stop>, bool) {
     let SideB {
         mesh,
         pose,
@@ -535,7 +473,7 @@ where
         (None, Some(boxes)) if W::LAZY => {
             work.run(run, a, (Local { mesh }, LazyBoxVolumes { boxes }))
         }
-        (Some((pose, (stretch, pad))), _) if W::POSED => with_volumes_b::<_, _, _, K, _>(
+        (Some((pose, (stretch, pad))), _) if W::POSED => with_volumes_b::<_, _, K, _>(
             a,
             Posed {
                 mesh,
@@ -546,34 +484,24 @@ where
             run,
             work,
         ),
-        _ => with_volumes_b::<_, _, _, K, _>(a, Local { mesh }, run, work),
+        _ => with_volumes_b::<_, _, K, _>(a, Local { mesh }, run, work),
     }
 }
 
 /// Types side `b` by its volume kind, `K`, and runs the query.
-fn with_volumes_b<'m, PA, KA, P, K, W>(
-    a: (PA, KA),
+fn with_volumes_b<'m, A: Typed<'m>, P: Placement<'m>, K: MeshVolumes<'m>, W: Work<'m>>(
+    a: A,
     place: P,
     run: Run<'_, 'm>,
     work: W,
-) -> (Option<Stop>, bool)
-where
-    PA: Placement<'m>,
-    KA: NodeVolumes<'m>,
-    P: Placement<'m>,
-    K: MeshVolumes<'m>,
-    W: Work<'m>,
-{
+) -> (Option<Stop>, bool) {
     let kind = K::of(place.mesh()).expect("side b's volumes are of side a's kind");
     work.run(run, a, (place, kind))
 }
 
 /// Types side `b` of a query whose side `a` is refit lazily: by its placement, then its volume
 /// kind, whichever it is.
-fn with_any_b<'m, PA: Placement<'m>, KA: NodeVolumes<'m>, W: Work<'m>>(
-    a: (PA, KA),
-    b: SideB<'m, '_, W>,
-) -> (Option<Stop>, bool) {
+fn with_any_b<'m, A: Typed<'m>, W: Work<'m>>(a: A, b: SideB<'m, '_, W>) -> (Option<Stop>, bool) {
     let mesh = b.mesh;
     with_node_volumes!(mesh, |kind| with_placement_b(a, b, kind))
 }

@@ -5,12 +5,12 @@
 //! single-threaded traversal reports, in its order, so a pair limit cuts them at the same pair
 //! and the sorted answer is identical.
 
-use super::side::{NodeVolumes, Placement, View};
+use super::side::{Placement, Typed, View, ViewOf};
 use super::sink::{Sink, Stop};
 use super::sort;
 use super::terminal::{Scratch, Terminal};
 use super::traverse::{Walk, split};
-use super::workspace::{SideSpace, Worker, Workspace};
+use super::workspace::{SideSpace, Split, Worker, Workspace};
 use crate::query::pairs::{Pair, QueryStats};
 use crate::threads;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -21,9 +21,9 @@ const ITEMS_PER_THREAD: usize = 128;
 
 /// What every thread of a query shares: both sides, typed, how the traversal walks, and what
 /// becomes of its terminal pairs.
-pub(crate) struct Job<PA, KA, PB, KB, N> {
-    pub a: (PA, KA),
-    pub b: (PB, KB),
+pub(crate) struct Job<A, B, N> {
+    pub a: A,
+    pub b: B,
     /// The depth at which nodes are no longer opened.
     pub max_depth: u32,
     pub terminal: N,
@@ -31,14 +31,7 @@ pub(crate) struct Job<PA, KA, PB, KB, N> {
     pub limit: usize,
 }
 
-impl<'m, PA, KA, PB, KB, N> Job<PA, KA, PB, KB, N>
-where
-    PA: Placement<'m>,
-    KA: NodeVolumes<'m>,
-    PB: Placement<'m>,
-    KB: NodeVolumes<'m>,
-    N: Terminal<'m>,
-{
+impl<'m, A: Typed<'m>, B: Typed<'m>, N: Terminal<'m>> Job<A, B, N> {
     /// How the traversal walks, built where it runs: whether both sides are one mesh is known
     /// there at compile time for most queries (see [`Terminal::own`]).
     #[inline(always)]
@@ -54,7 +47,7 @@ where
         &self,
         a: &'w mut SideSpace,
         b: &'w mut SideSpace,
-    ) -> (View<'w, PA, KA>, View<'w, PB, KB>) {
+    ) -> (ViewOf<'w, 'm, A>, ViewOf<'w, 'm, B>) {
         (
             View::new(self.a, &mut a.world, &mut a.ring_boxes),
             View::new(self.b, &mut b.world, &mut b.ring_boxes),
@@ -62,45 +55,27 @@ where
     }
 }
 
-impl<'m, PA, KA, PB, KB, N> Descend for Job<PA, KA, PB, KB, N>
-where
-    PA: Placement<'m>,
-    KA: NodeVolumes<'m>,
-    PB: Placement<'m>,
-    KB: NodeVolumes<'m>,
-    N: Terminal<'m>,
-{
+impl<'m, A: Typed<'m>, B: Typed<'m>, N: Terminal<'m>> Descend for Job<A, B, N> {
     fn limit(&self) -> usize {
         self.limit
     }
 
     fn begin(&self, a: &mut SideSpace, b: &mut SideSpace) -> Option<Stop> {
-        let (ma, mb) = (self.a.0.mesh(), self.b.0.mesh());
+        let (ma, mb) = (self.a.place().mesh(), self.b.place().mesh());
         let longest = |m: &crate::mesh::Mesh| N::TRIANGLES.then_some(m.rings().longest);
-        a.begin(ma.vertex_count(), ma.ring_count(), longest(ma), !PA::LOCAL)
-            .and_then(|()| b.begin(mb.vertex_count(), mb.ring_count(), longest(mb), !PB::LOCAL))
+        let (local_a, local_b) = (
+            <A::Place as Placement<'m>>::LOCAL,
+            <B::Place as Placement<'m>>::LOCAL,
+        );
+        a.begin(ma.vertex_count(), ma.ring_count(), longest(ma), !local_a)
+            .and_then(|()| b.begin(mb.vertex_count(), mb.ring_count(), longest(mb), !local_b))
             .err()
             .map(|bytes| Stop::OutOfMemory { bytes })
     }
 
-    fn split(
-        &self,
-        w: &mut Worker,
-        target: usize,
-        items: &mut Vec<(u32, u32)>,
-        next_items: &mut Vec<(u32, u32)>,
-        stats: &mut QueryStats,
-    ) {
+    fn split(&self, w: &mut Worker, target: usize, into: &mut Split, stats: &mut QueryStats) {
         let (mut va, mut vb) = self.views(&mut w.a, &mut w.b);
-        split(
-            &mut va,
-            &mut vb,
-            &self.walk(),
-            target,
-            items,
-            next_items,
-            stats,
-        );
+        split(&mut va, &mut vb, &self.walk(), target, into, stats);
     }
 
     fn traverse(&self, worker: &mut Worker, start: Option<(u32, u32)>, sink: &mut Sink) {
@@ -131,14 +106,7 @@ pub(crate) trait Descend: Sync {
     fn begin(&self, a: &mut SideSpace, b: &mut SideSpace) -> Option<Stop>;
     /// Opens the top of the two hierarchies into about `target` items, in the order the
     /// single-threaded traversal reaches them.
-    fn split(
-        &self,
-        w: &mut Worker,
-        target: usize,
-        items: &mut Vec<(u32, u32)>,
-        next_items: &mut Vec<(u32, u32)>,
-        stats: &mut QueryStats,
-    );
+    fn split(&self, w: &mut Worker, target: usize, into: &mut Split, stats: &mut QueryStats);
     /// Every terminal pair below item `start` (from the roots: `None`) to `sink`.
     fn traverse(&self, worker: &mut Worker, start: Option<(u32, u32)>, sink: &mut Sink);
 }
@@ -156,8 +124,7 @@ pub(crate) fn share_out(
 ) -> (Option<Stop>, bool) {
     let Workspace {
         workers,
-        items,
-        next_items,
+        split,
         item_counts,
         item_pairs,
         sort_counts,
@@ -178,19 +145,15 @@ pub(crate) fn share_out(
         if let Some(stop) = job.begin(&mut w.a, &mut w.b) {
             return (Some(stop), false);
         }
-        job.split(w, threads * ITEMS_PER_THREAD, items, next_items, stats);
+        job.split(w, threads * ITEMS_PER_THREAD, split, stats);
     }
+    let items = &split.items;
     let count = items.len();
     if count < threads * ITEMS_PER_THREAD {
-        out.clear();
         // The overlap ran out before the split did: too little work to share. The calling
         // thread descends the items in order, as the single-threaded traversal would.
         let w = &mut workers[0];
-        let mut sink = Sink {
-            out,
-            limit: job.limit(),
-            stop: None,
-        };
+        let mut sink = Sink::new(out, job.limit());
         for &item in items.iter() {
             job.traverse(w, Some(item), &mut sink);
             if sink.stop.is_some() {

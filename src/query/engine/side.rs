@@ -486,6 +486,33 @@ macro_rules! with_node_volumes {
 }
 pub(crate) use with_node_volumes;
 
+/// One side of a query once typed, as the threads share it: where its mesh is and how its node
+/// volumes are read. A pair `(placement, volumes)`.
+pub(crate) trait Typed<'m>: Copy + Send + Sync {
+    type Place: Placement<'m>;
+    type Kind: NodeVolumes<'m>;
+    /// The placement.
+    fn place(&self) -> Self::Place;
+    /// The volume kind.
+    fn kind(&self) -> Self::Kind;
+}
+
+impl<'m, P: Placement<'m>, K: NodeVolumes<'m>> Typed<'m> for (P, K) {
+    type Place = P;
+    type Kind = K;
+    #[inline(always)]
+    fn place(&self) -> P {
+        self.0
+    }
+    #[inline(always)]
+    fn kind(&self) -> K {
+        self.1
+    }
+}
+
+/// The view of typed side `S` by one thread.
+pub(crate) type ViewOf<'w, 'm, S> = View<'w, <S as Typed<'m>>::Place, <S as Typed<'m>>::Kind>;
+
 /// One mesh of a query, as the traversal and the narrow phase use it.
 pub(crate) trait QuerySide<'m> {
     type Volume: Volume;
@@ -510,16 +537,16 @@ pub(crate) struct View<'w, P, K> {
     pub ring_boxes: &'w mut Stamped<Aabb>,
 }
 
-impl<'w, P, K> View<'w, P, K> {
-    /// The view of `place` and `kind` with a thread's caches.
-    pub fn new(
-        (place, kind): (P, K),
+impl<'w, 'm, P: Placement<'m>, K: NodeVolumes<'m>> View<'w, P, K> {
+    /// The view of a typed side with a thread's caches.
+    pub fn new<S: Typed<'m, Place = P, Kind = K>>(
+        side: S,
         world: &'w mut Stamped<Point>,
         ring_boxes: &'w mut Stamped<Aabb>,
     ) -> Self {
         View {
-            place,
-            kind,
+            place: side.place(),
+            kind: side.kind(),
             world,
             ring_boxes,
         }

@@ -19,7 +19,17 @@ pub(crate) struct Sink<'w> {
     pub stop: Option<Stop>,
 }
 
-impl Sink<'_> {
+impl<'w> Sink<'w> {
+    /// A sink into `out`, emptied first, that stops at `limit` pairs.
+    pub fn new(out: &'w mut Vec<Pair>, limit: usize) -> Self {
+        out.clear();
+        Sink {
+            out,
+            limit,
+            stop: None,
+        }
+    }
+
     /// Records a pair; returns whether the traversal must stop. The result grows fallibly, so
     /// that a pathological input (say every triangle at one point) ends in an error, not an abort.
     #[inline]

@@ -126,9 +126,9 @@ pub(crate) struct NodePairs<'s, 'w> {
     pub one_mesh: bool,
 }
 
-impl<'m> NarrowPhase<'m> for NodePairs<'_, '_> {
+impl<'m, A: QuerySide<'m>, B: QuerySide<'m>> NarrowPhase<'m, A, B> for NodePairs<'_, '_> {
     #[inline]
-    fn visit<A, B>(&mut self, _: &mut A, _: &mut B, na: u32, nb: u32, _: &mut QueryStats) -> bool {
+    fn visit(&mut self, _: &mut A, _: &mut B, na: u32, nb: u32, _: &mut QueryStats) -> bool {
         self.sink.report(ordered(self.one_mesh, na, nb))
     }
 }
@@ -205,15 +205,13 @@ fn try_pair<'m, T: TriangleTest<'m>>(
     test.test(mesh, ta, tb) && sink.report(ordered(test.own().is_some(), ta.index, tb.index))
 }
 
-impl<'m, T: TriangleTest<'m>> NarrowPhase<'m> for LeafPairs<'_, '_, T> {
-    fn visit<A: QuerySide<'m>, B: QuerySide<'m>>(
-        &mut self,
-        a: &mut A,
-        b: &mut B,
-        na: u32,
-        nb: u32,
-        stats: &mut QueryStats,
-    ) -> bool {
+impl<'m, A, B, T> NarrowPhase<'m, A, B> for LeafPairs<'_, '_, T>
+where
+    A: QuerySide<'m>,
+    B: QuerySide<'m>,
+    T: TriangleTest<'m>,
+{
+    fn visit(&mut self, a: &mut A, b: &mut B, na: u32, nb: u32, stats: &mut QueryStats) -> bool {
         if na == nb && self.test.own().is_some() {
             return self.own(a, na, stats);
         }

@@ -11,7 +11,7 @@
 //! not opened at all.
 
 use super::side::{QuerySide, Volume};
-use super::workspace::Queued;
+use super::workspace::{Queued, Split};
 use crate::mesh::Mesh;
 use crate::mesh::Patches;
 use crate::query::pairs::QueryStats;
@@ -19,18 +19,11 @@ use crate::tree::{MAX_CHILDREN, Node};
 use std::collections::BinaryHeap;
 
 /// What a traversal hands its terminal node pairs to.
-pub(crate) trait NarrowPhase<'m> {
+pub(crate) trait NarrowPhase<'m, A: QuerySide<'m>, B: QuerySide<'m>> {
     /// Node `na` of `a` and node `nb` of `b`, whose volumes overlap and which the traversal opens
     /// no further (in a traversal of one mesh, `na == nb` is a node against itself). Returns
     /// whether the traversal must stop.
-    fn visit<A: QuerySide<'m>, B: QuerySide<'m>>(
-        &mut self,
-        a: &mut A,
-        b: &mut B,
-        na: u32,
-        nb: u32,
-        stats: &mut QueryStats,
-    ) -> bool;
+    fn visit(&mut self, a: &mut A, b: &mut B, na: u32, nb: u32, stats: &mut QueryStats) -> bool;
 }
 
 /// A traversal of one mesh against itself.
@@ -227,7 +220,7 @@ fn open_pair<'m, A: QuerySide<'m>, B: QuerySide<'m>>(
 /// the overlapping pair `start` (then in the order the traversal from the roots reaches them):
 /// nodes are terminal when they are leaves or at depth `max_depth`. A child pair is tested
 /// before it is pushed. Returns whether the narrow phase stopped the traversal.
-pub(crate) fn depth_first<'m, A: QuerySide<'m>, B: QuerySide<'m>, N: NarrowPhase<'m>>(
+pub(crate) fn depth_first<'m, A: QuerySide<'m>, B: QuerySide<'m>, N: NarrowPhase<'m, A, B>>(
     a: &mut A,
     b: &mut B,
     start: Option<(u32, u32)>,
@@ -271,19 +264,18 @@ const SPLIT_LEVELS: usize = 10;
 
 /// Work for several threads: the overlapping node pairs `depth_first` meets, opened level by
 /// level until there are at least `target` of them, all are terminal, or [`SPLIT_LEVELS`]
-/// levels are open. `items` ends in the order
-/// in which [`depth_first`] reaches them, so running [`depth_first`] below each in turn visits
-/// exactly the terminal pairs of [`depth_first`] from the roots, in its order; the volume tests made here are counted.
-#[allow(clippy::too_many_arguments)]
+/// levels are open. `into.items` ends in the order in which [`depth_first`] reaches them, so
+/// running [`depth_first`] below each in turn visits exactly the terminal pairs of
+/// [`depth_first`] from the roots, in its order; the volume tests made here are counted.
 pub(crate) fn split<'m, A: QuerySide<'m>, B: QuerySide<'m>>(
     a: &mut A,
     b: &mut B,
     walk: &Walk<'m>,
     target: usize,
-    items: &mut Vec<(u32, u32)>,
-    next: &mut Vec<(u32, u32)>,
+    into: &mut Split,
     stats: &mut QueryStats,
 ) {
+    let Split { items, next } = into;
     items.clear();
     if !roots_overlap(a, b, walk, stats) {
         return;
@@ -327,7 +319,7 @@ pub(crate) fn split<'m, A: QuerySide<'m>, B: QuerySide<'m>>(
 /// report (every such pair lies below a reported one), and with a large enough budget they are
 /// exactly those. At most one opening runs past the budget: `bv_tests` ends below `budget` plus
 /// the child tests of one pair. Returns whether the narrow phase stopped the traversal.
-pub(crate) fn best_first<'m, A: QuerySide<'m>, B: QuerySide<'m>, N: NarrowPhase<'m>>(
+pub(crate) fn best_first<'m, A: QuerySide<'m>, B: QuerySide<'m>, N: NarrowPhase<'m, A, B>>(
     a: &mut A,
     b: &mut B,
     budget: u64,

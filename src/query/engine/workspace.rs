@@ -223,6 +223,14 @@ pub(crate) struct Worker {
     pub stop: Option<Stop>,
 }
 
+/// A threaded query's items: the node pairs whose subtrees the threads share out, in the order
+/// the single-threaded traversal reaches them, and the next level while the top is split.
+#[derive(Debug, Default)]
+pub(crate) struct Split {
+    pub items: Vec<(u32, u32)>,
+    pub next: Vec<(u32, u32)>,
+}
+
 /// Everything a query needs besides its inputs and output.
 #[derive(Debug, Default)]
 pub(crate) struct Workspace {
@@ -232,10 +240,8 @@ pub(crate) struct Workspace {
     pub queue: BinaryHeap<Queued>,
     /// The counters of the result's sort.
     pub sort_counts: Vec<u32>,
-    /// A threaded query's items: the node pairs whose subtrees the threads share out, in the
-    /// order the single-threaded traversal reaches them, and the next level being split.
-    pub items: Vec<(u32, u32)>,
-    pub next_items: Vec<(u32, u32)>,
+    /// A threaded query's items.
+    pub split: Split,
     /// Per item: the pairs it found (`usize::MAX` while pending), to cut at the pair limit.
     pub item_counts: Vec<std::sync::atomic::AtomicUsize>,
     /// Per item: `(worker, start, end)` of its pairs.
@@ -280,8 +286,8 @@ impl Workspace {
             + self.workers.iter().map(Worker::heap_bytes).sum::<usize>()
             + self.queue.capacity() * std::mem::size_of::<Queued>()
             + heap_bytes(&self.sort_counts)
-            + heap_bytes(&self.items)
-            + heap_bytes(&self.next_items)
+            + heap_bytes(&self.split.items)
+            + heap_bytes(&self.split.next)
             + heap_bytes(&self.item_counts)
             + heap_bytes(&self.item_pairs)
     }

@@ -2,7 +2,7 @@ use super::*;
 use crate::exact::Feature;
 use crate::fixtures::oracle::nearest_brute_force;
 use crate::fixtures::{Rng, grid, icosphere, torus};
-use crate::query::testing::{build, moved};
+use crate::query::testing::{build, folded, moved};
 use crate::threads::{Step, sharing};
 use crate::{
     BuildOptions, Error, ImpactKind, Mesh, Pose, QueryMode, QueryOptions, QueryStats, VolumeKind,
@@ -198,18 +198,7 @@ fn one_mesh_equals_brute_force() {
         }
         // A sheet folded flat over itself: its halves a small gap apart, coplanar neighbours.
         let mut sheet = build(&g, volume);
-        let folded: Vec<f64> = g
-            .positions
-            .chunks_exact(3)
-            .flat_map(|p| {
-                let (x, y) = (p[0], p[1]);
-                if x > 0.5 {
-                    [1.0 - x, y, 0.01]
-                } else {
-                    [x, y, 0.0]
-                }
-            })
-            .collect();
+        let folded = folded(&g.positions, |x, y| [1.0 - x, y, 0.01]);
         sheet.refit(&folded).unwrap();
         for d in [0.0, 0.01, 0.03] {
             found += check(&sheet, None, None, d, &format!("sheet {volume:?}"));
