@@ -10,8 +10,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
 target="${CARGO_TARGET_DIR:-$root/target}"
-cargo package --quiet --locked --allow-dirty
-cargo publish --quiet --locked --dry-run --allow-dirty
+cargo package --quiet --locked --allow-dirty --package dvh
+cargo publish --quiet --locked --dry-run --allow-dirty --package dvh
 version=$(sed -n 's/^version = "\(.*\)"/\1/p' Cargo.toml | head -n 1)
 crate="$target/package/dvh-$version.crate"
 files=$(tar -tzf "$crate")

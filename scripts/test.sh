@@ -45,6 +45,23 @@ packages=(pkg-config g++ cmake libfcl-dev libccd-dev libeigen3-dev libcgal-dev l
 $full && packages+=(valgrind)
 scripts/ensure-packages.sh "${packages[@]}"
 
+# The release library (what the C tests, the cross-check and the Python package use) is built in
+# the background while the Rust steps run: its compile is a single thread for about two minutes
+# (one codegen unit, LTO), which would otherwise leave a core idle. `scripts/install.sh` later
+# finds it built.
+release=$(mktemp -d)
+# (In a session of its own, so that a failed run stops the build with the script.)
+setsid scripts/install.sh "$release/prefix" >"$release/log" 2>&1 &
+release_build=$!
+trap 'kill -- "-$release_build" 2>/dev/null || true; rm -rf "$release"' EXIT
+release_built() {
+    wait "$release_build" || {
+        cat "$release/log" >&2
+        echo "the release build of the library failed (above)" >&2
+        exit 1
+    }
+}
+
 step "formatting, clippy, documentation"
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets --quiet -- -D warnings
@@ -67,6 +84,7 @@ else
     cargo test --quiet
 fi
 
+release_built
 step "C ABI"
 # The C tests under sanitizers (and valgrind with --full), install, pkg-config, Python ctypes.
 if $full; then ctests/run.sh --full; else ctests/run.sh; fi
