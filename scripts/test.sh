@@ -7,12 +7,14 @@
 #                            integration, documentation; the fuzz seeds and regressions), the C
 #                            tests under AddressSanitizer and UndefinedBehaviorSanitizer, the
 #                            header as C and C++, the C++ layer's tests, the install with its
-#                            pkg-config and CMake packages, the Python package's distribution
-#                            wheel in a fresh virtual environment (and Python through ctypes), a
-#                            short cross-check against FCL judged by CGAL, and the demo (about
-#                            17 minutes on 2 cores with the Rust dependencies built; more from a
-#                            clean build and the package installs on a new machine)
-#   scripts/test.sh --full   all of that and the long runs: the C tests under valgrind, the
+#                            pkg-config and CMake packages, Python through ctypes, a short
+#                            cross-check against FCL judged by CGAL, the Python package (a wheel
+#                            packed from the release library, in a fresh virtual environment)
+#                            and the demo (about 11 minutes from a fresh clone on 2 cores; the
+#                            README has each step's time)
+#   scripts/test.sh --full   all of that and the long runs: the randomized tests' long form,
+#                            the C tests under valgrind, the manylinux wheel as released (built
+#                            by maturin, audited, tested and compared with the packed one), the
 #                            soak, the crate as packaged for crates.io (built, documented, its
 #                            examples and documentation tests run from the package), the Python
 #                            sdist built by pip, the benchmark runner's tests and short runs
@@ -20,7 +22,7 @@
 #                            cross-check's), the cross-check on one thread as well as on every
 #                            core, the criterion benchmarks' build, the demo's release build,
 #                            the Python benchmark scripts' quick runs, and every fuzz target's
-#                            corpus replayed (about 28 minutes from a clean clone on 2 cores;
+#                            corpus replayed (about 47 minutes from a fresh clone on 2 cores;
 #                            what CI runs)
 set -euo pipefail
 cd "$(dirname "$0")/.."
