@@ -3092,6 +3092,169 @@ static void test_intersection_curves(void) {
     dvh_mesh_free(one);
 }
 
+/* An axis-aligned box [x0, x0 + w] x [0, w] x [0, w] of twelve outward triangles. */
+static Mesh mesh_box(int x0, int w) {
+    static const uint32_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    Mesh m = mesh_alloc(8, 12);
+    int i;
+    for (i = 0; i < 8; i++) {
+        m.ipos[3 * i] = x0 + (i & 1) * w;
+        m.ipos[3 * i + 1] = ((i >> 1) & 1) * w;
+        m.ipos[3 * i + 2] = ((i >> 2) & 1) * w;
+    }
+    for (i = 0; i < 6; i++) {
+        uint32_t *t = &m.tris[6 * i];
+        t[0] = quads[i][0]; t[1] = quads[i][1]; t[2] = quads[i][2];
+        t[3] = quads[i][0]; t[4] = quads[i][2]; t[5] = quads[i][3];
+    }
+    mesh_sync(&m);
+    return m;
+}
+
+static void test_distances(void) {
+    Mesh mb0 = mesh_box(0, 2), mb1 = mesh_box(5, 2), mb2 = mesh_box(1, 2), mt = mesh_terrain(3, 0, 0, flat);
+    DvhMesh *b0 = create(&mb0, NULL), *b1 = create(&mb1, NULL), *b2 = create(&mb2, NULL), *open = create(&mt, NULL);
+    DvhDistanceOptions o = dvh_distance_options_default();
+    DvhDistance d, untouched;
+    DvhQueryStats stats;
+    bool closed = false;
+    CHECK(isinf(o.max_distance) && o.rel_err == 0.0 && o.abs_err == 0.0 && o.threads == 0 && o.reserved == 0);
+
+    CHECK_STATUS(dvh_mesh_is_closed(b0, &closed), DVH_STATUS_OK, NULL);
+    CHECK(closed);
+    CHECK_STATUS(dvh_mesh_is_closed(open, &closed), DVH_STATUS_OK, NULL);
+    CHECK(!closed);
+    CHECK_STATUS(dvh_mesh_is_closed(NULL, &closed), DVH_STATUS_NULL_ARGUMENT, "mesh");
+    CHECK_STATUS(dvh_mesh_is_closed(b0, NULL), DVH_STATUS_NULL_ARGUMENT, "closed_out");
+
+    /* Boxes [0, 2] and [5, 7] along x: 3 apart, face to face. */
+    CHECK_STATUS(dvh_distance(b0, NULL, b1, NULL, NULL, &d, &stats), DVH_STATUS_OK, NULL);
+    CHECK(d.found == 1 && d.intersecting == 0 && d.distance == 3.0);
+    CHECK(d.closest_a[0] == 2.0 && d.closest_b[0] == 5.0 && d.stencil.distance == 3.0);
+    CHECK(d.triangle_a < 12 && d.triangle_b < 12 && stats.bv_tests > 0);
+    /* Posed: the second box moved back by 4 along x overlaps the first. */
+    {
+        DvhPose back = {{1, 0, 0, 0, 1, 0, 0, 0, 1}, {-4, 0, 0}};
+        CHECK_STATUS(dvh_distance(b0, NULL, b1, &back, NULL, &d, NULL), DVH_STATUS_OK, NULL);
+        CHECK(d.found == 1 && d.intersecting == 1 && d.distance == 0.0);
+    }
+    CHECK_STATUS(dvh_distance(b0, NULL, b2, NULL, NULL, &d, NULL), DVH_STATUS_OK, NULL);
+    CHECK(d.found == 1 && d.intersecting == 1 && d.distance == 0.0 && d.stencil.kind == 0 && d.stencil.a0 == 0);
+    /* Bounded below the distance: not found, every field zero. */
+    o.max_distance = 2.5;
+    CHECK_STATUS(dvh_distance(b0, NULL, b1, NULL, &o, &d, NULL), DVH_STATUS_OK, NULL);
+    CHECK(d.found == 0 && d.distance == 0.0 && d.triangle_a == 0);
+    o.max_distance = 3.0;
+    CHECK_STATUS(dvh_distance(b0, NULL, b1, NULL, &o, &d, NULL), DVH_STATUS_OK, NULL);
+    CHECK(d.found == 1 && d.distance == 3.0);
+    /* Errors change nothing. */
+    untouched = d;
+    o.max_distance = -1.0;
+    CHECK_STATUS(dvh_distance(b0, NULL, b1, NULL, &o, &d, NULL), DVH_STATUS_INVALID_ARGUMENT, "max_distance");
+    o = dvh_distance_options_default();
+    o.rel_err = NAN;
+    CHECK_STATUS(dvh_distance(b0, NULL, b1, NULL, &o, &d, NULL), DVH_STATUS_INVALID_ARGUMENT, "rel_err");
+    o = dvh_distance_options_default();
+    o.reserved = 1;
+    CHECK_STATUS(dvh_distance(b0, NULL, b1, NULL, &o, &d, NULL), DVH_STATUS_INVALID_ARGUMENT, "reserved");
+    o = dvh_distance_options_default();
+    CHECK_STATUS(dvh_distance(NULL, NULL, b1, NULL, &o, &d, NULL), DVH_STATUS_NULL_ARGUMENT, "`a`");
+    CHECK_STATUS(dvh_distance(b0, NULL, b1, NULL, &o, NULL, NULL), DVH_STATUS_NULL_ARGUMENT, "distance_out");
+    CHECK(memcmp(&d, &untouched, sizeof d) == 0);
+
+    /* Points: inside, outside, on a face, on an edge, on a corner; rays from them run along
+     * the box's faces and edges. */
+    {
+        const double points[] = {1, 1, 1, 1.5, 0.5, 5, 2, 1, 1, 2, 2, 1, 0, 0, 0, -1, 0, 0, 1, 0, 2.5, 3, 3, 3};
+        const double expected_distance[] = {1, 3, 0, 0, 0, 1, 0.5, sqrt(3.0)};
+        const int32_t expected_winding[] = {1, 0, DVH_WINDING_ON_SURFACE, DVH_WINDING_ON_SURFACE,
+                                            DVH_WINDING_ON_SURFACE, 0, 0, 0};
+        DvhClosestPoint c[8];
+        int32_t w[8];
+        double sd[8];
+        size_t i, n = 8;
+        CHECK_STATUS(dvh_closest_points(b0, NULL, points, n, NULL, c, &stats), DVH_STATUS_OK, NULL);
+        CHECK(stats.pairs == n);
+        for (i = 0; i < n; i++) {
+            CHECK(c[i].found == 1 && c[i].triangle < 12 && c[i].feature <= DVH_FEATURE_INTERIOR);
+            CHECK(c[i].distance == expected_distance[i]);
+        }
+        CHECK(c[1].point[0] == 1.5 && c[1].point[1] == 0.5 && c[1].point[2] == 2.0 && c[1].feature == DVH_FEATURE_INTERIOR);
+        CHECK(c[7].feature <= DVH_FEATURE_VERTEX_2 && c[7].point[0] == 2.0);
+        CHECK_STATUS(dvh_winding_numbers(b0, NULL, points, n, 0, w), DVH_STATUS_OK, NULL);
+        for (i = 0; i < n; i++) CHECK(w[i] == expected_winding[i]);
+        CHECK_STATUS(dvh_signed_distances(b0, NULL, points, n, NULL, sd, &stats), DVH_STATUS_OK, NULL);
+        for (i = 0; i < n; i++)
+            CHECK(sd[i] == (expected_winding[i] == 1 ? -expected_distance[i] : expected_distance[i]));
+        /* Posed: the box moved by 10 along y. */
+        {
+            DvhPose up = {{1, 0, 0, 0, 1, 0, 0, 0, 1}, {0, 10, 0}};
+            const double p[] = {1, 11, 1, 1, 1, 1};
+            CHECK_STATUS(dvh_winding_numbers(b0, &up, p, 2, 1, w), DVH_STATUS_OK, NULL);
+            CHECK(w[0] == 1 && w[1] == 0);
+            CHECK_STATUS(dvh_closest_points(b0, &up, p, 2, NULL, c, NULL), DVH_STATUS_OK, NULL);
+            CHECK(c[0].distance == 1.0 && c[1].distance == 9.0);
+        }
+        /* Bounded: beyond it, not found and an infinity of the point's sign. */
+        o.max_distance = 0.75;
+        CHECK_STATUS(dvh_closest_points(b0, NULL, points, n, &o, c, &stats), DVH_STATUS_OK, NULL);
+        CHECK(c[0].found == 0 && c[1].found == 0 && c[2].found == 1 && c[6].found == 1 && stats.pairs == 4);
+        CHECK_STATUS(dvh_signed_distances(b0, NULL, points, n, &o, sd, NULL), DVH_STATUS_OK, NULL);
+        CHECK(isinf(sd[0]) && sd[0] < 0 && isinf(sd[1]) && sd[1] > 0 && sd[6] == 0.5);
+        o = dvh_distance_options_default();
+        /* Errors: a NaN point named with its axis, an open mesh, NULL arrays; nothing written. */
+        {
+            double bad[] = {0, 0, 0, 1, NAN, 1};
+            int32_t before = w[0];
+            CHECK_STATUS(dvh_winding_numbers(b0, NULL, bad, 2, 0, w), DVH_STATUS_NON_FINITE_COORDINATE, "point 1");
+            CHECK_STATUS(dvh_closest_points(b0, NULL, bad, 2, NULL, c, NULL), DVH_STATUS_NON_FINITE_COORDINATE, "y = NaN");
+            CHECK_STATUS(dvh_signed_distances(b0, NULL, bad, 2, NULL, sd, NULL), DVH_STATUS_NON_FINITE_COORDINATE, "point 1");
+            CHECK_STATUS(dvh_winding_numbers(open, NULL, points, 2, 0, w), DVH_STATUS_NOT_CLOSED, "not closed");
+            CHECK_STATUS(dvh_signed_distances(open, NULL, points, 2, NULL, sd, NULL), DVH_STATUS_NOT_CLOSED, "edge from vertex");
+            CHECK(w[0] == before);
+            CHECK_STATUS(dvh_winding_numbers(b0, NULL, NULL, 2, 0, w), DVH_STATUS_NULL_ARGUMENT, "points");
+            CHECK_STATUS(dvh_closest_points(b0, NULL, points, 2, NULL, NULL, NULL), DVH_STATUS_NULL_ARGUMENT, "results_out");
+            CHECK_STATUS(dvh_signed_distances(NULL, NULL, points, 2, NULL, sd, NULL), DVH_STATUS_NULL_ARGUMENT, "mesh");
+            CHECK(strcmp(dvh_status_name(DVH_STATUS_NOT_CLOSED), "DVH_STATUS_NOT_CLOSED") == 0);
+        }
+    }
+
+    /* A scene of the three boxes: b0 and b2 intersect; excluded, the closest pair is b2, b1. */
+    {
+        DvhScene *scene = NULL;
+        uint32_t ia, ib, i0, i1, i2, other;
+        CHECK_STATUS(dvh_scene_create(&scene), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_scene_add_rigid(scene, b0, NULL, 1, 0xffffffffu, &i0), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_scene_add_rigid(scene, b1, NULL, 1, 0xffffffffu, &i1), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_scene_add_rigid(scene, b2, NULL, 1, 0xffffffffu, &i2), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_scene_distance(scene, NULL, &ia, &ib, &d), DVH_STATUS_OK, NULL);
+        CHECK(ia == i0 && ib == i2 && d.intersecting == 1);
+        CHECK_STATUS(dvh_scene_exclude_pair(scene, i0, i2), DVH_STATUS_OK, NULL);
+        CHECK_STATUS(dvh_scene_distance(scene, NULL, &ia, &ib, &d), DVH_STATUS_OK, NULL);
+        CHECK(ia == i1 && ib == i2 && d.found == 1 && d.distance == 2.0);
+        CHECK_STATUS(dvh_scene_object_distance(scene, i1, NULL, &other, &d), DVH_STATUS_OK, NULL);
+        CHECK(other == i2 && d.distance == 2.0 && d.closest_a[0] == 5.0);
+        o.max_distance = 1.0;
+        CHECK_STATUS(dvh_scene_object_distance(scene, i1, &o, &other, &d), DVH_STATUS_OK, NULL);
+        CHECK(other == 0xffffffffu && d.found == 0);
+        CHECK_STATUS(dvh_scene_distance(scene, &o, &ia, &ib, &d), DVH_STATUS_OK, NULL);
+        CHECK(ia == 0xffffffffu && ib == 0xffffffffu && d.found == 0);
+        o = dvh_distance_options_default();
+        CHECK_STATUS(dvh_scene_object_distance(scene, 99, NULL, &other, &d), DVH_STATUS_INVALID_ARGUMENT, "object 99");
+        CHECK_STATUS(dvh_scene_distance(scene, NULL, NULL, &ib, &d), DVH_STATUS_NULL_ARGUMENT, "object_a_out");
+        CHECK_STATUS(dvh_scene_object_distance(NULL, 0, NULL, &other, &d), DVH_STATUS_NULL_ARGUMENT, "scene");
+        dvh_scene_free(scene);
+    }
+    dvh_mesh_free(b0);
+    dvh_mesh_free(b1);
+    dvh_mesh_free(b2);
+    dvh_mesh_free(open);
+    mesh_free(&mb0);
+    mesh_free(&mb1);
+    mesh_free(&mb2);
+    mesh_free(&mt);
+}
+
 int main(void) {
     test_versions_and_names();
     test_defaults();
@@ -3116,5 +3279,6 @@ int main(void) {
     test_scene_self_contact();
     test_scene_nearest();
     test_intersection_curves();
+    test_distances();
     return finish("test_api");
 }

@@ -1522,6 +1522,54 @@ void test_curves() {
     dvh_mesh_free(c_b);
 }
 
+// An axis-aligned box [x0, x0 + w] x [0, w] x [0, w] of twelve outward triangles.
+Geometry box(int x0, int w) {
+    Geometry g;
+    for (int i = 0; i < 8; i++) {
+        g.positions.push_back(x0 + (i & 1) * w);
+        g.positions.push_back(((i >> 1) & 1) * w);
+        g.positions.push_back(((i >> 2) & 1) * w);
+    }
+    const std::uint32_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (const auto& q : quads) g.triangles.insert(g.triangles.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
+    return g;
+}
+
+void test_distances() {
+    const Geometry g0 = box(0, 2), g1 = box(5, 2), open = terrain(2, 0, 0, flat);
+    const dvh::Mesh a(g0.positions, g0.triangles), b(g1.positions, g1.triangles), o(open.positions, open.triangles);
+    REQUIRE(a.is_closed() && !o.is_closed());
+    const DvhDistance d = dvh::distance(a, nullptr, b, nullptr);
+    DvhDistance raw{};
+    const DvhDistanceOptions defaults = dvh_distance_options_default();
+    REQUIRE(dvh_distance(a.get(), nullptr, b.get(), nullptr, &defaults, &raw, nullptr) == DVH_STATUS_OK);
+    REQUIRE(std::memcmp(&d, &raw, sizeof d) == 0 && d.found == 1 && d.distance == 3.0);
+    REQUIRE(dvh::distance(a, nullptr, b, nullptr, dvh::DistanceOptions().max_distance(1.0)).found == 0);
+    REQUIRE_ERROR((void)dvh::distance(a, nullptr, b, nullptr, dvh::DistanceOptions().rel_err(-1.0)),
+                  DVH_STATUS_INVALID_ARGUMENT, "rel_err");
+
+    const std::vector<double> points = {1, 1, 1, 1.5, 0.5, 5, 2, 1, 1};
+    const auto closest = dvh::closest_points(a, nullptr, points);
+    REQUIRE(closest.size() == 3 && closest[0].distance == 1.0 && closest[1].distance == 3.0 && closest[2].distance == 0.0);
+    const auto winding = dvh::winding_numbers(a, nullptr, points);
+    REQUIRE(winding == (std::vector<std::int32_t>{1, 0, DVH_WINDING_ON_SURFACE}));
+    const auto signed_ = dvh::signed_distances(a, nullptr, points, dvh::DistanceOptions().threads(1));
+    REQUIRE(signed_ == (std::vector<double>{-1.0, 3.0, 0.0}));
+    REQUIRE_ERROR((void)dvh::winding_numbers(o, nullptr, points), DVH_STATUS_NOT_CLOSED, "not closed");
+    REQUIRE_ERROR((void)dvh::closest_points(a, nullptr, std::vector<double>{1, 2}), DVH_STATUS_INVALID_ARGUMENT, "three per point");
+    const std::vector<double> nan_point = {0, 0, std::nan("")};
+    REQUIRE_ERROR((void)dvh::signed_distances(a, nullptr, nan_point), DVH_STATUS_NON_FINITE_COORDINATE, "point 0");
+
+    dvh::Scene scene;
+    const std::uint32_t i0 = scene.add_rigid(a, nullptr), i1 = scene.add_rigid(b, nullptr);
+    const auto least = scene.distance();
+    REQUIRE(least && least->object_a == i0 && least->object_b == i1 && least->distance.distance == 3.0);
+    const auto mine = scene.object_distance(i1);
+    REQUIRE(mine && mine->object_a == i1 && mine->object_b == i0 && mine->distance.closest_a[0] == 5.0);
+    REQUIRE(!scene.distance(dvh::DistanceOptions().max_distance(2.0)));
+    REQUIRE_ERROR((void)scene.object_distance(7), DVH_STATUS_INVALID_ARGUMENT, "object 7");
+}
+
 int main() {
     test_version_status_and_messages();
     test_span();
@@ -1538,6 +1586,7 @@ int main() {
     test_scene_owners();
     test_scene_step();
     test_curves();
+    test_distances();
     std::printf("test_cpp (C++%ld): all checks passed\n", (long)(__cplusplus / 100 % 100));
     return 0;
 }

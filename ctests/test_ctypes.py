@@ -15,6 +15,7 @@ DvhStatus = ctypes.c_uint32
 DVH_STATUS_OK, DVH_STATUS_NULL_ARGUMENT, DVH_STATUS_INVALID_ARGUMENT = 0, 1, 2
 DVH_STATUS_INDEX_OUT_OF_RANGE, DVH_STATUS_NON_RIGID_POSE = 4, 5
 DVH_STATUS_NON_FINITE_COORDINATE = 3
+DVH_STATUS_NOT_CLOSED = 11
 DVH_QUERY_MODE_LEAVES, DVH_QUERY_MODE_BUDGET = 2, 4
 DVH_VOLUME_KIND_DVH, DVH_VOLUME_KIND_SBV, DVH_VOLUME_KIND_AABB = 0, 1, 2
 DVH_PAIR_KIND_NODES = 1
@@ -578,6 +579,59 @@ def main():
     lib.dvh_curves_free(curves)
     lib.dvh_mesh_free(flat)
     lib.dvh_mesh_free(tilted)
+
+    # Distances: the sheet and the tent lifted by 10 (its lowest corner 9 above the sheet); the
+    # winding numbers and signed distances of a closed tetrahedron.
+    class DvhDistanceOptions(ctypes.Structure):
+        _fields_ = [("max_distance", ctypes.c_double), ("rel_err", ctypes.c_double), ("abs_err", ctypes.c_double),
+                    ("threads", ctypes.c_uint32), ("reserved", ctypes.c_uint32)]
+
+    class DvhDistance(ctypes.Structure):
+        _fields_ = [(n, ctypes.c_uint32) for n in ("found", "intersecting", "triangle_a", "triangle_b")] + [
+            ("distance", ctypes.c_double), ("closest_a", ctypes.c_double * 3), ("closest_b", ctypes.c_double * 3),
+            ("stencil", DvhNearPair)]
+
+    check(ctypes.sizeof(DvhDistanceOptions) == 32 and ctypes.sizeof(DvhDistance) == 208, "distance layouts")
+    lib.dvh_distance_options_default.restype = DvhDistanceOptions
+    lib.dvh_distance.restype = DvhStatus
+    lib.dvh_distance.argtypes = [MeshPtr, ctypes.POINTER(DvhPose), MeshPtr, ctypes.POINTER(DvhPose),
+                                 ctypes.POINTER(DvhDistanceOptions), ctypes.POINTER(DvhDistance), ctypes.POINTER(DvhQueryStats)]
+    lib.dvh_mesh_is_closed.restype = DvhStatus
+    lib.dvh_mesh_is_closed.argtypes = [MeshPtr, ctypes.POINTER(ctypes.c_bool)]
+    lib.dvh_winding_numbers.restype = DvhStatus
+    lib.dvh_winding_numbers.argtypes = [MeshPtr, ctypes.POINTER(DvhPose), ctypes.POINTER(ctypes.c_double), ctypes.c_size_t,
+                                        ctypes.c_uint32, ctypes.POINTER(ctypes.c_int32)]
+    lib.dvh_signed_distances.restype = DvhStatus
+    lib.dvh_signed_distances.argtypes = [MeshPtr, ctypes.POINTER(DvhPose), ctypes.POINTER(ctypes.c_double), ctypes.c_size_t,
+                                         ctypes.POINTER(DvhDistanceOptions), ctypes.POINTER(ctypes.c_double),
+                                         ctypes.POINTER(DvhQueryStats)]
+    options = lib.dvh_distance_options_default()
+    check(options.max_distance == float("inf") and options.rel_err == 0.0, "distance defaults")
+    # (The continuous tests above left the tent at the end of its motion.)
+    check(lib.dvh_mesh_refit(tent, (ctypes.c_double * 12)(*tent_pos), 4) == DVH_STATUS_OK, "tent back")
+    d = DvhDistance()
+    check(lib.dvh_distance(sheet, None, tent, ctypes.byref(pose), ctypes.byref(options), ctypes.byref(d), None)
+          == DVH_STATUS_OK and d.found == 1 and d.intersecting == 0 and d.distance == 9.0, "distance of sheet and lifted tent")
+    check(lib.dvh_distance(sheet, None, tent, None, None, ctypes.byref(d), None) == DVH_STATUS_OK
+          and d.intersecting == 1 and d.distance == 0.0, "the tent through the sheet intersects it")
+    options.max_distance = -1.0
+    check(lib.dvh_distance(sheet, None, tent, None, ctypes.byref(options), ctypes.byref(d), None)
+          == DVH_STATUS_INVALID_ARGUMENT and "max_distance" in last_error(), "a negative bound refused")
+    status, tet = create([0.0, 0.0, 0.0, 4.0, 0.0, 0.0, 0.0, 4.0, 0.0, 0.0, 0.0, 4.0], [0, 2, 1, 0, 1, 3, 1, 2, 3, 2, 0, 3])
+    closed = ctypes.c_bool(False)
+    check(status == DVH_STATUS_OK and lib.dvh_mesh_is_closed(tet, ctypes.byref(closed)) == DVH_STATUS_OK and closed.value,
+          "the tetrahedron is closed")
+    check(lib.dvh_mesh_is_closed(sheet, ctypes.byref(closed)) == DVH_STATUS_OK and not closed.value, "the sheet is open")
+    points = (ctypes.c_double * 9)(1, 1, 1, 5, 5, 5, 0, 0, 0)
+    winding = (ctypes.c_int32 * 3)()
+    check(lib.dvh_winding_numbers(tet, None, points, 3, 0, winding) == DVH_STATUS_OK
+          and list(winding) == [1, 0, -2**31], "winding numbers: inside, outside, on a corner")
+    signed = (ctypes.c_double * 3)()
+    check(lib.dvh_signed_distances(tet, None, points, 3, None, signed, None) == DVH_STATUS_OK
+          and signed[0] < 0 and signed[1] > 0 and signed[2] == 0.0, "signed distances")
+    check(lib.dvh_winding_numbers(sheet, None, points, 3, 0, winding) == DVH_STATUS_NOT_CLOSED
+          and "not closed" in last_error(), "an open mesh refused")
+    lib.dvh_mesh_free(tet)
 
     lib.dvh_pairs_free(pairs)
     lib.dvh_mesh_free(sheet)

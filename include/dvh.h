@@ -50,6 +50,13 @@
 #include <stdint.h>
 
 /**
+ * The winding number `dvh_winding_numbers` reports for a point on the surface (on a triangle,
+ * its edges and corners included), where none is defined: `INT32_MIN`, which no closed
+ * surface's winding number reaches.
+ */
+#define DVH_WINDING_ON_SURFACE -2147483648
+
+/**
  * A reusable result buffer for `dvh_scene_collide`. Opaque; created by `dvh_contacts_new`,
  * released by `dvh_contacts_free`. Use one per thread.
  */
@@ -390,6 +397,181 @@ typedef struct DvhQueryStats {
 } DvhQueryStats;
 
 /**
+ * Options of the distance queries (`dvh_distance`, `dvh_closest_points`,
+ * `dvh_signed_distances`, `dvh_scene_distance`, `dvh_scene_object_distance`); start from
+ * `dvh_distance_options_default()`. Grows like `DvhBuildOptions`: appended fields.
+ */
+typedef struct DvhDistanceOptions {
+  /**
+   * Farther than this is "not found" (a signed distance: an infinity of its sign); the
+   * search looks no farther, so a small bound is the cheapest query. INFINITY by default: no
+   * bound. Negative or NaN is INVALID_ARGUMENT.
+   */
+  double max_distance;
+  /**
+   * Relative tolerance: a result at distance `d <= (1 + rel_err) m + abs_err` of the least
+   * `m` is accepted, so that branches that cannot beat it by more are not searched. 0 by
+   * default: exact. Negative, NaN or infinite is INVALID_ARGUMENT.
+   */
+  double rel_err;
+  /**
+   * Absolute tolerance, as `rel_err` says. 0 by default.
+   */
+  double abs_err;
+  /**
+   * Threads, as `DvhQueryOptions.threads`: 0 every core, 1 the calling thread, n at most n.
+   * The answer is the same for every count.
+   */
+  uint32_t threads;
+  /**
+   * Always 0.
+   */
+  uint32_t reserved;
+} DvhDistanceOptions;
+
+/**
+ * A vertex-face or edge-edge pair within the query's distance, with its closest points: a
+ * contact stencil. Kinds and indices as in `DvhImpact`; fields ending in `_a` describe the
+ * primitive named by `a0, a1`. Features and weights are numbered on each primitive's own
+ * corners: a vertex is corner 0, an edge `(a0, a1)` has corners `a0`, `a1`, a triangle its
+ * corners in the mesh's order. Results are sorted by `(kind, a0, a1, b0, b1)`.
+ */
+typedef struct DvhNearPair {
+  /**
+   * A `DVH_IMPACT_KIND_*` value.
+   */
+  DvhImpactKind kind;
+  /**
+   * VERTEX_FACE: a vertex of the first mesh; FACE_VERTEX: a triangle of the first mesh;
+   * EDGE_EDGE: the edge's lower vertex.
+   */
+  uint32_t a0;
+  /**
+   * EDGE_EDGE: the first edge's higher vertex; 0 otherwise.
+   */
+  uint32_t a1;
+  /**
+   * VERTEX_FACE: a triangle of the second mesh; FACE_VERTEX: a vertex of the second mesh;
+   * EDGE_EDGE: the second edge's lower vertex.
+   */
+  uint32_t b0;
+  /**
+   * EDGE_EDGE: the second edge's higher vertex; 0 otherwise.
+   */
+  uint32_t b1;
+  /**
+   * A `DVH_FEATURE_*` value: where the first primitive's closest point lies.
+   */
+  uint32_t feature_a;
+  /**
+   * A `DVH_FEATURE_*` value: where the second primitive's closest point lies.
+   */
+  uint32_t feature_b;
+  /**
+   * The distance, within one unit in the last place of the exact one correctly rounded.
+   */
+  double distance;
+  /**
+   * The first primitive's closest point, in world coordinates (each within two units in the
+   * last place of the exact one).
+   */
+  double closest_a[3];
+  /**
+   * The second primitive's closest point, in world coordinates.
+   */
+  double closest_b[3];
+  /**
+   * The first closest point's barycentric weights: a vertex (1, 0, 0), an edge
+   * (1 - s, s, 0), a triangle three weights summing to one.
+   */
+  double weights_a[3];
+  /**
+   * The second closest point's barycentric weights.
+   */
+  double weights_b[3];
+} DvhNearPair;
+
+/**
+ * The least distance between two meshes' surfaces (`dvh_distance`, the scene's).
+ */
+typedef struct DvhDistance {
+  /**
+   * 0: farther apart than the options' `max_distance` (every other field 0).
+   */
+  uint32_t found;
+  /**
+   * 1: the meshes intersect (touching counts); the distance is 0.
+   */
+  uint32_t intersecting;
+  /**
+   * The first mesh's triangle the closest point lies on (the least of several); for
+   * intersecting meshes, of the least intersecting pair.
+   */
+  uint32_t triangle_a;
+  /**
+   * The second mesh's triangle.
+   */
+  uint32_t triangle_b;
+  /**
+   * The distance, within one unit in the last place of the exact one correctly rounded.
+   */
+  double distance;
+  /**
+   * The first mesh's closest point, in world coordinates.
+   */
+  double closest_a[3];
+  /**
+   * The second mesh's closest point (intersecting: `closest_a` again, a point of both
+   * triangles within rounding).
+   */
+  double closest_b[3];
+  /**
+   * The vertex-face or edge-edge pair attaining the distance, as `dvh_nearest_features`
+   * reports it; zero when intersecting.
+   */
+  struct DvhNearPair stencil;
+} DvhDistance;
+
+/**
+ * Where a closest point of a `DvhNearPair` lies, numbered on its primitive's own corners.
+ */
+typedef uint32_t DvhFeature;
+
+/**
+ * The closest point of a mesh to a query point (`dvh_closest_points`).
+ */
+typedef struct DvhClosestPoint {
+  /**
+   * 0: no triangle within the options' `max_distance` (every other field 0).
+   */
+  uint32_t found;
+  /**
+   * The triangle the closest point lies on (of several at the same distance, the least).
+   */
+  uint32_t triangle;
+  /**
+   * A `DVH_FEATURE_*` value: where on the triangle (its corners as the mesh orders them).
+   */
+  DvhFeature feature;
+  /**
+   * Always 0.
+   */
+  uint32_t reserved;
+  /**
+   * The distance, within one unit in the last place of the exact one correctly rounded.
+   */
+  double distance;
+  /**
+   * The closest point, in world coordinates (within two units in the last place).
+   */
+  double point[3];
+  /**
+   * Its barycentric weights on the triangle's corners.
+   */
+  double weights[3];
+} DvhClosestPoint;
+
+/**
  * How the hierarchy above the 1-rings is split: a `DVH_TREE_KIND_*` value.
  */
 typedef uint32_t DvhTreeKind;
@@ -480,68 +662,6 @@ typedef struct DvhRefitStats {
    */
   uint64_t distance_evaluations;
 } DvhRefitStats;
-
-/**
- * A vertex-face or edge-edge pair within the query's distance, with its closest points: a
- * contact stencil. Kinds and indices as in `DvhImpact`; fields ending in `_a` describe the
- * primitive named by `a0, a1`. Features and weights are numbered on each primitive's own
- * corners: a vertex is corner 0, an edge `(a0, a1)` has corners `a0`, `a1`, a triangle its
- * corners in the mesh's order. Results are sorted by `(kind, a0, a1, b0, b1)`.
- */
-typedef struct DvhNearPair {
-  /**
-   * A `DVH_IMPACT_KIND_*` value.
-   */
-  DvhImpactKind kind;
-  /**
-   * VERTEX_FACE: a vertex of the first mesh; FACE_VERTEX: a triangle of the first mesh;
-   * EDGE_EDGE: the edge's lower vertex.
-   */
-  uint32_t a0;
-  /**
-   * EDGE_EDGE: the first edge's higher vertex; 0 otherwise.
-   */
-  uint32_t a1;
-  /**
-   * VERTEX_FACE: a triangle of the second mesh; FACE_VERTEX: a vertex of the second mesh;
-   * EDGE_EDGE: the second edge's lower vertex.
-   */
-  uint32_t b0;
-  /**
-   * EDGE_EDGE: the second edge's higher vertex; 0 otherwise.
-   */
-  uint32_t b1;
-  /**
-   * A `DVH_FEATURE_*` value: where the first primitive's closest point lies.
-   */
-  uint32_t feature_a;
-  /**
-   * A `DVH_FEATURE_*` value: where the second primitive's closest point lies.
-   */
-  uint32_t feature_b;
-  /**
-   * The distance, within one unit in the last place of the exact one correctly rounded.
-   */
-  double distance;
-  /**
-   * The first primitive's closest point, in world coordinates (each within two units in the
-   * last place of the exact one).
-   */
-  double closest_a[3];
-  /**
-   * The second primitive's closest point, in world coordinates.
-   */
-  double closest_b[3];
-  /**
-   * The first closest point's barycentric weights: a vertex (1, 0, 0), an edge
-   * (1 - s, s, 0), a triangle three weights summing to one.
-   */
-  double weights_a[3];
-  /**
-   * The second closest point's barycentric weights.
-   */
-  double weights_b[3];
-} DvhNearPair;
 
 /**
  * A stencil of a scene's closest-point query (`dvh_scene_nearest_features`): between objects
@@ -654,11 +774,6 @@ typedef struct DvhContact {
 } DvhContact;
 
 /**
- * Where a closest point of a `DvhNearPair` lies, numbered on its primitive's own corners.
- */
-typedef uint32_t DvhFeature;
-
-/**
  * The call succeeded.
  */
 #define DVH_STATUS_OK 0
@@ -716,6 +831,12 @@ typedef uint32_t DvhFeature;
  * The object was not touched; the call may be retried once the other has returned.
  */
 #define DVH_STATUS_BUSY 10
+
+/**
+ * The mesh is not closed (a directed edge of a triangle side has no reverse), so winding
+ * numbers and signed distances are not defined for it; the message names the edge.
+ */
+#define DVH_STATUS_NOT_CLOSED 11
 
 /**
  * Up to 8 children per node (midpoint cut on all three axes): shallow trees. The default.
@@ -1372,6 +1493,189 @@ DvhStatus dvh_curves_self_length_gradient(const struct DvhCurves *curves,
                                           const struct DvhMesh *mesh,
                                           double *gradient,
                                           size_t vertex_count);
+
+/**
+ * The default distance options: no bound, no tolerance, every core.
+ *
+ * Thread safety: any thread, any time.
+ */
+struct DvhDistanceOptions dvh_distance_options_default(void);
+
+/**
+ * The least distance between the surfaces of mesh `a` placed by `pose_a` and mesh `b` placed
+ * by `pose_b` (NULL: identity), written to `*distance_out`: the triangles and closest points
+ * that attain it, and the vertex-face or edge-edge pair (as `dvh_nearest_features` reports
+ * one) that does. Exact: the pair reported attains the exact least distance (candidates
+ * ordered by exact comparisons; of several at the least, the first by `(kind, a0, a1, b0,
+ * b1)`, whatever the thread count), the distance within one unit in the last place of the
+ * exact one correctly rounded, the points within two. `triangle_a`, `triangle_b`: the least
+ * triangles holding the pair's vertex, edge or face on each side. Meshes that intersect
+ * (touching counts) get distance 0, `intersecting` 1, the least intersecting triangle pair in
+ * `dvh_collide`'s order, a point of both triangles (within rounding) as both closest points,
+ * and a zero `stencil`.
+ *
+ * `options` (NULL: the defaults): farther apart than `max_distance`, `found` is 0 (every field
+ * zero); with `rel_err` or `abs_err`, a pair at distance `d <= (1 + rel_err) m + abs_err` of the
+ * least `m` may be reported. Counters (the sums of the queries made) go to `*stats_out` unless
+ * it is NULL. On failure neither output changes.
+ *
+ * Errors: NULL_ARGUMENT (`a`, `b`, `distance_out`); INVALID_ARGUMENT (options out of range, a
+ * pointer that is not a live handle); NON_FINITE_COORDINATE and NON_RIGID_POSE (a pose);
+ * POSE_OUT_OF_RANGE; BUSY; OUT_OF_MEMORY; INTERNAL_PANIC.
+ *
+ * Thread safety: `a` and `b` are only read: any number of threads may query them at once; no
+ * refit of either may run meanwhile (BUSY).
+ *
+ * # Safety
+ * `a` and `b` are NULL or live meshes; the poses and `options` NULL or readable;
+ * `distance_out` NULL or writable; `stats_out` NULL or writable.
+ */
+DvhStatus dvh_distance(const struct DvhMesh *a,
+                       const struct DvhPose *pose_a,
+                       const struct DvhMesh *b,
+                       const struct DvhPose *pose_b,
+                       const struct DvhDistanceOptions *options,
+                       struct DvhDistance *distance_out,
+                       struct DvhQueryStats *stats_out);
+
+/**
+ * Is the surface of `mesh` closed: every directed edge `(u, v)` of a triangle side matched by
+ * as many sides `(v, u)` (a side of a degenerate triangle from a vertex to itself matching
+ * itself)? Winding numbers and signed distances need a closed surface. Found once per mesh's
+ * triangles (which never change) and kept; `*closed_out` receives the answer.
+ *
+ * Errors: NULL_ARGUMENT (`mesh`, `closed_out`); INVALID_ARGUMENT (not a live mesh); BUSY;
+ * INTERNAL_PANIC.
+ *
+ * Thread safety: `mesh` is only read.
+ *
+ * # Safety
+ * `mesh` is NULL or a live mesh; `closed_out` NULL or writable.
+ */
+DvhStatus dvh_mesh_is_closed(const struct DvhMesh *mesh, bool *closed_out);
+
+/**
+ * For each of the `point_count` points at `points` (x, y, z each), the closest point of mesh
+ * `mesh` placed by `pose` (NULL: identity), into `results_out[i]`: the triangle it lies on (of
+ * several at the same distance, the least index), the feature of that triangle holding it, its
+ * barycentric weights, the point and the distance, decided and rounded as in `dvh_distance`.
+ * No triangle within `options->max_distance`: `found` 0 and every field zero. Counters go to
+ * `*stats_out` unless NULL (`pairs`: the points with a closest point found). On failure
+ * nothing is written.
+ *
+ * Errors: NULL_ARGUMENT (`mesh`, `points` or `results_out` with points); INVALID_ARGUMENT
+ * (options out of range, an array not aligned, a count too large, not a live mesh);
+ * NON_FINITE_COORDINATE (a point: the message names its index and axis; a pose); NON_RIGID_POSE;
+ * BUSY; INTERNAL_PANIC.
+ *
+ * Thread safety: `mesh` is only read.
+ *
+ * # Safety
+ * `mesh` is NULL or a live mesh; `pose` and `options` NULL or readable; `points` NULL or
+ * `3 * point_count` readable doubles; `results_out` NULL or `point_count` writable entries,
+ * apart from `points`; `stats_out` NULL or writable.
+ */
+DvhStatus dvh_closest_points(const struct DvhMesh *mesh,
+                             const struct DvhPose *pose,
+                             const double *points,
+                             size_t point_count,
+                             const struct DvhDistanceOptions *options,
+                             struct DvhClosestPoint *results_out,
+                             struct DvhQueryStats *stats_out);
+
+/**
+ * For each of the `point_count` points at `points`, its winding number about the closed
+ * surface of mesh `mesh` placed by `pose` (NULL: identity), into `winding_out[i]`: how many
+ * times the surface winds around the point, with sign (a triangle faces where its normal
+ * `(t1 - t0) x (t2 - t0)` points: an outward surface winds +1 around its inside, an inward one
+ * -1); 0 outside; 2 where a folded surface wraps twice; `DVH_WINDING_ON_SURFACE` for a point on
+ * the surface. Exact for every point: crossings are counted by exact orientation predicates,
+ * with a symbolic perturbation where the ray meets an edge or a vertex. `threads` as
+ * `DvhQueryOptions.threads`. On failure nothing is written.
+ *
+ * Errors: NOT_CLOSED (the mesh is not closed: the message names an edge with no reverse);
+ * NULL_ARGUMENT; INVALID_ARGUMENT; NON_FINITE_COORDINATE (a point, named; a pose);
+ * NON_RIGID_POSE; BUSY; INTERNAL_PANIC.
+ *
+ * Thread safety: `mesh` is only read.
+ *
+ * # Safety
+ * As `dvh_closest_points`, with `winding_out` NULL or `point_count` writable `int32_t`.
+ */
+DvhStatus dvh_winding_numbers(const struct DvhMesh *mesh,
+                              const struct DvhPose *pose,
+                              const double *points,
+                              size_t point_count,
+                              uint32_t threads,
+                              int32_t *winding_out);
+
+/**
+ * For each of the `point_count` points at `points`, its signed distance to the closed surface
+ * of mesh `mesh` placed by `pose` (NULL: identity), into `distances_out[i]`: the distance to
+ * the closest point (as `dvh_closest_points`), negative inside (winding number not 0, exact),
+ * positive outside, 0 on the surface; beyond `options->max_distance`, an infinity of the
+ * point's sign. Counters to `*stats_out` unless NULL (`pairs`: the points within the bound).
+ * On failure nothing is written.
+ *
+ * Errors: NOT_CLOSED; NULL_ARGUMENT; INVALID_ARGUMENT; NON_FINITE_COORDINATE; NON_RIGID_POSE;
+ * BUSY; INTERNAL_PANIC.
+ *
+ * Thread safety: `mesh` is only read.
+ *
+ * # Safety
+ * As `dvh_closest_points`, with `distances_out` NULL or `point_count` writable doubles.
+ */
+DvhStatus dvh_signed_distances(const struct DvhMesh *mesh,
+                               const struct DvhPose *pose,
+                               const double *points,
+                               size_t point_count,
+                               const struct DvhDistanceOptions *options,
+                               double *distances_out,
+                               struct DvhQueryStats *stats_out);
+
+/**
+ * The closest pair of distinct objects of `scene` that the filters allow (groups, masks,
+ * exclusions, as `dvh_scene_collide`): `*object_a_out < *object_b_out` and `*distance_out` as
+ * `dvh_distance` reports it for their meshes and poses (the lower id's first); the least
+ * distance over the pairs, decided exactly, ties to the least `(object_a, object_b)`. No
+ * allowed pair within `options->max_distance` (or none at all): `distance_out->found` is 0,
+ * every field zero, and the object ids are `UINT32_MAX`. Deformable objects whose positions
+ * changed are refit, whole, only those some pair needs. On failure nothing is written.
+ *
+ * Errors: NULL_ARGUMENT (`scene`, an out-pointer); INVALID_ARGUMENT; BUSY; OUT_OF_MEMORY;
+ * INTERNAL_PANIC.
+ *
+ * Thread safety: exclusive access to `scene` (the query refits objects).
+ *
+ * # Safety
+ * `scene` is NULL or a live scene; `options` NULL or readable; the out-pointers NULL or
+ * writable.
+ */
+DvhStatus dvh_scene_distance(struct DvhScene *scene,
+                             const struct DvhDistanceOptions *options,
+                             uint32_t *object_a_out,
+                             uint32_t *object_b_out,
+                             struct DvhDistance *distance_out);
+
+/**
+ * The object of `scene` closest to `object` among those the filters allow it to meet, as
+ * `dvh_scene_distance` chooses (ties to the least id): `*other_out` and `*distance_out` with
+ * `object`'s mesh as the first side. None within `options->max_distance`:
+ * `distance_out->found` 0 and `*other_out` `UINT32_MAX`. On failure nothing is written.
+ *
+ * Errors: NULL_ARGUMENT; INVALID_ARGUMENT (`object` not in the scene, options out of range);
+ * BUSY; OUT_OF_MEMORY; INTERNAL_PANIC.
+ *
+ * Thread safety: exclusive access to `scene`.
+ *
+ * # Safety
+ * As `dvh_scene_distance`.
+ */
+DvhStatus dvh_scene_object_distance(struct DvhScene *scene,
+                                    uint32_t object,
+                                    const struct DvhDistanceOptions *options,
+                                    uint32_t *other_out,
+                                    struct DvhDistance *distance_out);
 
 /**
  * The default build options, the fastest measured for meshes that deform: octree, box volumes

@@ -205,6 +205,45 @@ private:
 /// Options for the queries: a DvhQueryOptions that starts from dvh_query_options_default() (every
 /// intersecting triangle pair, no limit, every core) and is set by name,
 /// `dvh::QueryOptions{}.mode(DVH_QUERY_MODE_FIRST_HIT).threads(1)`.
+class DistanceOptions {
+public:
+    DistanceOptions() noexcept : c_(dvh_distance_options_default()) {}
+    DistanceOptions(const DvhDistanceOptions& options) noexcept : c_(options) {}
+
+    DistanceOptions& max_distance(double value) & noexcept {
+        c_.max_distance = value;
+        return *this;
+    }
+    DistanceOptions max_distance(double value) && noexcept { return max_distance(value); }
+    [[nodiscard]] double max_distance() const noexcept { return c_.max_distance; }
+
+    DistanceOptions& rel_err(double value) & noexcept {
+        c_.rel_err = value;
+        return *this;
+    }
+    DistanceOptions rel_err(double value) && noexcept { return rel_err(value); }
+    [[nodiscard]] double rel_err() const noexcept { return c_.rel_err; }
+
+    DistanceOptions& abs_err(double value) & noexcept {
+        c_.abs_err = value;
+        return *this;
+    }
+    DistanceOptions abs_err(double value) && noexcept { return abs_err(value); }
+    [[nodiscard]] double abs_err() const noexcept { return c_.abs_err; }
+
+    DistanceOptions& threads(std::uint32_t value) & noexcept {
+        c_.threads = value;
+        return *this;
+    }
+    DistanceOptions threads(std::uint32_t value) && noexcept { return threads(value); }
+    [[nodiscard]] std::uint32_t threads() const noexcept { return c_.threads; }
+
+    [[nodiscard]] const DvhDistanceOptions& c() const noexcept { return c_; }
+
+private:
+    DvhDistanceOptions c_;
+};
+
 class QueryOptions {
 public:
     /// dvh_query_options_default().
@@ -562,6 +601,13 @@ public:
     /// Checks every invariant of the hierarchy; slow, for tests and bug reports
     /// (dvh_mesh_validate: DVH_STATUS_INVARIANT_BROKEN would be a bug in dvh).
     void validate() const { check(dvh_mesh_validate(get())); }
+    /// Is the surface closed (every directed edge matched by its reverse)? Winding numbers and
+    /// signed distances need it (dvh_mesh_is_closed).
+    [[nodiscard]] bool is_closed() const {
+        bool closed = false;
+        check(dvh_mesh_is_closed(get(), &closed));
+        return closed;
+    }
 
 private:
     static DvhMesh* create_f32(const float* positions, std::size_t stride_bytes, std::size_t vertex_count,
@@ -965,6 +1011,27 @@ public:
         nearest_features(distance, options, pairs);
         return pairs;
     }
+    /// Two objects and the least distance between them (the first object's mesh first).
+    struct ObjectsDistance {
+        std::uint32_t object_a;
+        std::uint32_t object_b;
+        DvhDistance distance;
+    };
+    /// The closest pair of distinct objects the filters allow, the lower id first; none within
+    /// the options' bound: nullopt (dvh_scene_distance).
+    [[nodiscard]] std::optional<ObjectsDistance> distance(const DistanceOptions& options = {}) {
+        ObjectsDistance d{};
+        check(dvh_scene_distance(get(), &options.c(), &d.object_a, &d.object_b, &d.distance));
+        return d.distance.found ? std::optional<ObjectsDistance>(d) : std::nullopt;
+    }
+    /// The object closest to `object` that the filters allow it to meet, `object` first; none
+    /// within the options' bound: nullopt (dvh_scene_object_distance).
+    [[nodiscard]] std::optional<ObjectsDistance> object_distance(std::uint32_t object, const DistanceOptions& options = {}) {
+        ObjectsDistance d{};
+        d.object_a = object;
+        check(dvh_scene_object_distance(get(), object, &options.c(), &d.object_b, &d.distance));
+        return d.distance.found ? std::optional<ObjectsDistance>(d) : std::nullopt;
+    }
 };
 
 /// What intersects between mesh `a` placed by `pose_a` and mesh `b` placed by `pose_b` (nullptr:
@@ -1195,6 +1262,81 @@ inline DvhCcdStats self_continuous_collide(const Mesh& mesh, const CcdOptions& o
     Impacts impacts;
     self_continuous_collide(mesh, options, impacts);
     return impacts;
+}
+
+/// The least distance between the surfaces of `a` placed by `pose_a` and `b` placed by `pose_b`
+/// (nullptr: the identity), exactly, with the closest points and the pair of primitives that
+/// attains it (dvh_distance). `found` is 0 beyond the options' bound; `intersecting` 1 (distance
+/// 0) for meshes that intersect.
+[[nodiscard]] inline DvhDistance distance(const Mesh& a, const DvhPose* pose_a, const Mesh& b, const DvhPose* pose_b,
+                                          const DistanceOptions& options = {}) {
+    DvhDistance d{};
+    check(dvh_distance(a.get(), pose_a, b.get(), pose_b, &options.c(), &d, nullptr));
+    return d;
+}
+
+namespace detail {
+
+/// The number of points in a vector of x, y, z values.
+inline std::size_t point_count(const std::vector<double>& points) {
+    if (points.size() % 3 != 0)
+        throw Error(DVH_STATUS_INVALID_ARGUMENT,
+                    "points has " + std::to_string(points.size()) + " values, not three per point");
+    return points.size() / 3;
+}
+
+}  // namespace detail
+
+/// The closest point of `mesh` placed by `pose` to each of `count` points at `points` (x, y, z
+/// each), into `results` (`count` entries); returns the counters (dvh_closest_points).
+inline DvhQueryStats closest_points(const Mesh& mesh, const DvhPose* pose, const double* points, std::size_t count,
+                                    DvhClosestPoint* results, const DistanceOptions& options = {}) {
+    DvhQueryStats stats{};
+    check(dvh_closest_points(mesh.get(), pose, points, count, &options.c(), results, &stats));
+    return stats;
+}
+
+/// The closest point of `mesh` to each point (three values each), in a new vector.
+[[nodiscard]] inline std::vector<DvhClosestPoint> closest_points(const Mesh& mesh, const DvhPose* pose,
+                                                                 const std::vector<double>& points,
+                                                                 const DistanceOptions& options = {}) {
+    std::vector<DvhClosestPoint> results(detail::point_count(points));
+    closest_points(mesh, pose, points.data(), results.size(), results.data(), options);
+    return results;
+}
+
+/// The winding number of each of `count` points about the closed surface of `mesh` placed by
+/// `pose`, into `winding` (DVH_WINDING_ON_SURFACE on the surface) (dvh_winding_numbers).
+inline void winding_numbers(const Mesh& mesh, const DvhPose* pose, const double* points, std::size_t count,
+                            std::int32_t* winding, std::uint32_t threads = 0) {
+    check(dvh_winding_numbers(mesh.get(), pose, points, count, threads, winding));
+}
+
+/// The winding number of each point (three values each), in a new vector.
+[[nodiscard]] inline std::vector<std::int32_t> winding_numbers(const Mesh& mesh, const DvhPose* pose,
+                                                               const std::vector<double>& points,
+                                                               std::uint32_t threads = 0) {
+    std::vector<std::int32_t> winding(detail::point_count(points));
+    winding_numbers(mesh, pose, points.data(), winding.size(), winding.data(), threads);
+    return winding;
+}
+
+/// The signed distance of each of `count` points to the closed surface of `mesh` placed by
+/// `pose` (negative inside), into `distances`; returns the counters (dvh_signed_distances).
+inline DvhQueryStats signed_distances(const Mesh& mesh, const DvhPose* pose, const double* points, std::size_t count,
+                                      double* distances, const DistanceOptions& options = {}) {
+    DvhQueryStats stats{};
+    check(dvh_signed_distances(mesh.get(), pose, points, count, &options.c(), distances, &stats));
+    return stats;
+}
+
+/// The signed distance of each point (three values each), in a new vector.
+[[nodiscard]] inline std::vector<double> signed_distances(const Mesh& mesh, const DvhPose* pose,
+                                                          const std::vector<double>& points,
+                                                          const DistanceOptions& options = {}) {
+    std::vector<double> distances(detail::point_count(points));
+    signed_distances(mesh, pose, points.data(), distances.size(), distances.data(), options);
+    return distances;
 }
 
 }  // namespace dvh

@@ -188,6 +188,37 @@ pub enum Error {
         /// The error, as for a refit.
         error: Box<Error>,
     },
+    /// The mesh is not closed, so it bounds no region (winding numbers and signed distances
+    /// need one): the directed edge `(u, v)` of some triangle side is not matched by a side
+    /// `(v, u)`. [`crate::Mesh::open_edge`] names the least such edge.
+    NotClosed {
+        /// The unmatched directed edge `(u, v)`.
+        edge: [u32; 2],
+    },
+    /// A query point has a NaN or infinite coordinate.
+    NonFinitePoint {
+        /// The point's index in the query's array.
+        point: usize,
+        /// Its axis, 0 (x) to 2 (z).
+        axis: usize,
+        /// The value found.
+        value: f64,
+    },
+    /// A distance query's option is out of range: `max_distance` negative or NaN, `rel_err`
+    /// or `abs_err` negative, NaN or infinite.
+    InvalidDistanceOption {
+        /// The option.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// A point query's result array does not have one entry per point.
+    ResultLength {
+        /// The number of points.
+        expected: usize,
+        /// The number of entries.
+        got: usize,
+    },
 }
 
 impl fmt::Display for Error {
@@ -317,6 +348,30 @@ impl fmt::Display for Error {
                 "object {object} was paired with itself: a pair needs two objects"
             ),
             Error::Object { object, ref error } => write!(f, "object {object}: {error}"),
+            Error::NotClosed { edge: [u, v] } => write!(
+                f,
+                "the mesh is not closed: its edge from vertex {u} to vertex {v} is not matched \
+                 by an edge from {v} to {u}, so it bounds no region (winding numbers and signs \
+                 need a closed surface)"
+            ),
+            Error::NonFinitePoint { point, axis, value } => write!(
+                f,
+                "point {point} has a non-finite coordinate {} = {value}",
+                ["x", "y", "z"][axis.min(2)]
+            ),
+            Error::InvalidDistanceOption { name, value } => write!(
+                f,
+                "{name} = {value}: {}",
+                if name == "max_distance" {
+                    "the bound must not be negative or NaN (infinity: no bound)"
+                } else {
+                    "a tolerance must be finite and not negative"
+                }
+            ),
+            Error::ResultLength { expected, got } => write!(
+                f,
+                "the result has room for {got} entries, but there are {expected} points"
+            ),
             Error::Motion { instant, ref error } => write!(
                 f,
                 "{} positions: {error}",

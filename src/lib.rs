@@ -91,14 +91,16 @@ pub use mesh::{
     RefitStats, TreeStats,
 };
 pub use query::{
-    CcdOptions, CcdStats, Curve, CurvePoint, CurveSegment, Curves, DegenerateKind, DegeneratePair,
-    Impact, ImpactKind, Impacts, NearPair, NearPairs, Pair, PairKind, Pairs, QueryMode,
-    QueryOptions, QueryStats, brute_force, collide, continuous_collide, intersection_curves,
-    nearest_features, proximity, self_collide, self_continuous_collide, self_intersection_curves,
-    self_nearest_features, self_proximity,
+    CcdOptions, CcdStats, ClosestPoint, Curve, CurvePoint, CurveSegment, Curves, DegenerateKind,
+    DegeneratePair, Distance, DistanceOptions, Impact, ImpactKind, Impacts, NearPair, NearPairs,
+    Pair, PairKind, Pairs, QueryMode, QueryOptions, QueryStats, WINDING_ON_SURFACE, brute_force,
+    closest_points, collide, continuous_collide, distance, intersection_curves, nearest_features,
+    proximity, self_collide, self_continuous_collide, self_intersection_curves,
+    self_nearest_features, self_proximity, signed_distances, winding_numbers,
 };
 pub use scene::{
-    Contact, Contacts, Scene, SceneImpact, SceneImpacts, SceneNearPair, SceneNearPairs, SceneStats,
+    Contact, Contacts, Scene, SceneDistance, SceneImpact, SceneImpacts, SceneNearPair,
+    SceneNearPairs, SceneStats,
 };
 pub use tree::TreeKind;
 pub use volume::VolumeKind;

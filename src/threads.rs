@@ -30,9 +30,11 @@ pub enum Step {
     SceneRefit,
     /// A scene's candidate pairs queried, taken in turn by the threads.
     ScenePairs,
+    /// The point queries' blocks of points, taken in turn by the threads.
+    Points,
 }
 
-const STEPS: usize = 10;
+const STEPS: usize = 11;
 
 thread_local! {
     // Plain cells with a constant start: reading and adding allocate nothing and register no

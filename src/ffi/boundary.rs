@@ -65,11 +65,14 @@ fn status_of(e: &Error) -> DvhStatus {
         | Error::UnsupportedMode { .. }
         | Error::ForeignCurves { .. }
         | Error::CurvesKind { .. }
-        | Error::GradientLength { .. } => DVH_STATUS_INVALID_ARGUMENT,
+        | Error::GradientLength { .. }
+        | Error::InvalidDistanceOption { .. }
+        | Error::ResultLength { .. } => DVH_STATUS_INVALID_ARGUMENT,
+        Error::NotClosed { .. } => DVH_STATUS_NOT_CLOSED,
         Error::IndexOutOfRange { .. } => DVH_STATUS_INDEX_OUT_OF_RANGE,
-        Error::NonFiniteCoordinate { .. } | Error::NonFinitePose { .. } => {
-            DVH_STATUS_NON_FINITE_COORDINATE
-        }
+        Error::NonFiniteCoordinate { .. }
+        | Error::NonFinitePose { .. }
+        | Error::NonFinitePoint { .. } => DVH_STATUS_NON_FINITE_COORDINATE,
         Error::NonRigidPose { .. } => DVH_STATUS_NON_RIGID_POSE,
         Error::OutOfMemory { .. } => DVH_STATUS_OUT_OF_MEMORY,
         Error::PoseOutOfRange { .. } | Error::ObjectPoseOutOfRange { .. } => {
@@ -179,6 +182,22 @@ pub(crate) unsafe fn slice_from<'a, T>(
     // SAFETY: non-NULL and aligned (checked), size within isize::MAX (checked); the caller
     // guarantees `len` readable, initialised elements for 'a.
     Ok(unsafe { std::slice::from_raw_parts(ptr, len) })
+}
+
+/// A writable slice of `len` elements at `ptr`, checked as [`slice_from`] checks.
+///
+/// # Safety
+/// If `ptr` is non-NULL it must point to `len` initialised elements, writable and used by no
+/// one else for `'a`.
+pub(crate) unsafe fn slice_from_mut<'a, T>(
+    ptr: *mut T,
+    len: usize,
+    name: &str,
+) -> Result<&'a mut [T], Failure> {
+    // SAFETY: the checks are `slice_from`'s; the caller's contract gives write access.
+    let checked = unsafe { slice_from(ptr.cast_const(), len, name) }?;
+    // SAFETY: as above: `checked` covers exactly the caller's `len` writable elements.
+    Ok(unsafe { std::slice::from_raw_parts_mut(checked.as_ptr().cast_mut(), len) })
 }
 
 /// The Rust value paired with `value` of the C enumeration field `options->{field}` (whose

@@ -13,6 +13,7 @@ mod boundary;
 mod calls;
 mod ccd;
 mod curves;
+mod distance;
 mod handles;
 mod mesh;
 mod nearest;
@@ -23,6 +24,7 @@ mod types;
 
 pub use ccd::*;
 pub use curves::*;
+pub use distance::*;
 pub use handles::*;
 pub use mesh::*;
 pub use nearest::*;
@@ -57,6 +59,7 @@ fn status_name(status: DvhStatus) -> &'static CStr {
         DVH_STATUS_POSE_OUT_OF_RANGE => c"DVH_STATUS_POSE_OUT_OF_RANGE",
         DVH_STATUS_INVARIANT_BROKEN => c"DVH_STATUS_INVARIANT_BROKEN",
         DVH_STATUS_BUSY => c"DVH_STATUS_BUSY",
+        DVH_STATUS_NOT_CLOSED => c"DVH_STATUS_NOT_CLOSED",
         _ => c"DVH_STATUS_UNKNOWN",
     }
 }

@@ -36,6 +36,9 @@ pub const DVH_STATUS_INVARIANT_BROKEN: DvhStatus = 9;
 /// another thread, two calls changing one scene at once, one result buffer used by two threads.
 /// The object was not touched; the call may be retried once the other has returned.
 pub const DVH_STATUS_BUSY: DvhStatus = 10;
+/// The mesh is not closed (a directed edge of a triangle side has no reverse), so winding
+/// numbers and signed distances are not defined for it; the message names the edge.
+pub const DVH_STATUS_NOT_CLOSED: DvhStatus = 11;
 
 /// How the hierarchy above the 1-rings is split: a `DVH_TREE_KIND_*` value.
 pub type DvhTreeKind = u32;
@@ -649,8 +652,111 @@ mod tests {
             closest_a 40, closest_b 64, weights_a 88, weights_b 112);
         assert_layout!(DvhSceneImpact, size 40, align 8, object_a 0, object_b 4, impact 8);
         assert_layout!(DvhSceneNearPair, size 144, align 8, object_a 0, object_b 4, pair 8);
+        assert_layout!(DvhDistanceOptions, size 32, align 8,
+            max_distance 0, rel_err 8, abs_err 16, threads 24, reserved 28);
+        assert_layout!(DvhDistance, size 208, align 8,
+            found 0, intersecting 4, triangle_a 8, triangle_b 12, distance 16, closest_a 24,
+            closest_b 48, stencil 72);
+        assert_layout!(DvhClosestPoint, size 72, align 8,
+            found 0, triangle 4, feature 8, reserved 12, distance 16, point 24, weights 48);
     }
 }
+
+/// The winding number `dvh_winding_numbers` reports for a point on the surface (on a triangle,
+/// its edges and corners included), where none is defined: `INT32_MIN`, which no closed
+/// surface's winding number reaches.
+pub const DVH_WINDING_ON_SURFACE: i32 = -2147483648;
+
+/// Options of the distance queries (`dvh_distance`, `dvh_closest_points`,
+/// `dvh_signed_distances`, `dvh_scene_distance`, `dvh_scene_object_distance`); start from
+/// `dvh_distance_options_default()`. Grows like `DvhBuildOptions`: appended fields.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DvhDistanceOptions {
+    /// Farther than this is "not found" (a signed distance: an infinity of its sign); the
+    /// search looks no farther, so a small bound is the cheapest query. INFINITY by default: no
+    /// bound. Negative or NaN is INVALID_ARGUMENT.
+    pub max_distance: f64,
+    /// Relative tolerance: a result at distance `d <= (1 + rel_err) m + abs_err` of the least
+    /// `m` is accepted, so that branches that cannot beat it by more are not searched. 0 by
+    /// default: exact. Negative, NaN or infinite is INVALID_ARGUMENT.
+    pub rel_err: f64,
+    /// Absolute tolerance, as `rel_err` says. 0 by default.
+    pub abs_err: f64,
+    /// Threads, as `DvhQueryOptions.threads`: 0 every core, 1 the calling thread, n at most n.
+    /// The answer is the same for every count.
+    pub threads: u32,
+    /// Always 0.
+    pub reserved: u32,
+}
+
+/// The least distance between two meshes' surfaces (`dvh_distance`, the scene's).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DvhDistance {
+    /// 0: farther apart than the options' `max_distance` (every other field 0).
+    pub found: u32,
+    /// 1: the meshes intersect (touching counts); the distance is 0.
+    pub intersecting: u32,
+    /// The first mesh's triangle the closest point lies on (the least of several); for
+    /// intersecting meshes, of the least intersecting pair.
+    pub triangle_a: u32,
+    /// The second mesh's triangle.
+    pub triangle_b: u32,
+    /// The distance, within one unit in the last place of the exact one correctly rounded.
+    pub distance: f64,
+    /// The first mesh's closest point, in world coordinates.
+    pub closest_a: [f64; 3],
+    /// The second mesh's closest point (intersecting: `closest_a` again, a point of both
+    /// triangles within rounding).
+    pub closest_b: [f64; 3],
+    /// The vertex-face or edge-edge pair attaining the distance, as `dvh_nearest_features`
+    /// reports it; zero when intersecting.
+    pub stencil: DvhNearPair,
+}
+
+/// The closest point of a mesh to a query point (`dvh_closest_points`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DvhClosestPoint {
+    /// 0: no triangle within the options' `max_distance` (every other field 0).
+    pub found: u32,
+    /// The triangle the closest point lies on (of several at the same distance, the least).
+    pub triangle: u32,
+    /// A `DVH_FEATURE_*` value: where on the triangle (its corners as the mesh orders them).
+    pub feature: DvhFeature,
+    /// Always 0.
+    pub reserved: u32,
+    /// The distance, within one unit in the last place of the exact one correctly rounded.
+    pub distance: f64,
+    /// The closest point, in world coordinates (within two units in the last place).
+    pub point: [f64; 3],
+    /// Its barycentric weights on the triangle's corners.
+    pub weights: [f64; 3],
+}
+
+// `dvh_distance` and `dvh_closest_points` write the library's own `Distance` and
+// `ClosestPoint`: same fields, same order, all `repr(C)`.
+const _: () = {
+    use crate::{ClosestPoint, Distance};
+    use std::mem::{align_of, offset_of, size_of};
+    assert!(size_of::<DvhDistance>() == size_of::<Distance>());
+    assert!(align_of::<DvhDistance>() == align_of::<Distance>());
+    assert!(offset_of!(DvhDistance, triangle_a) == offset_of!(Distance, triangle_a));
+    assert!(offset_of!(DvhDistance, triangle_b) == offset_of!(Distance, triangle_b));
+    assert!(offset_of!(DvhDistance, distance) == offset_of!(Distance, distance));
+    assert!(offset_of!(DvhDistance, closest_a) == offset_of!(Distance, closest_a));
+    assert!(offset_of!(DvhDistance, closest_b) == offset_of!(Distance, closest_b));
+    assert!(offset_of!(DvhDistance, stencil) == offset_of!(Distance, stencil));
+    assert!(size_of::<DvhClosestPoint>() == size_of::<ClosestPoint>());
+    assert!(align_of::<DvhClosestPoint>() == align_of::<ClosestPoint>());
+    assert!(offset_of!(DvhClosestPoint, triangle) == offset_of!(ClosestPoint, triangle));
+    assert!(offset_of!(DvhClosestPoint, feature) == offset_of!(ClosestPoint, feature));
+    assert!(offset_of!(DvhClosestPoint, distance) == offset_of!(ClosestPoint, distance));
+    assert!(offset_of!(DvhClosestPoint, point) == offset_of!(ClosestPoint, point));
+    assert!(offset_of!(DvhClosestPoint, weights) == offset_of!(ClosestPoint, weights));
+    assert!(crate::WINDING_ON_SURFACE == DVH_WINDING_ON_SURFACE);
+};
 
 /// One segment of an intersection curve: where triangle `triangle_a` of the first mesh crosses
 /// triangle `triangle_b` of the second. The points are world coordinates, each coordinate the

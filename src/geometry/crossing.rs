@@ -502,7 +502,6 @@ impl Pair<'_> {
 /// The point where the segment `pq`, which crosses the plane of the proper triangle `t` at one
 /// point (`p` and `q` on different sides, at most one in the plane), meets it, each coordinate
 /// rounded to the nearest double.
-#[cfg(test)]
 pub(crate) fn edge_meets_plane(p: &Point, q: &Point, t: &Triangle) -> Point {
     PlaneOf::new(t).meet(p, q)
 }

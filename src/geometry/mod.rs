@@ -18,6 +18,7 @@ pub mod pose;
 pub mod predicates;
 pub mod sphere;
 pub mod tri_tri;
+pub(crate) mod winding;
 
 /// The six orders of a triangle's three corners, for the tests that check an answer under each.
 #[cfg(test)]

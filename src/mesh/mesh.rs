@@ -61,6 +61,9 @@ pub(super) struct Topology {
     pub patches: std::sync::OnceLock<Patches>,
     /// Who owns each vertex, edge and triangle in continuous collision; found on first use.
     pub features: std::sync::OnceLock<super::features::Features>,
+    /// Whether the surface is closed, and the triangles of each vertex and edge, for the
+    /// distance and inside-outside queries; found on first use.
+    pub surface: std::sync::OnceLock<super::surface::Surface>,
 }
 
 impl Topology {
@@ -224,7 +227,12 @@ impl Mesh {
                 .topology
                 .features
                 .get()
-                .map_or(0, super::features::Features::heap_bytes);
+                .map_or(0, super::features::Features::heap_bytes)
+            + self
+                .topology
+                .surface
+                .get()
+                .map_or(0, super::surface::Surface::heap_bytes);
         self.state_bytes()
             + heap_bytes(&self.topology.triangles)
             + self.topology.rings.heap_bytes()
@@ -344,6 +352,38 @@ impl Mesh {
                 self.positions.len(),
             )
         })
+    }
+
+    /// The surface's closedness and the triangles of each vertex and edge, found on first use.
+    pub(crate) fn surface(&self) -> &super::surface::Surface {
+        self.topology.surface.get_or_init(|| {
+            super::surface::Surface::new(&self.topology.triangles, self.positions.len())
+        })
+    }
+
+    /// Is the surface closed: is every directed edge `(u, v)` of a triangle side matched by as
+    /// many sides `(v, u)` (a side of a degenerate triangle from a vertex to itself matching
+    /// itself)? A closed surface bounds a region: winding numbers about points off it are
+    /// integers, and [`crate::winding_numbers`] and [`crate::signed_distances`] answer for it.
+    /// Self-intersection, non-manifold edges and degenerate triangles are allowed. Found once
+    /// for the mesh's triangles (which never change) and kept.
+    pub fn is_closed(&self) -> bool {
+        self.surface().open_edge.is_none()
+    }
+
+    /// The least directed edge `(u, v)` (by its lower vertex, then its higher) whose sides
+    /// `(u, v)` outnumber its sides `(v, u)`: what keeps the surface from being closed; `None`
+    /// when it is closed.
+    pub fn open_edge(&self) -> Option<[u32; 2]> {
+        self.surface().open_edge
+    }
+
+    /// Fails with [`Error::NotClosed`](crate::Error::NotClosed) unless the surface is closed.
+    pub(crate) fn check_closed(&self) -> crate::Result<()> {
+        match self.open_edge() {
+            Some(edge) => Err(crate::Error::NotClosed { edge }),
+            None => Ok(()),
+        }
     }
 
     /// Do the two meshes share one copy of their triangles, rings and tree?

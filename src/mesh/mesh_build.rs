@@ -89,6 +89,7 @@ impl Mesh {
                 tree,
                 blocks: Default::default(),
                 patches: Default::default(),
+                surface: Default::default(),
                 features: Default::default(),
             }),
             options: *options,

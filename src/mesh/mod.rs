@@ -12,6 +12,7 @@ mod motion;
 mod options;
 mod patches;
 pub(crate) mod rings;
+mod surface;
 
 pub use crate::volume::{RadiusKind, RefitStats};
 pub use mesh::{BoundingVolume, Mesh, NodeView, TreeStats};

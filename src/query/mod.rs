@@ -6,10 +6,12 @@ mod brute_force;
 mod collide;
 mod continuous;
 mod curves;
+mod distance;
 mod engine;
 mod nearest;
 mod options;
 mod pairs;
+mod points;
 mod primitives;
 mod proximity;
 mod self_collide;
@@ -27,10 +29,15 @@ pub use curves::{
     Curve, CurvePoint, CurveSegment, Curves, DegenerateKind, DegeneratePair, intersection_curves,
     self_intersection_curves,
 };
+pub use distance::{Distance, distance};
 pub use nearest::{NearPair, NearPairs, nearest_features, self_nearest_features};
 pub use options::{QueryMode, QueryOptions};
 pub(crate) use pairs::result_buffer;
 pub use pairs::{Pair, PairKind, Pairs, QueryStats};
+pub use points::{
+    ClosestPoint, DistanceOptions, WINDING_ON_SURFACE, closest_points, signed_distances,
+    winding_numbers,
+};
 pub(crate) use proximity::check_distance;
 pub use proximity::{proximity, self_proximity};
 pub use self_collide::self_collide;

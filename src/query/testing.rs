@@ -40,6 +40,9 @@ pub(crate) fn folded(positions: &[f64], far: impl Fn(f64, f64) -> [f64; 3]) -> V
     })
 }
 
+/// Every volume kind, as the tests run each query with each.
+pub(crate) const VOLUMES: [VolumeKind; 3] = [VolumeKind::Aabb, VolumeKind::Dvh, VolumeKind::Sbv];
+
 /// Mesh `m` built with volume kind `volume`.
 pub(crate) fn build(m: &MeshData, volume: VolumeKind) -> Mesh {
     Mesh::new(

@@ -14,6 +14,7 @@
 mod broad;
 mod collide;
 mod continuous;
+mod distance;
 mod nearest;
 mod refit;
 mod select;
@@ -21,6 +22,7 @@ mod share;
 
 pub use collide::{Contact, Contacts, SceneStats};
 pub use continuous::{SceneImpact, SceneImpacts};
+pub use distance::SceneDistance;
 pub use nearest::{SceneNearPair, SceneNearPairs};
 
 use crate::error::{Error, Result};

@@ -58,7 +58,7 @@ impl Scene {
     }
 
     /// Do the filters let objects `i` and `j` be tested?
-    fn allowed(&self, i: u32, j: u32) -> bool {
+    pub(super) fn allowed(&self, i: u32, j: u32) -> bool {
         let (Some(Some(a)), Some(Some(b))) =
             (self.objects.get(i as usize), self.objects.get(j as usize))
         else {

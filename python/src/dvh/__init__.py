@@ -22,6 +22,13 @@ where the surfaces cross as :class:`Curves`: exact segments (one per intersectin
 structured array of :data:`SEGMENT_DTYPE`) chained into curves, and the pairs that meet without
 a segment (:data:`DEGENERATE_DTYPE`).
 
+Distances: :func:`distance` gives the least distance between two meshes, exactly, with the
+closest points and the pair of primitives that attains it (0 and the least intersecting pair
+for meshes that intersect); :func:`closest_points`, :func:`winding_numbers` and
+:func:`signed_distances` answer for many points at once against one mesh (exact integer winding
+numbers and signs for closed meshes: :attr:`Mesh.is_closed`); :meth:`Scene.distance` and
+:meth:`Scene.object_distance` find a scene's closest objects.
+
 Files: :func:`read_mesh` reads OFF and OBJ (and, with meshio or trimesh installed, PLY, STL and
 more); ``python -m dvh check`` checks one or two mesh files, or with ``--batch`` a whole data
 set or an animation's frames on several processes or a Dask cluster.
@@ -65,6 +72,15 @@ from ._api import (
     version,
 )
 from ._meshfile import MeshFileError, read_mesh
+from ._distance import (
+    CLOSEST_POINT_DTYPE,
+    WINDING_ON_SURFACE,
+    Distance,
+    closest_points,
+    distance,
+    signed_distances,
+    winding_numbers,
+)
 from ._curves import (
     DEGENERATE_COPLANAR,
     DEGENERATE_DTYPE,
@@ -76,6 +92,7 @@ from ._curves import (
 )
 
 __all__ = [
+    "CLOSEST_POINT_DTYPE",
     "CONTACT_DTYPE",
     "DEGENERATE_COPLANAR",
     "DEGENERATE_DTYPE",
@@ -95,8 +112,10 @@ __all__ = [
     "SCENE_IMPACT_DTYPE",
     "SCENE_NEAR_PAIR_DTYPE",
     "SEGMENT_DTYPE",
+    "WINDING_ON_SURFACE",
     "CcdStats",
     "Curves",
+    "Distance",
     "DvhError",
     "Mesh",
     "MeshFileError",
@@ -107,8 +126,10 @@ __all__ = [
     "TreeStats",
     "ccd_edge_edge",
     "ccd_vertex_face",
+    "closest_points",
     "collide",
     "continuous_collide",
+    "distance",
     "intersection_curves",
     "nearest_features",
     "proximity",
@@ -118,8 +139,10 @@ __all__ = [
     "self_intersection_curves",
     "self_nearest_features",
     "self_proximity",
+    "signed_distances",
     "triangles_intersect",
     "version",
+    "winding_numbers",
 ]
 
 __version__ = version()

@@ -445,6 +445,14 @@ class Mesh:
         _raise_for(lib.dvh_mesh_node_triangles(self._ptr, node, tris, count))
         return np.frombuffer(ffi.buffer(tris[0], 4 * count[0]), dtype=np.uint32).copy()
 
+    @property
+    def is_closed(self) -> bool:
+        """Is the surface closed (every directed edge matched by its reverse)? Winding numbers
+        and signed distances need it."""
+        out = ffi.new("bool *")
+        _raise_for(lib.dvh_mesh_is_closed(self._ptr, out))
+        return bool(out[0])
+
     def validate(self) -> None:
         """Checks every invariant of the hierarchy; :class:`DvhError` (``INVARIANT_BROKEN``) if
         one is broken, which would be a bug in dvh."""
@@ -1115,6 +1123,25 @@ class Scene:
         s = _stats_out(stats)
         near = self._near.run(lib.dvh_scene_nearest_features, (self._ptr, d, o), s)
         return _finish(near, s, QueryStats)
+
+    def distance(self, max_distance: float = float("inf"), rel_err: float = 0.0,
+                 abs_err: float = 0.0, threads: int = 0):
+        """The closest pair of distinct objects the filters allow, as ``(object_a, object_b,
+        Distance)`` with ``object_a < object_b`` (the lower id's mesh first), exactly (ties to
+        the least pair); ``None`` when none lies within ``max_distance``. See
+        :func:`distance`."""
+        from ._distance import scene_distance
+
+        return scene_distance(self._ptr, max_distance, rel_err, abs_err, threads)
+
+    def object_distance(self, obj: int, max_distance: float = float("inf"), rel_err: float = 0.0,
+                        abs_err: float = 0.0, threads: int = 0):
+        """The object closest to ``obj`` among those the filters allow it to meet, as ``(other,
+        Distance)`` with ``obj``'s mesh first; ``None`` when none lies within
+        ``max_distance``."""
+        from ._distance import scene_object_distance
+
+        return scene_object_distance(self._ptr, obj, max_distance, rel_err, abs_err, threads)
 
     def remove(self, obj: int) -> None:
         """Removes object ``obj``; its id may be given to a later object."""

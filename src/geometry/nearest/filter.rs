@@ -91,7 +91,7 @@ fn along(a: &Point, u: &Point, s: f64) -> Point {
 /// An approximate closest point of triangle `abc` to `p` (by the Voronoi regions of its
 /// corners and edges; a direction is all the filter needs, so degenerate triangles may give
 /// any point, or a non-finite one that the filter refuses).
-fn point_triangle(p: &Point, a: &Point, b: &Point, c: &Point) -> Point {
+pub(crate) fn point_triangle(p: &Point, a: &Point, b: &Point, c: &Point) -> Point {
     let (ab, ac, ap) = (sub(b, a), sub(c, a), sub(p, a));
     let (d1, d2) = (dot(&ab, &ap), dot(&ac, &ap));
     if d1 <= 0.0 && d2 <= 0.0 {
@@ -130,7 +130,7 @@ fn point_triangle(p: &Point, a: &Point, b: &Point, c: &Point) -> Point {
 
 /// Approximate closest points of segments `[p1, q1]` and `[p2, q2]` (parameters clamped to
 /// the segments, zero-length and parallel segments handled as points and by an end).
-fn segment_segment(p1: &Point, q1: &Point, p2: &Point, q2: &Point) -> (Point, Point) {
+pub(crate) fn segment_segment(p1: &Point, q1: &Point, p2: &Point, q2: &Point) -> (Point, Point) {
     let (d1, d2, r) = (sub(q1, p1), sub(q2, p2), sub(p1, p2));
     let (a, e, f) = (dot(&d1, &d1), dot(&d2, &d2), dot(&d2, &r));
     let (s, t) = if a == 0.0 && e == 0.0 {

@@ -26,7 +26,7 @@ pub(crate) use super::Primitive;
 use super::aabb::Aabb;
 use super::ball::Ball;
 use super::distance::Big;
-use super::double_double::Plain;
+use super::double_double::{self, Plain};
 use super::permanent::Permanent;
 use super::predicates::{Point, to_integers};
 use decide::decide;
@@ -36,6 +36,9 @@ use values::values_of;
 
 mod decide;
 mod filter;
+pub(crate) use filter::{
+    point_triangle as point_triangle_estimate, segment_segment as segments_estimate,
+};
 #[cfg(test)]
 mod tests;
 mod values;
@@ -44,9 +47,10 @@ mod values;
 /// vertex is its corner 0; an edge has corners 0 and 1 and its open segment
 /// [`Feature::Edge01`]; a triangle has three corners, three open edges and its interior.
 #[repr(u32)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Feature {
     /// Corner 0 (a vertex primitive is always here).
+    #[default]
     Vertex0 = 0,
     /// Corner 1.
     Vertex1 = 1,
@@ -144,6 +148,15 @@ impl Decided {
         })
     }
 
+    /// Where on the triangle the closest point of a vertex-face pair lies.
+    pub(crate) fn face_feature(self) -> Feature {
+        match self.choice() {
+            Choice::FaceCorner(k) => Feature::corner(k),
+            Choice::FaceEdge(k) => Feature::edge(k),
+            _ => Feature::Interior,
+        }
+    }
+
     fn choice(self) -> Choice {
         match self.0 {
             0 => Choice::FaceInterior,
@@ -196,6 +209,33 @@ pub(crate) fn decide_within(pair: Primitive, p: &[Point; 4], d: f64) -> Option<D
         });
     let (choice, within) = decided.expect("exact arithmetic decides every sign");
     within.then(|| Decided::of(choice))
+}
+
+/// One candidate of a distance query: a pair of primitives (as [`decide_within`] takes them)
+/// and where their closest points lie.
+pub(crate) type Candidate<'p> = (Primitive, &'p [Point; 4], Decided);
+
+/// How the exact distances of two candidates compare: in intervals where they are apart, in
+/// exact rationals where the intervals meet.
+pub(crate) fn cmp_distance(x: Candidate, y: Candidate) -> std::cmp::Ordering {
+    use std::cmp::Ordering;
+    let (cx, cy) = (x.2.choice(), y.2.choice());
+    if let (Some(a), Some(b)) = (
+        values::squared_enclosure(x.0, x.1, cx),
+        values::squared_enclosure(y.0, y.1, cy),
+    ) {
+        // Bounds of the intervals `[hi + lo - rad, hi + lo + rad]`, rounded outwards.
+        let spread = |v: &double_double::DdInterval| (v.lo.abs() + v.rad) * (1.0 + f64::EPSILON);
+        let upper = |v: &double_double::DdInterval| (v.hi + spread(v)).next_up();
+        let lower = |v: &double_double::DdInterval| (v.hi - spread(v)).next_down();
+        if upper(&a) < lower(&b) {
+            return Ordering::Less;
+        }
+        if upper(&b) < lower(&a) {
+            return Ordering::Greater;
+        }
+    }
+    values::squared_exact(x.0, x.1, cx).cmp(&values::squared_exact(y.0, y.1, cy))
 }
 
 /// The distance, closest points and weights of the primitives `p`, whose closest points lie

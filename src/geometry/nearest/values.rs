@@ -465,9 +465,39 @@ fn general_values(pair: Primitive, p: &[Point; 4], choice: Choice) -> Nearest {
     {
         return done(rounded);
     }
-    // In integers: every coordinate an integer times one power of two, 2^e. Weights are ratios
-    // of terms of one degree, free of the scale; points are of degree one (times 2^e), squared
-    // distances of degree two (times 2^2e).
+    // Weights are ratios of terms of one degree, free of the scale; points are of degree one
+    // (times 2^e), squared distances of degree two (times 2^2e).
+    let (v, e) = integer_values(pair, p, choice);
+    let f = |x: &Frac, power: i32| x.scaled(power).to_f64().expect("a finite value");
+    Nearest {
+        features,
+        distance: sqrt_rational(&v.squared.scaled(2 * e)),
+        points: v.points.map(|x| [f(&x[0], e), f(&x[1], e), f(&x[2], e)]),
+        weights: v.weights.map(|w| [f(&w[0], 0), f(&w[1], 0), f(&w[2], 0)]),
+    }
+}
+
+/// An enclosure of the squared distance of `choice`'s closest points for `p`, in intervals
+/// about double-double centres; `None` where the intervals cannot divide.
+pub(super) fn squared_enclosure(
+    pair: Primitive,
+    p: &[Point; 4],
+    choice: Choice,
+) -> Option<DdInterval> {
+    values_in(pair, p.map(|x| x.map(DdInterval::point)), choice)
+        .map(|v| v.squared)
+        .filter(DdInterval::is_finite)
+}
+
+/// The squared distance of `choice`'s closest points for `p`, exactly.
+pub(super) fn squared_exact(pair: Primitive, p: &[Point; 4], choice: Choice) -> BigRational {
+    let (v, e) = integer_values(pair, p, choice);
+    v.squared.scaled(2 * e)
+}
+
+/// `choice`'s values for `p` exactly, with every coordinate an integer times one power of two
+/// `2^e`: the values of the integers, and `e`.
+fn integer_values(pair: Primitive, p: &[Point; 4], choice: Choice) -> (Values<Frac>, i32) {
     let mut flat = [0.0; 12];
     for (k, x) in p.iter().flatten().enumerate() {
         flat[k] = *x;
@@ -476,13 +506,7 @@ fn general_values(pair: Primitive, p: &[Point; 4], choice: Choice) -> Nearest {
     let mut ints = ints.into_iter().map(Frac::integer);
     let q: [V<Frac>; 4] = std::array::from_fn(|_| std::array::from_fn(|_| ints.next().unwrap()));
     let v = values_in(pair, q, choice).expect("exact division by a positive value");
-    let f = |x: &Frac, power: i32| x.scaled(power).to_f64().expect("a finite value");
-    Nearest {
-        features,
-        distance: sqrt_rational(&v.squared.scaled(2 * e)),
-        points: v.points.map(|x| [f(&x[0], e), f(&x[1], e), f(&x[2], e)]),
-        weights: v.weights.map(|w| [f(&w[0], 0), f(&w[1], 0), f(&w[2], 0)]),
-    }
+    (v, e)
 }
 
 /// The distance of point `x` from segment `[a, b]`, its closest point on the segment and the

@@ -1,7 +1,7 @@
 use super::*;
 use crate::fixtures::oracle::continuous_brute_force;
 use crate::fixtures::{Rng, grid, icosphere, torus};
-use crate::query::testing::{build, folded, moved};
+use crate::query::testing::{VOLUMES, build, folded, moved};
 use crate::threads::{Step, sharing};
 use crate::{CcdMode, Error, Instant, Mesh, VolumeKind};
 
@@ -68,8 +68,6 @@ fn check(a: &Mesh, b: Option<&Mesh>, expected: &mut Option<Expected>, what: &str
     }
     exact.len()
 }
-
-const VOLUMES: [VolumeKind; 3] = [VolumeKind::Aabb, VolumeKind::Dvh, VolumeKind::Sbv];
 
 #[test]
 fn two_meshes_equal_brute_force() {

@@ -16,7 +16,7 @@ use crate::query::primitives::{ImpactKind, Key, Workspace};
 ///
 /// Features and weights are numbered on the primitive's own corners: a vertex is corner 0; an
 /// edge `(a0, a1)` has corners `a0`, `a1`; a triangle has its corners in the mesh's order.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
 pub struct NearPair {
     /// Which primitives.
@@ -78,7 +78,6 @@ impl NearPair {
     }
 
     /// The order of a result: `(kind, a0, a1, b0, b1)`.
-    #[cfg(test)]
     pub(crate) fn key(&self) -> Key {
         (self.kind, self.a0, self.a1, self.b0, self.b1)
     }

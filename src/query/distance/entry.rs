@@ -1,0 +1,321 @@
+//! The least distance between two meshes, exactly: the pair of primitives that attains it, the
+//! closest points, and for intersecting meshes the least intersecting triangle pair.
+//!
+//! Meshes that intersect are told by the exact intersection query (its first hit, then its
+//! least pair). Otherwise a walk of both hierarchies in floating point finds a primitive pair
+//! near the least; its distance, rounded from its exact value, bounds the least, and the exact
+//! stencil query ([`crate::nearest_features`]) finds every vertex-face and edge-edge pair within
+//! that bound, among which exact comparisons choose the least. Between two closed triangles
+//! that do not intersect, the least distance is attained by one of those pairs, so nothing else
+//! needs looking at.
+
+use crate::collide;
+use crate::error::Result;
+use crate::geometry::crossing::{PairIntersection, edge_meets_plane, triangle_pair_intersection};
+use crate::geometry::nearest::{Primitive, cmp_distance, decide_within, values};
+use crate::geometry::pose::Pose;
+use crate::geometry::predicates::{Point, orient3d};
+use crate::mesh::Mesh;
+use crate::query::nearest::{NearPair, NearPairs, nearest_features};
+use crate::query::options::{QueryMode, QueryOptions};
+use crate::query::pairs::{Pairs, QueryStats};
+use crate::query::points::DistanceOptions;
+use crate::query::points::walk::Frame;
+use crate::query::primitives::{ImpactKind, Key};
+use std::cell::RefCell;
+use std::cmp::Ordering;
+
+/// The least distance between two meshes' surfaces, as [`distance`] reports it. The layout is
+/// the C ABI's `DvhDistance`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
+pub struct Distance {
+    found: u32,
+    intersecting: u32,
+    /// The triangle of the first mesh the closest point lies on (of several, the least).
+    pub triangle_a: u32,
+    /// The triangle of the second mesh the closest point lies on (of several, the least).
+    pub triangle_b: u32,
+    /// The distance, within one unit in the last place of the exact one correctly rounded; 0
+    /// for intersecting meshes.
+    pub distance: f64,
+    /// The closest point of the first mesh, in world coordinates.
+    pub closest_a: Point,
+    /// The closest point of the second mesh, in world coordinates (for intersecting meshes,
+    /// `closest_a` again: a point of both triangles, within rounding).
+    pub closest_b: Point,
+    /// The vertex-face or edge-edge pair that attains the distance, as
+    /// [`crate::nearest_features`] reports it; zero for intersecting meshes.
+    pub stencil: NearPair,
+}
+
+impl Distance {
+    /// Are the meshes within the query's `max_distance`? When not, every field is zero.
+    pub fn found(&self) -> bool {
+        self.found != 0
+    }
+
+    /// Do the meshes intersect (touching counts)? Then the distance is 0.
+    pub fn intersecting(&self) -> bool {
+        self.intersecting != 0
+    }
+}
+
+/// The scratch of [`distance`], kept by each thread between calls.
+#[derive(Default)]
+struct Scratch {
+    pairs: Pairs,
+    near: NearPairs,
+    stack: Vec<(u32, u32, f64)>,
+    placed: [(Vec<Point>, Vec<crate::geometry::aabb::Aabb>); 2],
+}
+
+thread_local! {
+    static SCRATCH: RefCell<Scratch> = RefCell::default();
+}
+
+/// The primitives of stencil `key` of meshes placed as `a` and `b` see them, as the exact tests
+/// take them, and their kind of pair.
+fn stencil_points(a: &Frame, b: &Frame, (kind, a0, a1, b0, b1): Key) -> (Primitive, [Point; 4]) {
+    match kind {
+        ImpactKind::VertexFace => {
+            let [x, y, z] = b.corners(b0);
+            (Primitive::VertexFace, [a.vertex(a0), x, y, z])
+        }
+        ImpactKind::FaceVertex => {
+            let [x, y, z] = a.corners(a0);
+            (Primitive::VertexFace, [b.vertex(b0), x, y, z])
+        }
+        ImpactKind::EdgeEdge => (
+            Primitive::EdgeEdge,
+            [a.vertex(a0), a.vertex(a1), b.vertex(b0), b.vertex(b1)],
+        ),
+    }
+}
+
+/// The stencil `key` with its values, exactly; `None` beyond the largest double.
+fn exact_stencil(a: &Frame, b: &Frame, key: Key) -> Option<NearPair> {
+    let (pair, p) = stencil_points(a, b, key);
+    let decided = decide_within(pair, &p, f64::MAX)?;
+    Some(NearPair::new(key, &values(pair, &p, decided)))
+}
+
+/// The least of `found` (sorted by key) by exact distance, the first in key order among equals.
+fn least(a: &Frame, b: &Frame, found: &[NearPair], reach: f64) -> Option<NearPair> {
+    let mut best: Option<(NearPair, Primitive, [Point; 4])> = None;
+    for s in found {
+        let (pair, p) = stencil_points(a, b, s.key());
+        let closer = match &best {
+            None => true,
+            Some((t, tpair, tp)) => {
+                // Rounded distances within a unit of the correctly rounded: apart by more than
+                // four units, their order is the exact one.
+                let certain = s.distance.next_up().next_up() < t.distance.next_down().next_down();
+                let apart = t.distance.next_up().next_up() < s.distance.next_down().next_down();
+                if certain || apart {
+                    certain
+                } else {
+                    let x = decide_within(pair, &p, reach).expect("found within the reach");
+                    let y = decide_within(*tpair, tp, reach).expect("found within the reach");
+                    cmp_distance((pair, &p, x), (*tpair, tp, y)) == Ordering::Less
+                }
+            }
+        };
+        if closer {
+            best = Some((*s, pair, p));
+        }
+    }
+    best.map(|b| b.0)
+}
+
+/// A point both triangles hold (within rounding), for triangles that meet.
+fn shared_point(ta: &[Point; 3], tb: &[Point; 3]) -> Point {
+    if let PairIntersection::Segment { start, .. } = triangle_pair_intersection(ta, tb) {
+        return start.point;
+    }
+    // Touching at a point, or coplanar: a vertex-face or edge-edge pair at distance 0 (the
+    // distance of two closed triangles that do not cross is attained by one).
+    for (x, y) in [(ta, tb), (tb, ta)] {
+        for corner in x {
+            let p = [*corner, y[0], y[1], y[2]];
+            if let Some(d) = decide_within(Primitive::VertexFace, &p, 0.0) {
+                return values(Primitive::VertexFace, &p, d).points[0];
+            }
+        }
+    }
+    for i in 0..3 {
+        for j in 0..3 {
+            let p = [ta[i], ta[(i + 1) % 3], tb[j], tb[(j + 1) % 3]];
+            if let Some(d) = decide_within(Primitive::EdgeEdge, &p, 0.0) {
+                return values(Primitive::EdgeEdge, &p, d).points[0];
+            }
+        }
+    }
+    // A degenerate triangle (a segment) through the other's interior: where its edge meets
+    // the other's plane.
+    for (x, y) in [(ta, tb), (tb, ta)] {
+        for k in 0..3 {
+            let (p, q) = (&x[k], &x[(k + 1) % 3]);
+            let (sp, sq) = (
+                orient3d(&y[0], &y[1], &y[2], p),
+                orient3d(&y[0], &y[1], &y[2], q),
+            );
+            if sp != sq && sp * sq <= 0 {
+                return edge_meets_plane(p, q, y);
+            }
+        }
+    }
+    ta[0]
+}
+
+/// The least distance between the surfaces of mesh `a` placed by `pose_a` and mesh `b` placed
+/// by `pose_b` (`None`: the mesh's coordinates are world coordinates), written to `out`.
+///
+/// Exact: with no tolerance the reported pair of primitives attains the exact least distance
+/// (candidates are ordered by exact comparisons; of several at the least distance, the first in
+/// the order `(kind, a0, a1, b0, b1)` of [`crate::nearest_features`] is reported, whatever the
+/// thread count), its distance within one unit in the last place of the exact one correctly
+/// rounded, its closest points within two units. `triangle_a` and `triangle_b` are the least
+/// triangles holding the pair's vertex, edge or face on each side. Meshes that intersect
+/// (touching counts) get distance 0, [`Distance::intersecting`], the least intersecting triangle
+/// pair in [`crate::collide`]'s order and a point of both triangles (within rounding) as both
+/// closest points.
+///
+/// [`DistanceOptions`]: farther apart than `max_distance` is not [`Distance::found`] (the
+/// cheapest query); with `rel_err` or `abs_err`, a pair at distance `d <= (1 + rel_err) m +
+/// abs_err` of the least `m` may be reported (its values are still its own); `threads` shares
+/// the work out. Posed coordinates are those [`Pose::transform_point`] computes, as in
+/// [`crate::collide`]. The counters returned are the sums of the queries made.
+///
+/// Errors: [`crate::Error::InvalidDistanceOption`]; [`crate::Error::PoseOutOfRange`];
+/// [`crate::Error::OutOfMemory`]. On error `out` is unchanged.
+pub fn distance(
+    a: &Mesh,
+    pose_a: Option<&Pose>,
+    b: &Mesh,
+    pose_b: Option<&Pose>,
+    options: &DistanceOptions,
+    out: &mut Distance,
+) -> Result<QueryStats> {
+    options.check()?;
+    SCRATCH.with(|s| {
+        let s = &mut *s.borrow_mut();
+        let (result, stats) = least_distance(a, pose_a, b, pose_b, options, s)?;
+        *out = result;
+        Ok(stats)
+    })
+}
+
+fn least_distance(
+    a: &Mesh,
+    pose_a: Option<&Pose>,
+    b: &Mesh,
+    pose_b: Option<&Pose>,
+    options: &DistanceOptions,
+    s: &mut Scratch,
+) -> Result<(Distance, QueryStats)> {
+    let query = QueryOptions::default().with_threads(options.threads);
+    let mut stats = collide(
+        a,
+        pose_a,
+        b,
+        pose_b,
+        &QueryOptions::with_mode(QueryMode::FirstHit).with_threads(options.threads),
+        &mut s.pairs,
+    )?;
+    let [pa_buf, pb_buf] = &mut s.placed;
+    let fa = frame_of(a, pose_a, pa_buf);
+    let fb = frame_of(b, pose_b, pb_buf);
+    if !s.pairs.is_empty() {
+        // Intersecting: the least pair of all.
+        let all = collide(a, pose_a, b, pose_b, &query, &mut s.pairs)?;
+        stats.add(&all);
+        let p = s.pairs.as_slice()[0];
+        let point = shared_point(&fa.corners(p.a), &fb.corners(p.b));
+        let result = Distance {
+            found: 1,
+            intersecting: 1,
+            triangle_a: p.a,
+            triangle_b: p.b,
+            distance: 0.0,
+            closest_a: point,
+            closest_b: point,
+            stencil: NearPair::default(),
+        };
+        return Ok((result, stats));
+    }
+    let max = options.max_distance;
+    let bound = if max.is_finite() {
+        (max * max) * (1.0 + 1e-6) + f64::MIN_POSITIVE
+    } else {
+        f64::INFINITY
+    };
+    let guess = fa
+        .nearest_pair_estimate(&fb, bound, &mut s.stack)
+        .and_then(|(key, _)| exact_stencil(&fa, &fb, key));
+    let near =
+        |reach: f64, s: &mut NearPairs| nearest_features(a, pose_a, b, pose_b, reach, &query, s);
+    let found = match guess {
+        Some(g) => {
+            let exact_bound = g.distance.next_up().next_up();
+            if options.tolerant() && exact_bound <= max {
+                let reach = options.improving(exact_bound);
+                stats.add(&near(reach, &mut s.near)?);
+                if s.near.is_empty() {
+                    Some(g)
+                } else {
+                    least(&fa, &fb, s.near.as_slice(), reach)
+                }
+            } else {
+                let reach = exact_bound.min(max);
+                stats.add(&near(reach, &mut s.near)?);
+                least(&fa, &fb, s.near.as_slice(), reach)
+            }
+        }
+        None => {
+            let reach = max.min(f64::MAX);
+            stats.add(&near(reach, &mut s.near)?);
+            least(&fa, &fb, s.near.as_slice(), reach)
+        }
+    };
+    let Some(stencil) = found else {
+        return Ok((Distance::default(), stats));
+    };
+    let (sa, sb) = (a.surface(), b.surface());
+    let (triangle_a, triangle_b) = match stencil.kind {
+        ImpactKind::VertexFace => (sa.vertex_triangle[stencil.a0 as usize], stencil.b0),
+        ImpactKind::FaceVertex => (stencil.a0, sb.vertex_triangle[stencil.b0 as usize]),
+        ImpactKind::EdgeEdge => (
+            sa.edge_triangle(stencil.a0, stencil.a1)
+                .expect("an edge of a"),
+            sb.edge_triangle(stencil.b0, stencil.b1)
+                .expect("an edge of b"),
+        ),
+    };
+    let result = Distance {
+        found: 1,
+        intersecting: 0,
+        triangle_a,
+        triangle_b,
+        distance: stencil.distance,
+        closest_a: stencil.closest_a,
+        closest_b: stencil.closest_b,
+        stencil,
+    };
+    Ok((result, stats))
+}
+
+/// The frame of mesh `m` placed by `pose`: its own, or its vertices placed into `placed`.
+fn frame_of<'m>(
+    m: &'m Mesh,
+    pose: Option<&Pose>,
+    placed: &'m mut (Vec<Point>, Vec<crate::geometry::aabb::Aabb>),
+) -> Frame<'m> {
+    match pose.filter(|p| !p.is_identity()) {
+        None => Frame::own(m),
+        Some(p) => {
+            let (v, b) = placed;
+            Frame::placed(m, p, v, b)
+        }
+    }
+}

@@ -1,0 +1,449 @@
+//! The walks of one mesh's hierarchy for one point: to the nearest triangle in floating point,
+//! to every triangle within a distance decided exactly, and along the ray the winding number
+//! counts. Each walk visits only the triangles a leaf owns, so every triangle is met once.
+
+use crate::csr::Csr;
+use crate::geometry::aabb::Aabb;
+use crate::geometry::nearest::{
+    Decided, Primitive, decide_within, point_triangle_estimate, segments_estimate,
+};
+use crate::geometry::pose::Pose;
+use crate::geometry::predicates::Point;
+use crate::geometry::sphere::{Sphere, distance_squared, overlap};
+use crate::mesh::Mesh;
+use crate::query::primitives::{ImpactKind, Key};
+use crate::tree::Node;
+use crate::volume::Volumes;
+
+/// The node volumes a walk reads: the mesh's own (in its coordinates, which are the world's),
+/// or boxes of its placed vertices.
+#[derive(Clone, Copy)]
+enum Bounds<'q> {
+    Boxes(&'q [Aabb]),
+    Spheres(&'q [Sphere]),
+}
+
+/// Relative slack of the floating-point ray and distance tests of spheres: covers the rounding
+/// of a squared distance (as [`Sphere::meets`]).
+const SLACK: f64 = 1.0 + f64::EPSILON * 16.0;
+
+impl Bounds<'_> {
+    /// A lower bound of the squared distance from `p` to node `n`'s volume, in floating point
+    /// (for the nearest-first order: no decision rests on it).
+    #[inline]
+    fn lower(&self, n: usize, p: &Point) -> f64 {
+        match self {
+            Bounds::Boxes(b) => box_gap_squared(&b[n], p),
+            Bounds::Spheres(s) => {
+                let d = distance_squared(&s[n].centre, p).sqrt() - s[n].radius;
+                if d > 0.0 { d * d } else { 0.0 }
+            }
+        }
+    }
+
+    /// May node `n`'s volume hold a point within `d` of `p`? Never `false` when it does.
+    #[inline]
+    fn within(&self, n: usize, p: &Point, d: f64) -> bool {
+        match self {
+            Bounds::Boxes(b) => b[n].within(&Aabb::point(p), d),
+            Bounds::Spheres(s) => overlap(&s[n].centre, s[n].radius, p, d),
+        }
+    }
+
+    /// May node `n`'s volume meet the ray from `p` along +x? Never `false` when it does.
+    #[inline]
+    fn meets_ray(&self, n: usize, p: &Point) -> bool {
+        match self {
+            Bounds::Boxes(b) => {
+                let b = &b[n];
+                b.hi[0] >= p[0] && b.lo[1] <= p[1] && p[1] <= b.hi[1] && b.lo[2] <= p[2] && {
+                    p[2] <= b.hi[2]
+                }
+            }
+            Bounds::Spheres(s) => {
+                let (c, r) = (&s[n].centre, s[n].radius);
+                let (dy, dz) = (c[1] - p[1], c[2] - p[2]);
+                // The ray's closest point to the centre: its foot when ahead, else `p`.
+                let off = if c[0] >= p[0] {
+                    dy * dy + dz * dz
+                } else {
+                    distance_squared(c, p)
+                };
+                off <= r * r * SLACK
+            }
+        }
+    }
+}
+
+/// The squared distance from `p` to box `b` (0 inside), in floating point.
+#[inline]
+fn box_gap_squared(b: &Aabb, p: &Point) -> f64 {
+    box_gap_squared_boxes(b, &Aabb { lo: *p, hi: *p })
+}
+
+/// The squared distance between boxes `a` and `b` (0 where they meet), in floating point.
+#[inline]
+fn box_gap_squared_boxes(a: &Aabb, b: &Aabb) -> f64 {
+    let mut d2 = 0.0;
+    for (k, (lo, hi)) in a.lo.iter().zip(&a.hi).enumerate() {
+        let gap = (lo - b.hi[k]).max(b.lo[k] - hi).max(0.0);
+        d2 += gap * gap;
+    }
+    d2
+}
+
+/// A lower bound of the squared distance between node `na`'s volume in `a` and node `nb`'s in
+/// `b`, in floating point (an order for the walk, no decision).
+#[inline]
+fn lower_between(a: &Bounds, na: usize, b: &Bounds, nb: usize) -> f64 {
+    let gap = |d: f64| if d > 0.0 { d * d } else { 0.0 };
+    match (a, b) {
+        (Bounds::Boxes(x), Bounds::Boxes(y)) => box_gap_squared_boxes(&x[na], &y[nb]),
+        (Bounds::Spheres(x), Bounds::Spheres(y)) => {
+            let (s, t) = (&x[na], &y[nb]);
+            gap(distance_squared(&s.centre, &t.centre).sqrt() - s.radius - t.radius)
+        }
+        (Bounds::Boxes(x), Bounds::Spheres(y)) => {
+            gap(box_gap_squared(&x[na], &y[nb].centre).sqrt() - y[nb].radius)
+        }
+        (Bounds::Spheres(x), Bounds::Boxes(y)) => {
+            gap(box_gap_squared(&y[nb], &x[na].centre).sqrt() - x[na].radius)
+        }
+    }
+}
+
+/// What the walks read of one mesh, in world coordinates: its shape, its node volumes, its
+/// vertices and triangles, and which triangles each leaf owns.
+pub(crate) struct Frame<'q> {
+    nodes: &'q [Node],
+    bounds: Bounds<'q>,
+    positions: &'q [Point],
+    triangles: &'q [[u32; 3]],
+    owned: &'q Csr<u32>,
+}
+
+/// A walk's scratch, the nodes still to visit, and the counters of the walks it served.
+#[derive(Debug, Default)]
+pub(crate) struct Stack {
+    nodes: Vec<(u32, f64)>,
+    /// Node volumes tested.
+    pub volume_tests: u64,
+    /// Triangles given to an exact test.
+    pub triangle_tests: u64,
+}
+
+impl<'q> Frame<'q> {
+    /// The frame of `mesh` in its own coordinates.
+    pub fn own(mesh: &'q Mesh) -> Frame<'q> {
+        let bounds = match mesh.volumes() {
+            // A box per node when the mesh keeps one (SBV keeps its boxes beside its spheres):
+            // tighter than a ball around a point, and cheaper.
+            Volumes::Aabb { boxes } | Volumes::Sbv { boxes, .. } => Bounds::Boxes(boxes),
+            Volumes::Dvh { spheres, .. } => Bounds::Spheres(spheres),
+        };
+        Frame {
+            nodes: &mesh.tree().nodes,
+            bounds,
+            positions: mesh.positions(),
+            triangles: mesh.triangles(),
+            owned: &mesh.features().triangles,
+        }
+    }
+
+    /// The frame of `mesh` placed by `pose`: its vertices transformed into `placed` (as
+    /// [`Pose::transform_point`] computes them, the coordinates every exact decision uses) and
+    /// exact boxes of them into `boxes`.
+    pub fn placed(
+        mesh: &'q Mesh,
+        pose: &Pose,
+        placed: &'q mut Vec<Point>,
+        boxes: &'q mut Vec<Aabb>,
+    ) -> Frame<'q> {
+        placed.clear();
+        placed.extend(mesh.positions().iter().map(|p| pose.transform_point(p)));
+        let nodes = &mesh.tree().nodes;
+        let owned = &mesh.features().triangles;
+        let triangles = mesh.triangles();
+        boxes.clear();
+        boxes.resize(nodes.len(), Aabb::EMPTY);
+        // Children come after their parents: a reverse sweep sees them first.
+        for n in (0..nodes.len()).rev() {
+            let node = &nodes[n];
+            let mut b = Aabb::EMPTY;
+            if node.is_leaf() {
+                for &t in owned.row(node.ring_start as usize) {
+                    for &v in &triangles[t as usize] {
+                        b.grow(&placed[v as usize]);
+                    }
+                }
+            } else {
+                for c in node.children() {
+                    b.merge(&boxes[c as usize]);
+                }
+            }
+            boxes[n] = b;
+        }
+        Frame {
+            nodes,
+            bounds: Bounds::Boxes(boxes),
+            positions: placed,
+            triangles,
+            owned,
+        }
+    }
+
+    /// Vertex `v`.
+    #[inline]
+    pub fn vertex(&self, v: u32) -> Point {
+        self.positions[v as usize]
+    }
+
+    /// Triangle `t`'s vertices.
+    #[inline]
+    pub fn triangle(&self, t: u32) -> [u32; 3] {
+        self.triangles[t as usize]
+    }
+
+    /// Triangle `t`'s corners.
+    #[inline]
+    pub fn corners(&self, t: u32) -> [Point; 3] {
+        self.triangles[t as usize].map(|v| self.positions[v as usize])
+    }
+
+    /// The owned triangles of leaf `node`.
+    #[inline]
+    fn leaf_triangles(&self, node: &Node) -> &'q [u32] {
+        self.owned.row(node.ring_start as usize)
+    }
+
+    /// The triangle nearest `p` in floating point whose squared distance is below `bound`
+    /// (squared), with that squared distance, starting from `seed` (a triangle and its squared
+    /// distance) when it is nearer: a guess for the exact walks to confirm, which rest on nothing
+    /// it decides. Nodes are visited nearest first.
+    pub fn nearest_estimate(
+        &self,
+        p: &Point,
+        bound: f64,
+        seed: Option<(u32, f64)>,
+        stack: &mut Stack,
+    ) -> Option<(u32, f64)> {
+        let mut best = seed.filter(|s| s.1 < bound);
+        let mut limit = best.map_or(bound, |s| s.1);
+        let Stack {
+            nodes: stack,
+            volume_tests,
+            ..
+        } = stack;
+        stack.clear();
+        stack.push((0, self.bounds.lower(0, p)));
+        *volume_tests += 1;
+        while let Some((n, lower)) = stack.pop() {
+            if lower >= limit {
+                continue;
+            }
+            let node = &self.nodes[n as usize];
+            if node.is_leaf() {
+                for &t in self.leaf_triangles(node) {
+                    let [a, b, c] = self.corners(t);
+                    let d2 = distance_squared(p, &point_triangle_estimate(p, &a, &b, &c));
+                    // A NaN (a degenerate triangle's estimate) never wins.
+                    if d2 < limit {
+                        limit = d2;
+                        best = Some((t, d2));
+                    }
+                }
+                continue;
+            }
+            // Children pushed farthest first, so the nearest is opened first.
+            let start = stack.len();
+            for c in node.children() {
+                let l = self.bounds.lower(c as usize, p);
+                *volume_tests += 1;
+                if l < limit {
+                    stack.push((c, l));
+                }
+            }
+            stack[start..].sort_unstable_by(|x, y| y.1.total_cmp(&x.1));
+        }
+        best
+    }
+
+    /// The pair of a triangle of `self` and a triangle of `other` nearest each other in floating
+    /// point, as the primitive pair (vertex-face, face-vertex or edge-edge: a key of
+    /// [`crate::NearPair`]) whose estimate is least, with its squared estimate; below `bound`
+    /// (squared). A guess for the exact query to confirm: nothing rests on it.
+    pub fn nearest_pair_estimate(
+        &self,
+        other: &Frame,
+        bound: f64,
+        stack: &mut Vec<(u32, u32, f64)>,
+    ) -> Option<(Key, f64)> {
+        let mut best: Option<(Key, f64)> = None;
+        let mut limit = bound;
+        stack.clear();
+        stack.push((0, 0, lower_between(&self.bounds, 0, &other.bounds, 0)));
+        while let Some((na, nb, lower)) = stack.pop() {
+            if lower >= limit {
+                continue;
+            }
+            let (x, y) = (&self.nodes[na as usize], &other.nodes[nb as usize]);
+            if x.is_leaf() && y.is_leaf() {
+                for &ta in self.leaf_triangles(x) {
+                    for &tb in other.leaf_triangles(y) {
+                        if let Some(found) = self.triangle_pair_estimate(other, ta, tb, limit) {
+                            limit = found.1;
+                            best = Some(found);
+                        }
+                    }
+                }
+                continue;
+            }
+            // Open the side whose volume is larger (a leaf never), children farthest first.
+            let open_a = !x.is_leaf()
+                && (y.is_leaf() || x.ring_end - x.ring_start >= y.ring_end - y.ring_start);
+            let start = stack.len();
+            if open_a {
+                for c in x.children() {
+                    let l = lower_between(&self.bounds, c as usize, &other.bounds, nb as usize);
+                    if l < limit {
+                        stack.push((c, nb, l));
+                    }
+                }
+            } else {
+                for c in y.children() {
+                    let l = lower_between(&self.bounds, na as usize, &other.bounds, c as usize);
+                    if l < limit {
+                        stack.push((na, c, l));
+                    }
+                }
+            }
+            stack[start..].sort_unstable_by(|p, q| q.2.total_cmp(&p.2));
+        }
+        best
+    }
+
+    /// The least estimate below `limit` (squared) among the primitive pairs of triangle `ta`
+    /// of `self` and `tb` of `other`, with its key.
+    fn triangle_pair_estimate(
+        &self,
+        other: &Frame,
+        ta: u32,
+        tb: u32,
+        limit: f64,
+    ) -> Option<(Key, f64)> {
+        let (ia, ib) = (self.triangle(ta), other.triangle(tb));
+        let (pa, pb) = (self.corners(ta), other.corners(tb));
+        let mut best: Option<(Key, f64)> = None;
+        let mut keep = |key: Key, d2: f64| {
+            if d2 < best.map_or(limit, |b| b.1) {
+                best = Some((key, d2));
+            }
+        };
+        for k in 0..3 {
+            let e = point_triangle_estimate(&pa[k], &pb[0], &pb[1], &pb[2]);
+            keep(
+                (ImpactKind::VertexFace, ia[k], 0, tb, 0),
+                distance_squared(&pa[k], &e),
+            );
+            let e = point_triangle_estimate(&pb[k], &pa[0], &pa[1], &pa[2]);
+            keep(
+                (ImpactKind::FaceVertex, ta, 0, ib[k], 0),
+                distance_squared(&pb[k], &e),
+            );
+        }
+        for i in 0..3 {
+            let (u, v) = (ia[i], ia[(i + 1) % 3]);
+            if u == v {
+                continue;
+            }
+            for j in 0..3 {
+                let (w, z) = (ib[j], ib[(j + 1) % 3]);
+                if w == z {
+                    continue;
+                }
+                let (x, y) = segments_estimate(&pa[i], &pa[(i + 1) % 3], &pb[j], &pb[(j + 1) % 3]);
+                keep(
+                    (ImpactKind::EdgeEdge, u.min(v), u.max(v), w.min(z), w.max(z)),
+                    distance_squared(&x, &y),
+                );
+            }
+        }
+        best
+    }
+
+    /// Every triangle within `d` of `p` (the closed triangles; touching counts), decided
+    /// exactly, with where its closest point lies, into `out` (cleared first), in the order of
+    /// the walk.
+    pub fn within(&self, p: &Point, d: f64, stack: &mut Stack, out: &mut Vec<(u32, Decided)>) {
+        out.clear();
+        let near = Aabb::point(p);
+        self.leaves(
+            stack,
+            |n| self.bounds.within(n, p, d),
+            |t, triangle_tests| {
+                let [a, b, c] = self.corners(t);
+                if Aabb::of_points([&a, &b, &c]).within(&near, d) {
+                    *triangle_tests += 1;
+                    if let Some(decided) = decide_within(Primitive::VertexFace, &[*p, a, b, c], d) {
+                        out.push((t, decided));
+                    }
+                }
+                true
+            },
+        );
+    }
+
+    /// Calls `visit` with every triangle whose leaf's volume (and every ancestor's) meets the
+    /// ray from `p` along +x: a superset of the triangles the ray meets. Stops, returning
+    /// `false`, as soon as `visit` does.
+    pub fn along_ray(
+        &self,
+        p: &Point,
+        stack: &mut Stack,
+        mut visit: impl FnMut(u32) -> bool,
+    ) -> bool {
+        self.leaves(
+            stack,
+            |n| self.bounds.meets_ray(n, p),
+            |t, triangle_tests| {
+                *triangle_tests += 1;
+                visit(t)
+            },
+        )
+    }
+
+    /// Walks the nodes whose volumes (and every ancestor's) pass `enter`, in depth-first order,
+    /// calling `leaf` with each triangle of each leaf reached and the triangle-test counter.
+    /// Stops, returning `false`, as soon as `leaf` does.
+    fn leaves(
+        &self,
+        stack: &mut Stack,
+        enter: impl Fn(usize) -> bool,
+        mut leaf: impl FnMut(u32, &mut u64) -> bool,
+    ) -> bool {
+        let Stack {
+            nodes: stack,
+            volume_tests,
+            triangle_tests,
+        } = stack;
+        stack.clear();
+        stack.push((0, 0.0));
+        while let Some((n, _)) = stack.pop() {
+            *volume_tests += 1;
+            if !enter(n as usize) {
+                continue;
+            }
+            let node = &self.nodes[n as usize];
+            if node.is_leaf() {
+                for &t in self.leaf_triangles(node) {
+                    if !leaf(t, triangle_tests) {
+                        return false;
+                    }
+                }
+                continue;
+            }
+            stack.extend(node.children().map(|c| (c, 0.0)));
+        }
+        true
+    }
+}
