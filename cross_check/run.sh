@@ -5,8 +5,9 @@
 #
 #   cross_check/run.sh           short version (small meshes, 4 frames, every scene kind, dvh's whole
 #                                set against CGAL's exact set on coplanar, near-1e-15 and medium; then
-#                                the self-collision run, 5 frames, the proximity run, 2 frames, and the
-#                                curves run against CGAL's surface_intersection, 4 frames)
+#                                the self-collision run, 5 frames, the proximity run, 2 frames, the
+#                                curves run against CGAL's surface_intersection, 4 frames, and the
+#                                distance run against FCL's distance(), 2 frames)
 #   cross_check/run.sh --full    paper sizes, 200 frames, whole sets on every 10th (self-collision:
 #                                larger meshes, 40 frames; proximity: the short meshes, every scene,
 #                                10 frames)
@@ -15,12 +16,12 @@
 #   --scene-run-only (only the run of whole scenes: one DvhScene against FCL's broad phase, on every
 #   scene chosen), --self-run-only (only the self-collision and proximity runs: dvh_self_collide
 #   against FCL's model collided with itself, dvh_proximity and dvh_self_proximity, all against
-#   CGAL's exact sets)
+#   CGAL's exact sets), --distance-run-only (only the distance run)
 #
 # Results: cross_check/build/results/{frames.csv,summary.json} (pairwise run),
 # {scene_frames.csv,scene_summary.json} (scene run), {self_frames.csv,self_summary.json}
 # (self-collision run), {proximity_frames.csv,proximity_summary.json} (proximity run),
-# curves_frames.csv (curves run),
+# curves_frames.csv (curves run), distance_frames.csv (distance run),
 # mismatches.txt (the triangle pairs on which dvh differs from an exact set, if any) and the
 # printed summaries.
 set -euo pipefail

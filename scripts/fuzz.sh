@@ -120,10 +120,10 @@ run)
         mkdir -p fuzz/corpus
         xz -dc "fuzz/corpora/$target.tar.xz" | tar -x -C fuzz/corpus
     fi
-    if [ -d "$corpus" ]; then
+    # (A corpus directory a stopped run left empty counts as none.)
+    if [ -d "$corpus" ] && [ -n "$(ls -A "$corpus")" ]; then
         cp -r "$corpus/." "$work/live/"
     else
-        mkdir -p "$corpus"
         cp -r "fuzz/seeds/$target/." "$work/live/"
         [ -d "fuzz/regressions/$target" ] && cp -r "fuzz/regressions/$target/." "$work/live/"
     fi
@@ -162,6 +162,7 @@ run)
     done
     rm -rf "$work/replay" "$work"/batch.*
     # Replace the kept corpus.
+    mkdir -p "$corpus"
     rm -f "$corpus"/*
     cp -r "$work/min/." "$corpus/"
     echo "kept $(ls "$corpus" | wc -l) inputs in $corpus"

@@ -186,3 +186,29 @@ fn curves_inputs() {
         "no kept inputs for curves"
     );
 }
+
+#[test]
+fn distance_mesh_inputs() {
+    // Hand-made inputs first: a torus and a sheet apart, posed, with a bound.
+    drivers::distance_mesh(&[1, 0, 0, 2, 0, 0, 16, 16, 16, 0, 1, 3, 40]);
+    drivers::distance_mesh(&[2, 1, 9, 0, 3, 0, 0, 0, 8, 1, 1, 4, 7, 1, 4, 3]);
+    assert!(
+        replay("distance_mesh", drivers::distance_mesh) > 0,
+        "no kept inputs for distance_mesh"
+    );
+}
+
+#[test]
+fn points_inputs() {
+    // Hand-made inputs first: a torus with points on its grid, two tori through each other.
+    drivers::points(&[
+        1, 0, 0, 1, 0, 0, 8, 3, 1, 2, 3, 4, 5, 6, 0, 0, 0, 1, 2, 3, 4, 5, 0,
+    ]);
+    drivers::points(&[
+        3, 0, 0, 0, 4, 0, 0, 0, 0, 6, 4, 8, 8, 0, 4, 0, 0, 0, 2, 0, 3, 0,
+    ]);
+    assert!(
+        replay("points", drivers::points) > 0,
+        "no kept inputs for points"
+    );
+}

@@ -646,3 +646,57 @@ fn intersection_curves_in_steady_state_allocate_nothing() {
     }
     assert!(segments > 0);
 }
+
+/// The distance of two deforming meshes and the point queries of many points on one, on one
+/// thread: each frame's refits and queries allocate nothing once the scratch (kept per thread)
+/// is large enough for the frame: counted on each frame's third run (a new frame allocates
+/// only where a scratch buffer must grow, which a steady state ends; the stencil buffer's two
+/// halves take turns, so two runs warm it).
+#[test]
+fn distances_and_point_queries_in_steady_state_allocate_nothing() {
+    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let options = BuildOptions::default().with_refit_threads(1);
+    let sa = icosphere(3);
+    let mut sb = torus(0.6, 0.25, 40, 16);
+    sb.translate([2.2, 0.0, 0.0]);
+    let mut a = Mesh::new(&sa.positions, &sa.triangles, &options).unwrap();
+    let mut b = Mesh::new(&sb.positions, &sb.triangles, &options).unwrap();
+    let (ma, mb) = (Morph::random(&sa, 3, 0.1, 5), Morph::random(&sb, 3, 0.1, 6));
+    let mut rng = dvh::fixtures::Rng::new(9);
+    let points: Vec<[f64; 3]> = (0..300)
+        .map(|_| std::array::from_fn(|_| rng.range(-1.5, 1.5)))
+        .collect();
+    let one = dvh::DistanceOptions::default().with_threads(1);
+    let mut d = dvh::Distance::default();
+    let mut closest = vec![dvh::ClosestPoint::default(); points.len()];
+    let mut winding = vec![0; points.len()];
+    let mut signed = vec![0.0; points.len()];
+    for f in 0..8 {
+        let t = f as f64 / 16.0;
+        let (pa, pb) = (ma.at(&sa.positions, t), mb.at(&sb.positions, t));
+        for round in 0..3 {
+            let n = [
+                allocations_here(|| {
+                    a.refit(&pa).unwrap();
+                    b.refit(&pb).unwrap();
+                }),
+                allocations_here(|| {
+                    dvh::distance(&a, None, &b, None, &one, &mut d).unwrap();
+                }),
+                allocations_here(|| {
+                    dvh::closest_points(&a, None, &points, &one, &mut closest).unwrap();
+                }),
+                allocations_here(|| {
+                    dvh::winding_numbers(&a, None, &points, 1, &mut winding).unwrap();
+                }),
+                allocations_here(|| {
+                    dvh::signed_distances(&a, None, &points, &one, &mut signed).unwrap();
+                }),
+            ];
+            assert!(d.found() && !d.intersecting() && d.distance > 0.0);
+            assert!(winding.contains(&1) && winding.contains(&0));
+            // Refit, distance, closest points, winding numbers, signed distances.
+            assert!(round < 2 || n == [0; 5], "frame {f}: allocations {n:?}");
+        }
+    }
+}

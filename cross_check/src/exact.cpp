@@ -516,6 +516,26 @@ bool cgal_distances_agree(const double a[9], const double b[9]) {
     return ours == CGAL::squared_distance(Kq::Triangle_3(sa.p[0], sa.p[1], sa.p[2]), Kq::Triangle_3(sb.p[0], sb.p[1], sb.p[2]));
 }
 
+namespace {
+
+Kq::FT exact_squared_distance(const double a[9], const double b[9]) {
+    if (cgal_intersect(a, b)) return Kq::FT(0);
+    return least_squared_distance(Shape<Kq>(a, corners(a)), Shape<Kq>(b, corners(b)));
+}
+
+}  // namespace
+
+double cgal_distance(const double a[9], const double b[9]) {
+    // The square to the nearest double and then its root: within a unit of the exact root for
+    // the distances of the scenes (no underflow), which the run's tolerance of two allows for.
+    return std::sqrt(CGAL::to_double(exact_squared_distance(a, b)));
+}
+
+int cgal_compare_distances(const double a1[9], const double b1[9], const double a2[9], const double b2[9]) {
+    const Kq::FT x = exact_squared_distance(a1, b1), y = exact_squared_distance(a2, b2);
+    return x < y ? -1 : (y < x ? 1 : 0);
+}
+
 Keys exact_pairs_within(const MeshData& ma, const std::vector<double>& pa, const MeshData& mb, const std::vector<double>& pb,
                         double distance, WithinCounts& counts) {
     std::vector<Box> ba = boxes(ma, pa, distance), bb = boxes(mb, pb, 0.0);

@@ -67,6 +67,14 @@ bool cgal_within(const double a[9], const double b[9], double distance, size_t* 
 // rationals: a check of the reference on a sample.
 bool cgal_distances_agree(const double a[9], const double b[9]);
 
+// The exact distance between the closed triangles (0 when they intersect; degenerate ones as
+// their segments or points), its square computed in rationals and its root rounded.
+double cgal_distance(const double a[9], const double b[9]);
+
+// -1, 0 or 1 as the exact distance between triangles a1 and b1 is less than, equal to or greater
+// than that between a2 and b2.
+int cgal_compare_distances(const double a1[9], const double b1[9], const double a2[9], const double b2[9]);
+
 // Every pair (triangle of `ma`, triangle of `mb`) at distance at most `distance`:
 // CGAL::box_intersection_d over boxes grown by `distance` (rounded outwards), then cgal_within.
 Keys exact_pairs_within(const MeshData& ma, const std::vector<double>& pa, const MeshData& mb, const std::vector<double>& pb,

@@ -45,11 +45,17 @@
 // the last place of the scene's largest coordinate of the other's nearest, or, where CGAL's are
 // up to 64 units off, dvh's within 4 of their pairs' exact intersections), curves and segments.
 //
+// The distance run (distance_run.cpp), on the same scenes and object pairs (2 frames; 10 in the
+// full run), as they move and with the second object moved apart: dvh_distance (one thread,
+// threaded, posed, rel_err = 0.01) against FCL's distance() on OBBRSS models, each answer judged
+// by CGAL's exact squared distances of the triangle pairs dvh and FCL report.
+//
 // Usage: dvh_cross_check [--full] [--frames N] [--scene NAME] [--threads N] [--scene-run-only]
-//                        [--self-run-only] [--checksums] --data DIR [--out DIR]
+//                        [--self-run-only] [--distance-run-only] [--checksums] --data DIR [--out DIR]
 // (--scene-run-only skips the pairwise run and makes the scene run on every selected scene, two
 // objects or more; --self-run-only makes only the self-collision and proximity runs (with
-// --scene-run-only too: those and the scene run); --scene NAME selects a scene of any run;
+// --scene-run-only too: those and the scene run); --distance-run-only makes only the distance
+// run; --scene NAME selects a scene of any run;
 // --checksums prints a hash of every scene's world coordinates at its first and last frame and
 // exits: the benchmark runner's port of the scenes must print the same.)
 //
@@ -61,7 +67,8 @@
 // columns prefixed obb_ or aabb_; per scene, medians per frame and totals), self_frames.csv and
 // self_summary.json (the self-collision run), proximity_frames.csv and proximity_summary.json
 // (the proximity run: per scene, frame and distance; per scene and distance), curves_frames.csv
-// (the curves run: per scene, frame and object pair), mismatches.txt
+// (the curves run: per scene, frame and object pair), distance_frames.csv (the distance run: per
+// scene, object pair, frame and placement), mismatches.txt
 // (every pair kept on which dvh differs from an exact set, with coordinates).
 
 #include <dvh.hpp>
@@ -797,7 +804,7 @@ uint64_t world_checksum(xc::Scene& scene, double t) {
 int main(int argc, char** argv) {
     xc::SceneOptions options;
     std::string out_dir, only;
-    bool checksums = false, scene_run_only = false, self_run_only = false;
+    bool checksums = false, scene_run_only = false, self_run_only = false, distance_run_only = false;
     uint32_t threads = 0;
     for (int i = 1; i < argc; i++) {
         std::string a = argv[i];
@@ -814,10 +821,11 @@ int main(int argc, char** argv) {
         else if (a == "--threads") threads = (uint32_t)std::stoul(value());
         else if (a == "--scene-run-only") scene_run_only = true;
         else if (a == "--self-run-only") self_run_only = true;
+        else if (a == "--distance-run-only") distance_run_only = true;
         else {
             std::fprintf(stderr,
                          "usage: %s [--full] [--frames N] [--scene NAME] [--threads N] [--scene-run-only] [--self-run-only]\n"
-                         "       [--checksums] --data DIR [--out DIR]\n",
+                         "       [--distance-run-only] [--checksums] --data DIR [--out DIR]\n",
                          argv[0]);
             return 2;
         }
@@ -849,10 +857,12 @@ int main(int argc, char** argv) {
     std::vector<Offence> offences;
     std::vector<xc::Mismatch> whole_mismatches;  // the pairwise run's, against CGAL's exact sets
     // The --*-only flags add up: each keeps its runs.
-    const bool old_runs = !self_run_only || scene_run_only, new_runs = !scene_run_only || self_run_only;
+    const bool old_runs = !distance_run_only && (!self_run_only || scene_run_only);
+    const bool new_runs = !distance_run_only && (!scene_run_only || self_run_only);
     xc::SelfResults self;
     xc::ProximityResults proximity;
     xc::CurvesResults curves;
+    xc::DistanceResults distance;
     try {
         auto scenes = xc::make_scenes(options);
         for (auto& scene : scenes) {
@@ -874,7 +884,9 @@ int main(int argc, char** argv) {
             self = xc::run_self(run_options);
             proximity = xc::run_proximity(run_options);
         }
-        if (!scene_run_only && !self_run_only) curves = xc::run_curves(xc::RunOptions{options, only, threads});
+        if (!scene_run_only && !self_run_only && !distance_run_only) curves = xc::run_curves(xc::RunOptions{options, only, threads});
+        if ((!scene_run_only && !self_run_only) || distance_run_only)
+            distance = xc::run_distance(xc::RunOptions{options, only, threads});
     } catch (const dvh::Error& e) {
         std::fprintf(stderr, "error: dvh: %s: %s\n", dvh::status_name(e.status()), e.what());
         return 2;
@@ -944,6 +956,7 @@ int main(int argc, char** argv) {
     ok = xc::report_self(self, reference_ok) && ok;
     ok = xc::report_proximity(proximity, reference_ok) && ok;
     ok = xc::report_curves(curves) && ok;
+    ok = xc::report_distance(distance) && ok;
     if (!out_dir.empty()) {
         if (old_runs) write_outputs(out_dir, all_rows, sums, scene_rows, scene_sums);
         if (new_runs) {
@@ -951,6 +964,7 @@ int main(int argc, char** argv) {
             xc::write_proximity_outputs(out_dir, proximity);
         }
         if (!curves.rows.empty()) xc::write_curves_outputs(out_dir, curves);
+        if (!distance.rows.empty()) xc::write_distance_outputs(out_dir, distance);
     }
     for (const auto& o : offences) {
         std::printf("\nDVH DISAGREES WITH CGAL: scene %s frame %d (%s), triangles %u and %u: dvh says %s, CGAL says %s\n",

@@ -110,6 +110,26 @@ struct CurvesResults {
     std::vector<CurvesRow> rows;
 };
 
+// Per scene, object pair, frame and placement of the distance run (distance_run.cpp).
+struct DistanceRow {
+    std::string scene, objects;
+    int frame = 0;
+    bool apart = false;         // the second object moved apart along x
+    double dvh = 0, fcl = 0;    // the distances
+    bool intersecting = false;  // dvh's answer
+    bool exact_ok = false;      // dvh's pair intersects (meeting), or dvh's distance rounds its pair's exact one
+    double fcl_error = 0;       // FCL's relative error against the exact distance (meeting: its distance)
+    double fcl_rebuilt = 0, fcl_rebuilt_error = 0;  // the same with FCL's models rebuilt each frame
+    size_t fcl_rebuilt_wrong = 0;
+    size_t dvh_wrong = 0, fcl_wrong = 0, posed_mismatch = 0, threads_mismatch = 0;
+    bool tolerance_ok = false;  // rel_err = 0.01: within it
+    double dvh_one = 0, dvh_many = 0, dvh_tolerant = 0, fcl_ms = 0, fcl_rebuilt_ms = 0;  // ms: refit (or build) + query (tolerant: query only)
+};
+
+struct DistanceResults {
+    std::vector<DistanceRow> rows;
+};
+
 SelfResults run_self(const RunOptions& options);
 // Prints the summary; true when dvh was right everywhere. `reference_ok` is cleared when the
 // reference contradicted itself.
@@ -126,6 +146,11 @@ void run_self_curves(const RunOptions& options, CurvesResults& out);
 // Prints the summary; true when dvh's curves are CGAL's on every frame in general position.
 bool report_curves(const CurvesResults& results);
 void write_curves_outputs(const std::string& dir, const CurvesResults& results);
+
+DistanceResults run_distance(const RunOptions& options);
+// Prints the summary; true when dvh was right on every pair and frame.
+bool report_distance(const DistanceResults& results);
+void write_distance_outputs(const std::string& dir, const DistanceResults& results);
 
 // Prints the first mismatches and writes every one kept to `path` (when not empty), coordinates
 // with 17 digits.

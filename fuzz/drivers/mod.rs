@@ -24,12 +24,20 @@
 //! - [`curves`]: surfaces moved, folded and pinched by the bytes, the intersection curves of two
 //!   and of one through the C ABI, equal to the Rust API's and judged exactly against brute
 //!   force by `dvh::fixtures::curve_judge`.
+//! - [`distance_mesh`]: sheets and tori bent and placed by the bytes, their least distance
+//!   under every option through the C ABI, equal to the Rust API's and judged by brute force
+//!   in exact arithmetic (`dvh::fixtures::distance_judge`).
+//! - [`points`]: closed and open meshes (two shells through each other among them) and points
+//!   on and off their vertices, edges, faces and grid: closest points against brute force,
+//!   winding numbers against the turned and the reversed surface, the exact distance 0 and the
+//!   solid angles, signed distances against both.
 
 #![allow(dead_code, unused_imports)] // each fuzz target uses one driver
 
 mod c_abi;
 mod ccd;
 mod curves;
+mod distance;
 mod input;
 mod judge;
 mod nearest;
@@ -40,6 +48,7 @@ mod triangle;
 pub use c_abi::c_abi;
 pub use ccd::{ccd_mesh, ccd_primitive};
 pub use curves::curves;
+pub use distance::{distance_mesh, points};
 pub use nearest::nearest_mesh;
 pub use scene::scene;
 pub use self_collision::self_collision;

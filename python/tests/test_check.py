@@ -196,6 +196,28 @@ def test_check_two_meshes_and_a_clean_one(tmp_path, capsys):
     out = capsys.readouterr().out
     n = len(dvh.collide(dvh.Mesh(pa, ta), dvh.Mesh(pb, tb)))
     assert re.search(rf"\n  intersecting triangle pairs\s+{n}\n", out) and n > 0
+    assert re.search(r"least distance\s+0 \(they intersect\)", out)
+    assert re.search(r"closed\s+yes", out)
+
+
+def test_check_reports_the_least_distance_and_closedness(tmp_path, capsys):
+    pa, ta = uv_sphere(8)
+    pb, tb = uv_sphere(8, centre=(3.0, 0.0, 0.0))
+    write_off(tmp_path / "a.off", pa, ta)
+    write_off(tmp_path / "b.off", pb, tb)
+    # An open surface: the sphere without its last triangle.
+    write_off(tmp_path / "open.off", pa, ta[:-1])
+    assert main(["check", str(tmp_path / "a.off"), str(tmp_path / "b.off"), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    want = dvh.distance(dvh.Mesh(pa, ta), dvh.Mesh(pb, tb))
+    assert out["distance"]["distance"] == want.distance and not out["distance"]["intersecting"]
+    assert out["distance"]["triangles"] == [want.triangle_a, want.triangle_b]
+    assert out["closed"] == [True, True] and 0.9 < want.distance < 1.1
+    assert main(["check", str(tmp_path / "open.off"), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["closed"] == [False] and "distance" not in out
+    assert main(["check", str(tmp_path / "a.off"), str(tmp_path / "b.off")]) == 0
+    assert re.search(rf"least distance\s+{want.distance:.17g}, triangles", capsys.readouterr().out)
 
 
 def test_check_writes_the_intersection_curves(tmp_path, capsys):

@@ -84,7 +84,8 @@ unsafe fn points_at<'a>(points: *const f64, point_count: usize) -> Result<&'a [[
 ///
 /// `options` (NULL: the defaults): farther apart than `max_distance`, `found` is 0 (every field
 /// zero); with `rel_err` or `abs_err`, a pair at distance `d <= (1 + rel_err) m + abs_err` of the
-/// least `m` may be reported. Counters (the sums of the queries made) go to `*stats_out` unless
+/// least `m` may be reported (which of those may depend on the volume kind, never on the thread
+/// count). Counters (the sums of the queries made) go to `*stats_out` unless
 /// it is NULL. On failure neither output changes.
 ///
 /// Errors: NULL_ARGUMENT (`a`, `b`, `distance_out`); INVALID_ARGUMENT (options out of range, a

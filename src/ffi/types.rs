@@ -381,7 +381,7 @@ pub const DVH_FEATURE_INTERIOR: DvhFeature = 6;
 /// corners: a vertex is corner 0, an edge `(a0, a1)` has corners `a0`, `a1`, a triangle its
 /// corners in the mesh's order. Results are sorted by `(kind, a0, a1, b0, b1)`.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct DvhNearPair {
     /// A `DVH_IMPACT_KIND_*` value.
     pub kind: DvhImpactKind,
@@ -692,7 +692,7 @@ pub struct DvhDistanceOptions {
 
 /// The least distance between two meshes' surfaces (`dvh_distance`, the scene's).
 #[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct DvhDistance {
     /// 0: farther apart than the options' `max_distance` (every other field 0).
     pub found: u32,
@@ -717,7 +717,7 @@ pub struct DvhDistance {
 
 /// The closest point of a mesh to a query point (`dvh_closest_points`).
 #[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct DvhClosestPoint {
     /// 0: no triangle within the options' `max_distance` (every other field 0).
     pub found: u32,

@@ -5,7 +5,7 @@
 use super::{Object, Scene};
 use crate::error::{Error, Result};
 use crate::geometry::aabb::Aabb;
-use crate::geometry::nearest::{Primitive, cmp_distance, decide_within};
+use crate::geometry::nearest::{Primitive, cmp_distance, decide_near};
 use crate::geometry::predicates::Point;
 use crate::query::{Distance, DistanceOptions, ImpactKind, distance};
 use std::cmp::Ordering;
@@ -217,9 +217,12 @@ impl Scene {
             )
         };
         let ((px, qx), (py, qy)) = (points(x), points(y));
-        let decided = |pair, q: &[Point; 4]| {
-            decide_within(pair, q, f64::MAX).expect("a stencil within its distance")
+        let decided = |pair, q: &[Point; 4], d: f64| {
+            decide_near(pair, q, d * d).expect("a stencil within its distance")
         };
-        cmp_distance((px, &qx, decided(px, &qx)), (py, &qy, decided(py, &qy)))
+        cmp_distance(
+            (px, &qx, decided(px, &qx, x.distance.distance)),
+            (py, &qy, decided(py, &qy, y.distance.distance)),
+        )
     }
 }

@@ -1,5 +1,6 @@
 """``python -m dvh check FILE [FILE2]``: a mesh's self-intersections, or two meshes'
-intersections, decided exactly; with ``--curves OUT.obj``, the curves along which they cross,
+intersections and their least distance, decided exactly, and whether each surface is closed
+(what winding numbers and signed distances need); with ``--curves OUT.obj``, the curves along which they cross,
 written as OBJ polylines. ``python -m dvh check --batch PATH...``: many meshes (files,
 directories, globs), or the frames of one mesh with ``--frames``, each checked for
 self-intersections and with ``--against FILE`` against that mesh, on several processes
@@ -25,6 +26,7 @@ from . import (
     DvhError,
     Mesh,
     collide,
+    distance,
     intersection_curves,
     proximity,
     self_collide,
@@ -94,7 +96,7 @@ def _table(rows: List[Tuple[str, str]]) -> str:
 
 def check(args: argparse.Namespace) -> int:
     files = args.files
-    stages = 2 * len(files) + 1 + (args.curves is not None)
+    stages = 2 * len(files) + 1 + (len(files) == 2) + (args.curves is not None)
     progress = _Progress(stages, sys.stderr.isatty() and not args.json)
     meshes, rows = [], []
     try:
@@ -107,6 +109,7 @@ def check(args: argparse.Namespace) -> int:
             rows += [
                 (f"{f}", f"{mesh.vertex_count} vertices, {mesh.triangle_count} triangles"),
                 ("  read, build", f"{t_read * 1e3:.1f} ms, {t_build * 1e3:.1f} ms"),
+                ("  closed", "yes" if mesh.is_closed else "no (an edge has no reverse)"),
             ]
         d = args.distance
         if len(meshes) == 1:
@@ -124,6 +127,11 @@ def check(args: argparse.Namespace) -> int:
                 else (lambda: proximity(meshes[0], meshes[1], d, threads=args.threads, stats=True))
             )
         (pairs, stats), t_query = progress.run("querying", query)
+        apart = None
+        if len(meshes) == 2:
+            apart, t_distance = progress.run(
+                "distance", lambda: distance(meshes[0], meshes[1], threads=args.threads)
+            )
         curves = None
         if args.curves is not None:
             curves, t_curves = progress.run(
@@ -151,6 +159,8 @@ def check(args: argparse.Namespace) -> int:
                 "count": int(len(pairs)),
                 "query_seconds": t_query,
                 "triangle_tests": stats.triangle_tests,
+                "closed": [m.is_closed for m in meshes],
+                **({} if apart is None else {"distance": _distance_json(apart)}),
                 **({} if curves is None else {"curves": _curves_json(curves, args.curves)}),
             },
             sys.stdout,
@@ -166,6 +176,16 @@ def check(args: argparse.Namespace) -> int:
         if len(meshes) == 1:
             involved = [np.unique(pairs)]
         rows.append(("triangles involved", ", ".join(str(len(x)) for x in involved)))
+    if apart is not None:
+        rows.append(
+            (
+                "least distance",
+                "0 (they intersect)"
+                if apart.intersecting
+                else f"{apart.distance:.17g}, triangles {apart.triangle_a} and {apart.triangle_b}"
+                f" ({t_distance * 1e3:.1f} ms)",
+            )
+        )
     if curves is not None:
         c = _curves_json(curves, args.curves)
         rows += [
@@ -184,6 +204,15 @@ def check(args: argparse.Namespace) -> int:
         for a, b in shown:
             print(f"    {a} {b}")
     return 1 if len(pairs) else 0
+
+
+def _distance_json(d) -> dict:
+    return {
+        "distance": d.distance,
+        "intersecting": d.intersecting,
+        "triangles": [d.triangle_a, d.triangle_b],
+        "closest": [d.closest_a.tolist(), d.closest_b.tolist()],
+    }
 
 
 def _curves_json(curves, path: str) -> dict:

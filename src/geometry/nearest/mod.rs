@@ -211,6 +211,21 @@ pub(crate) fn decide_within(pair: Primitive, p: &[Point; 4], d: f64) -> Option<D
     within.then(|| Decided::of(choice))
 }
 
+/// Where the closest points of the primitives `p` lie, for primitives whose squared distance
+/// is about `estimate`: decided within a little more than the estimate's root, where the
+/// filters tell (deciding within the largest double instead takes exact big-integer arithmetic,
+/// which allocates), and within the largest double when the estimate was too low. `None` beyond
+/// the largest double.
+pub(crate) fn decide_near(pair: Primitive, p: &[Point; 4], estimate: f64) -> Option<Decided> {
+    let near = (estimate.max(0.0).sqrt() * (1.0 + 1.0 / (1u64 << 20) as f64)).next_up();
+    if near.is_finite()
+        && let Some(decided) = decide_within(pair, p, near)
+    {
+        return Some(decided);
+    }
+    decide_within(pair, p, f64::MAX)
+}
+
 /// One candidate of a distance query: a pair of primitives (as [`decide_within`] takes them)
 /// and where their closest points lie.
 pub(crate) type Candidate<'p> = (Primitive, &'p [Point; 4], Decided);

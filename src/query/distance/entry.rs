@@ -12,7 +12,7 @@
 use crate::collide;
 use crate::error::Result;
 use crate::geometry::crossing::{PairIntersection, edge_meets_plane, triangle_pair_intersection};
-use crate::geometry::nearest::{Primitive, cmp_distance, decide_within, values};
+use crate::geometry::nearest::{Primitive, cmp_distance, decide_near, decide_within, values};
 use crate::geometry::pose::Pose;
 use crate::geometry::predicates::{Point, orient3d};
 use crate::mesh::Mesh;
@@ -20,7 +20,7 @@ use crate::query::nearest::{NearPair, NearPairs, nearest_features};
 use crate::query::options::{QueryMode, QueryOptions};
 use crate::query::pairs::{Pairs, QueryStats};
 use crate::query::points::DistanceOptions;
-use crate::query::points::walk::Frame;
+use crate::query::points::walk::{Frame, mesh_feature};
 use crate::query::primitives::{ImpactKind, Key};
 use std::cell::RefCell;
 use std::cmp::Ordering;
@@ -93,15 +93,36 @@ fn stencil_points(a: &Frame, b: &Frame, (kind, a0, a1, b0, b1): Key) -> (Primiti
     }
 }
 
-/// The stencil `key` with its values, exactly; `None` beyond the largest double.
-fn exact_stencil(a: &Frame, b: &Frame, key: Key) -> Option<NearPair> {
+/// The stencil `key`, whose squared distance is about `estimate`, with its values, exactly;
+/// `None` beyond the largest double.
+fn exact_stencil(a: &Frame, b: &Frame, key: Key, estimate: f64) -> Option<NearPair> {
     let (pair, p) = stencil_points(a, b, key);
-    let decided = decide_within(pair, &p, f64::MAX)?;
+    let decided = decide_near(pair, &p, estimate)?;
     Some(NearPair::new(key, &values(pair, &p, decided)))
 }
 
+/// The mesh features of both sides of stencil `s` that hold its closest points: two stencils
+/// with the same have the same closest points, so the same distance (the common tie: the
+/// stencils around the nearest vertex or edge).
+fn mesh_features(a: &Frame, b: &Frame, s: &NearPair) -> [[u32; 3]; 2] {
+    match s.kind {
+        ImpactKind::VertexFace => [
+            mesh_feature(&[s.a0], 0, s.feature_a),
+            mesh_feature(&b.triangle(s.b0), s.b0, s.feature_b),
+        ],
+        ImpactKind::FaceVertex => [
+            mesh_feature(&a.triangle(s.a0), s.a0, s.feature_a),
+            mesh_feature(&[s.b0], 0, s.feature_b),
+        ],
+        ImpactKind::EdgeEdge => [
+            mesh_feature(&[s.a0, s.a1], 0, s.feature_a),
+            mesh_feature(&[s.b0, s.b1], 0, s.feature_b),
+        ],
+    }
+}
+
 /// The least of `found` (sorted by key) by exact distance, the first in key order among equals.
-fn least(a: &Frame, b: &Frame, found: &[NearPair], reach: f64) -> Option<NearPair> {
+fn least(a: &Frame, b: &Frame, found: &[NearPair]) -> Option<NearPair> {
     let mut best: Option<(NearPair, Primitive, [Point; 4])> = None;
     for s in found {
         let (pair, p) = stencil_points(a, b, s.key());
@@ -114,9 +135,13 @@ fn least(a: &Frame, b: &Frame, found: &[NearPair], reach: f64) -> Option<NearPai
                 let apart = t.distance.next_up().next_up() < s.distance.next_down().next_down();
                 if certain || apart {
                     certain
+                } else if mesh_features(a, b, s) == mesh_features(a, b, t) {
+                    false
                 } else {
-                    let x = decide_within(pair, &p, reach).expect("found within the reach");
-                    let y = decide_within(*tpair, tp, reach).expect("found within the reach");
+                    let x = decide_near(pair, &p, s.distance * s.distance)
+                        .expect("found within the reach");
+                    let y = decide_near(*tpair, tp, t.distance * t.distance)
+                        .expect("found within the reach");
                     cmp_distance((pair, &p, x), (*tpair, tp, y)) == Ordering::Less
                 }
             }
@@ -183,7 +208,8 @@ fn shared_point(ta: &[Point; 3], tb: &[Point; 3]) -> Point {
 ///
 /// [`DistanceOptions`]: farther apart than `max_distance` is not [`Distance::found`] (the
 /// cheapest query); with `rel_err` or `abs_err`, a pair at distance `d <= (1 + rel_err) m +
-/// abs_err` of the least `m` may be reported (its values are still its own); `threads` shares
+/// abs_err` of the least `m` may be reported (its values are still its own; which of those comes may
+/// depend on the volume kind, never on the thread count); `threads` shares
 /// the work out. Posed coordinates are those [`Pose::transform_point`] computes, as in
 /// [`crate::collide`]. The counters returned are the sums of the queries made.
 ///
@@ -252,7 +278,7 @@ fn least_distance(
     };
     let guess = fa
         .nearest_pair_estimate(&fb, bound, &mut s.stack)
-        .and_then(|(key, _)| exact_stencil(&fa, &fb, key));
+        .and_then(|(key, e)| exact_stencil(&fa, &fb, key, e));
     let near =
         |reach: f64, s: &mut NearPairs| nearest_features(a, pose_a, b, pose_b, reach, &query, s);
     let found = match guess {
@@ -264,18 +290,23 @@ fn least_distance(
                 if s.near.is_empty() {
                     Some(g)
                 } else {
-                    least(&fa, &fb, s.near.as_slice(), reach)
+                    least(&fa, &fb, s.near.as_slice())
                 }
             } else {
-                let reach = exact_bound.min(max);
+                // Widened a little: the guess and the stencils tying with it are then told
+                // within by the filters, not in exact arithmetic at the boundary; the few more
+                // it may take in are ordered exactly.
+                let reach = (exact_bound * (1.0 + 1.0 / (1u64 << 30) as f64))
+                    .next_up()
+                    .min(max);
                 stats.add(&near(reach, &mut s.near)?);
-                least(&fa, &fb, s.near.as_slice(), reach)
+                least(&fa, &fb, s.near.as_slice())
             }
         }
         None => {
             let reach = max.min(f64::MAX);
             stats.add(&near(reach, &mut s.near)?);
-            least(&fa, &fb, s.near.as_slice(), reach)
+            least(&fa, &fb, s.near.as_slice())
         }
     };
     let Some(stencil) = found else {

@@ -9,9 +9,9 @@
 
 use super::options::DistanceOptions;
 use super::order::{Walker, answer_points, check_points};
-use super::walk::Frame;
+use super::walk::{Frame, mesh_feature};
 use crate::error::Result;
-use crate::geometry::nearest::{Decided, Feature, Primitive, cmp_distance, decide_within, values};
+use crate::geometry::nearest::{Decided, Feature, Primitive, cmp_distance, decide_near, values};
 use crate::geometry::pose::Pose;
 use crate::geometry::predicates::Point;
 use crate::mesh::Mesh;
@@ -56,20 +56,9 @@ fn pair_points(frame: &Frame, p: &Point, t: u32) -> [Point; 4] {
 }
 
 /// The mesh feature that holds the closest point of `p` on triangle `t`, as the exact decision
-/// found it: a vertex, an edge (its vertices, lower first) or the triangle.
-fn mesh_feature(frame: &Frame, t: u32, d: Decided) -> [u32; 3] {
-    let tri = frame.triangle(t);
-    match d.face_feature() {
-        Feature::Vertex0 => [tri[0], u32::MAX, u32::MAX],
-        Feature::Vertex1 => [tri[1], u32::MAX, u32::MAX],
-        Feature::Vertex2 => [tri[2], u32::MAX, u32::MAX],
-        Feature::Interior => [u32::MAX, u32::MAX, t],
-        edge => {
-            let k = edge as usize - Feature::Edge01 as usize;
-            let (u, v) = (tri[k], tri[(k + 1) % 3]);
-            [u.min(v), u.max(v), u32::MAX]
-        }
-    }
+/// found it.
+fn face_mesh_feature(frame: &Frame, t: u32, d: Decided) -> [u32; 3] {
+    mesh_feature(&frame.triangle(t), t, d.face_feature())
 }
 
 /// The closest of `found` to `p`: least exact distance, then least triangle index.
@@ -82,7 +71,8 @@ fn least(frame: &Frame, p: &Point, found: &[Found]) -> Option<Found> {
             Some(((bt, bd), bq)) => {
                 // Closest points on one vertex or edge of the mesh: the same point, the same
                 // distance (the common tie: the triangles around the nearest vertex).
-                let order = if mesh_feature(frame, t, d) == mesh_feature(frame, *bt, *bd) {
+                let order = if face_mesh_feature(frame, t, d) == face_mesh_feature(frame, *bt, *bd)
+                {
                     Ordering::Equal
                 } else {
                     cmp_distance(
@@ -106,9 +96,9 @@ fn least(frame: &Frame, p: &Point, found: &[Found]) -> Option<Found> {
 
 /// The exact distance of `p` from triangle `t` (rounded as the results are) with where its
 /// closest point lies; `None` for a distance beyond the largest double.
-fn exact_distance(frame: &Frame, p: &Point, t: u32) -> Option<(Decided, f64)> {
+fn exact_distance(frame: &Frame, p: &Point, t: u32, estimate: f64) -> Option<(Decided, f64)> {
     let q = pair_points(frame, p, t);
-    let decided = decide_within(Primitive::VertexFace, &q, f64::MAX)?;
+    let decided = decide_near(Primitive::VertexFace, &q, estimate)?;
     Some((decided, values(Primitive::VertexFace, &q, decided).distance))
 }
 
@@ -136,7 +126,7 @@ pub(super) fn closest_triangle(
     let guess = frame.nearest_estimate(p, bound, seed, &mut w.stack);
     // The search radius of the exact walk: every triangle it finds is within it, and the
     // least distance is too.
-    let reach = match guess.and_then(|(t, _)| exact_distance(frame, p, t).map(|e| (t, e))) {
+    let reach = match guess.and_then(|(t, e)| exact_distance(frame, p, t, e).map(|x| (t, x))) {
         Some((t, (decided, d))) => {
             // Two units up from a distance within one of the correctly rounded: at least the
             // exact distance.
@@ -150,7 +140,12 @@ pub(super) fn closest_triangle(
                 }
                 return least(frame, p, &w.found);
             }
-            exact_bound.min(max)
+            // Widened a little: the guess's own triangle and those tying with it (around its
+            // nearest vertex or edge) are then told within by the filters, not in exact
+            // arithmetic at the boundary; the few more it may take in are ordered exactly.
+            (exact_bound * (1.0 + 1.0 / (1u64 << 30) as f64))
+                .next_up()
+                .min(max)
         }
         // Nothing within the bound by the estimates (or only beyond the largest double): the
         // exact walk settles it.

@@ -4,6 +4,7 @@
 //! meeting other edges and vertices).
 
 use super::*;
+use crate::fixtures::distance_judge::judge_closest_points;
 use crate::fixtures::oracle::{closest_triangle_brute_force, corners, winding_by_solid_angles};
 use crate::fixtures::rational::q;
 use crate::fixtures::{MeshData, Rng, grid, icosphere, torus};
@@ -38,12 +39,6 @@ fn points_about(m: &MeshData, rng: &mut Rng, random: usize) -> Vec<Point> {
 /// count the same.
 fn check_closest(m: &MeshData, pose: Option<&Pose>, points: &[Point], max: f64, what: &str) {
     let mut first: Option<Vec<ClosestPoint>> = None;
-    // Brute force once: the answer depends on the coordinates only.
-    let reference = build(m, VolumeKind::Aabb);
-    let expected: Vec<_> = points
-        .iter()
-        .map(|p| closest_triangle_brute_force(&reference, pose, p, max))
-        .collect();
     for volume in VOLUMES {
         let mesh = build(m, volume);
         for threads in [1, 0] {
@@ -52,49 +47,11 @@ fn check_closest(m: &MeshData, pose: Option<&Pose>, points: &[Point], max: f64, 
                 .with_threads(threads);
             let mut out = vec![ClosestPoint::default(); points.len()];
             closest_points(&mesh, pose, points, &options, &mut out).unwrap();
-            if first.is_some() {
-                assert_eq!(
-                    first.as_ref(),
-                    Some(&out),
-                    "{what}: {volume:?}, {threads} threads"
-                );
-                continue;
-            }
-            for (i, (p, c)) in points.iter().zip(&out).enumerate() {
-                let expected = expected[i].clone();
-                let what = format!("{what}, {volume:?}, {threads} threads, point {i} {p:?}");
-                match expected {
-                    None => assert!(!c.found(), "{what}: found {c:?}"),
-                    Some((t, d2)) => {
-                        assert!(c.found(), "{what}: not found");
-                        assert_eq!(c.triangle, t, "{what}");
-                        // Within one unit of the correctly rounded root: its square brackets
-                        // the exact square between the neighbours'.
-                        let (lo, hi) = (c.distance.next_down().max(0.0), c.distance.next_up());
-                        assert!(
-                            q(lo) * q(lo) <= d2 && d2 <= q(hi) * q(hi),
-                            "{what}: distance {} against {d2}",
-                            c.distance
-                        );
-                        let tri = corners(&mesh, t as usize, pose);
-                        let wsum: f64 = c.weights.iter().sum();
-                        assert!(
-                            (wsum - 1.0).abs() < 1e-12,
-                            "{what}: weights {:?}",
-                            c.weights
-                        );
-                        for k in 0..3 {
-                            let from_weights: f64 = (0..3).map(|j| c.weights[j] * tri[j][k]).sum();
-                            let scale = tri.iter().map(|v| v[k].abs()).fold(1e-300, f64::max);
-                            assert!(
-                                (from_weights - c.point[k]).abs() <= 1e-9 * scale,
-                                "{what}: point {:?} against weights {:?}",
-                                c.point,
-                                c.weights
-                            );
-                        }
-                    }
-                }
+            let what = format!("{what}: {volume:?}, {threads} threads");
+            match &first {
+                Some(f) => assert_eq!(f, &out, "{what}"),
+                // Brute force once: the answer depends on the coordinates only.
+                None => judge_closest_points(&mesh, pose, points, max, &out, &what),
             }
             first = Some(out);
         }

@@ -5,7 +5,7 @@
 use crate::csr::Csr;
 use crate::geometry::aabb::Aabb;
 use crate::geometry::nearest::{
-    Decided, Primitive, decide_within, point_triangle_estimate, segments_estimate,
+    Decided, Feature, Primitive, decide_within, point_triangle_estimate, segments_estimate,
 };
 use crate::geometry::pose::Pose;
 use crate::geometry::predicates::Point;
@@ -445,5 +445,21 @@ impl<'q> Frame<'q> {
             stack.extend(node.children().map(|c| (c, 0.0)));
         }
         true
+    }
+}
+
+/// The mesh feature holding a closest point on a primitive at its feature `f`: a vertex, an
+/// edge (its vertices, lower first) or a triangle. `corners` are the primitive's vertices (one, two
+/// or a triangle's three), `face` the triangle's index.
+pub(crate) fn mesh_feature(corners: &[u32], face: u32, f: Feature) -> [u32; 3] {
+    let none = u32::MAX;
+    match f {
+        Feature::Vertex0 | Feature::Vertex1 | Feature::Vertex2 => [corners[f as usize], none, none],
+        Feature::Interior => [none, none, face],
+        edge => {
+            let k = edge as usize - Feature::Edge01 as usize;
+            let (u, v) = (corners[k], corners[(k + 1) % corners.len()]);
+            [u.min(v), u.max(v), none]
+        }
     }
 }
