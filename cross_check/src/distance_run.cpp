@@ -56,19 +56,10 @@ void print_row(const DistanceRow& r) {
 
 void run_pairs(Scene& scene, int frames, uint32_t threads, DistanceResults& out) {
     const size_t n = scene.objects.size();
-    std::vector<std::vector<double>> local(n), world(n), apart(n);
+    std::vector<std::vector<double>> local(n), world(n);
     std::vector<DvhPose> poses(n);
     auto place = [&](double t) {
-        for (size_t i = 0; i < n; i++) {
-            auto& o = scene.objects[i];
-            if (o.deforms)
-                o.morph.apply(o.rest.pos, t, local[i]);
-            else
-                local[i] = o.rest.pos;
-            Pose pose = o.motion(t);
-            poses[i] = to_dvh(pose);
-            apply_pose(pose, local[i], world[i]);
-        }
+        for (size_t i = 0; i < n; i++) poses[i] = to_dvh(place_object(scene.objects[i], t, local[i], world[i]));
     };
     auto box = [](const std::vector<double>& w, int k, bool hi) {
         double x = hi ? -HUGE_VAL : HUGE_VAL;
@@ -113,8 +104,8 @@ void run_pairs(Scene& scene, int frames, uint32_t threads, DistanceResults& out)
             dvh::Mesh ap(local[i].data(), mi.vertices(), mi.tris.data(), mi.triangles(), many_build);
             dvh::Mesh bp(local[j].data(), mj.vertices(), mj.tris.data(), mj.triangles(), many_build);
             auto fcl_model = [](const MeshData& m, const std::vector<double>& w) {
-                std::vector<fcl::Vector3d> v(m.vertices());
-                for (size_t k = 0; k < v.size(); k++) v[k] = fcl::Vector3d(w[3 * k], w[3 * k + 1], w[3 * k + 2]);
+                std::vector<fcl::Vector3d> v;
+                to_fcl(w, v);
                 std::vector<fcl::Triangle> t(m.triangles());
                 for (size_t k = 0; k < t.size(); k++) t[k] = fcl::Triangle(m.tris[3 * k], m.tris[3 * k + 1], m.tris[3 * k + 2]);
                 auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
@@ -156,9 +147,9 @@ void run_pairs(Scene& scene, int frames, uint32_t threads, DistanceResults& out)
                 row.threads_mismatch = same(d, dn) ? 0 : 1;
                 row.posed_mismatch = same(d, dp) ? 0 : 1;
                 // FCL: replace + refit + distance.
-                std::vector<fcl::Vector3d> vi(mi.vertices()), vj(mj.vertices());
-                for (size_t k = 0; k < vi.size(); k++) vi[k] = fcl::Vector3d(world[i][3 * k], world[i][3 * k + 1], world[i][3 * k + 2]);
-                for (size_t k = 0; k < vj.size(); k++) vj[k] = fcl::Vector3d(wj[3 * k], wj[3 * k + 1], wj[3 * k + 2]);
+                std::vector<fcl::Vector3d> vi, vj;
+                to_fcl(world[i], vi);
+                to_fcl(wj, vj);
                 t0 = Clock::now();
                 fa->beginReplaceModel();
                 fa->replaceSubModel(vi);

@@ -16,6 +16,12 @@ namespace xc {
 // Sorted, distinct triangle pairs (a << 32 | b).
 using PairSet = std::vector<uint64_t>;
 
+// x, y, z per vertex as FCL's vectors, into `out`.
+inline void to_fcl(const std::vector<double>& xyz, std::vector<fcl::Vector3d>& out) {
+    out.resize(xyz.size() / 3);
+    for (size_t v = 0; v < out.size(); v++) out[v] = fcl::Vector3d(xyz[3 * v], xyz[3 * v + 1], xyz[3 * v + 2]);
+}
+
 // One FCL configuration (OBBRSSd or AABBd) for every object of a scene.
 template <typename BV>
 struct FclSide {

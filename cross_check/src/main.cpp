@@ -416,16 +416,8 @@ std::vector<FrameRow> run_scene(xc::Scene& scene, uint32_t threads, const Runs& 
     std::vector<xc::Pose> poses(n);
     auto place = [&](double t) {
         for (size_t i = 0; i < n; i++) {
-            auto& o = scene.objects[i];
-            if (o.deforms)
-                o.morph.apply(o.rest.pos, t, local[i]);
-            else
-                local[i] = o.rest.pos;
-            poses[i] = o.motion(t);
-            xc::apply_pose(poses[i], local[i], world[i]);
-            fcl_world[i].resize(o.rest.vertices());
-            for (size_t v = 0; v < fcl_world[i].size(); v++)
-                fcl_world[i][v] = fcl::Vector3d(world[i][3 * v], world[i][3 * v + 1], world[i][3 * v + 2]);
+            poses[i] = xc::place_object(scene.objects[i], t, local[i], world[i]);
+            xc::to_fcl(world[i], fcl_world[i]);
         }
     };
 

@@ -145,17 +145,8 @@ void run_pairs(Scene& scene, int frames, uint32_t threads, ProximityResults& out
     std::vector<DvhPose> poses(n);
     auto place = [&](double t) {
         for (size_t i = 0; i < n; i++) {
-            auto& o = scene.objects[i];
-            if (o.deforms)
-                o.morph.apply(o.rest.pos, t, local[i]);
-            else
-                local[i] = o.rest.pos;
-            Pose pose = o.motion(t);
-            poses[i] = to_dvh(pose);
-            apply_pose(pose, local[i], world[i]);
-            fcl_world[i].resize(o.rest.vertices());
-            for (size_t v = 0; v < fcl_world[i].size(); v++)
-                fcl_world[i][v] = fcl::Vector3d(world[i][3 * v], world[i][3 * v + 1], world[i][3 * v + 2]);
+            poses[i] = to_dvh(place_object(scene.objects[i], t, local[i], world[i]));
+            to_fcl(world[i], fcl_world[i]);
         }
     };
     place(0.0);

@@ -293,6 +293,16 @@ SelfScene twist(const SceneOptions& o) {
 
 }  // namespace
 
+Pose place_object(Object& o, double t, std::vector<double>& local, std::vector<double>& world) {
+    if (o.deforms)
+        o.morph.apply(o.rest.pos, t, local);
+    else
+        local = o.rest.pos;
+    Pose pose = o.motion(t);
+    apply_pose(pose, local, world);
+    return pose;
+}
+
 std::vector<Scene> make_scenes(const SceneOptions& o) {
     std::vector<Scene> scenes;
     scenes.push_back(many(o));

@@ -32,6 +32,10 @@ struct SceneOptions {
     std::string data_dir;      // where the CGAL demo OFF files were unpacked
 };
 
+// Object `o` at time `t`: its local coordinates (deformed, or at rest) into `local`, placed by its
+// motion into `world`; returns the pose.
+Pose place_object(Object& o, double t, std::vector<double>& local, std::vector<double>& world);
+
 // Every scene of the chosen mode, built (meshes loaded, subdivided, placed).
 std::vector<Scene> make_scenes(const SceneOptions& options);
 
