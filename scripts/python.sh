@@ -92,6 +92,9 @@ if $full; then
     # Intersection curves on deforming CGAL demo meshes (skipped without libcgal-demo; against
     # trueform's points when it is installed: it fails on a mismatch).
     "$venv/bin/python" "$root/python/bench/curves_peers.py" --quick >/dev/null
+    # Point queries of a deforming mesh (a sphere stands in without libcgal-demo; it checks
+    # that the closest points, winding numbers and signed distances agree).
+    "$venv/bin/python" "$root/python/bench/points_peers.py" --quick --points 20000 >/dev/null
     # The sdist, as pip builds it where no wheel fits: from source, with cargo.
     "$python" -m venv "$work/sdist-venv"
     sdist=$(ls "$work"/dist/*.tar.gz)

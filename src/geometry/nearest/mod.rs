@@ -37,7 +37,8 @@ use values::values_of;
 mod decide;
 mod filter;
 pub(crate) use filter::{
-    point_triangle as point_triangle_estimate, segment_segment as segments_estimate,
+    point_triangle as point_triangle_estimate, point_triangle_within,
+    segment_segment as segments_estimate,
 };
 #[cfg(test)]
 mod tests;

@@ -357,6 +357,57 @@ fn the_filter_never_rejects_at_the_exact_distance() {
 }
 
 #[test]
+fn the_walks_lower_bound_is_never_above_the_exact_distance() {
+    // The point-triangle bound a walk drops triangles by: at every scale (1e-160 is where the
+    // squared direction would be subnormal without its scaling), never above the exact
+    // distance, and dropping a triangle only beyond the reach; nearly tight on most triangles.
+    let mut rng = Rng::new(0x10_3e7b);
+    let mut tight = 0;
+    let cases = crate::fixtures::cases(1000, 5000);
+    for case in 0..cases {
+        let (scale, offset) = [
+            (1.0, 0.0),
+            (1e-160, 0.0),
+            (1e-300, 0.0),
+            (1e200, 1e201),
+            (1.0, 1e12),
+        ][case % 5];
+        let p = random_points(&mut rng, scale, offset);
+        let min = oracle(Primitive::VertexFace, &p)
+            .iter()
+            .map(Cand::squared)
+            .min()
+            .unwrap();
+        let exact = sqrt_rational(&min);
+        let near = exact * (1.0 - 1e-9);
+        for reach in [
+            0.0,
+            exact * 0.5,
+            near,
+            exact.next_down(),
+            exact,
+            f64::INFINITY,
+        ] {
+            match filter::point_triangle_within(&p[0], &p[1], &p[2], &p[3], reach) {
+                None => {
+                    assert!(q(reach) * q(reach) < min, "{p:?} dropped within {reach}");
+                    tight += usize::from(reach == near && case % 5 < 2);
+                }
+                Some((_, lower)) => {
+                    assert!(q(lower) * q(lower) <= min, "{p:?}: {lower} above {exact}")
+                }
+            }
+        }
+    }
+    // Tight where the estimate is good: at unit scale and at 1e-160 (there its products
+    // underflow, so its point is rough); the others are checked for safety only.
+    assert!(
+        tight * 5 >= cases,
+        "the bound was tight on {tight} of {cases}"
+    );
+}
+
+#[test]
 fn the_corner_shortcut_claims_only_pairs_within() {
     // d just below the least distance between corners of the two primitives: the shortcut
     // must not claim the pair; a little beyond it, it should.

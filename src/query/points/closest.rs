@@ -111,48 +111,44 @@ pub(super) fn closest_triangle(
     w: &mut Walker,
 ) -> Option<Found> {
     let max = options.max_distance;
-    let bound = if max.is_finite() {
-        // Squared and widened: the estimate's rounding must not hide a triangle at `max`.
-        (max * max) * (1.0 + 1e-6) + f64::MIN_POSITIVE
-    } else {
-        f64::INFINITY
-    };
     // Start from the triangle the point before found: near it, its distance prunes most.
-    let seed = w.previous.map(|t| {
-        let [a, b, c] = frame.corners(t);
-        let e = crate::geometry::nearest::point_triangle_estimate(p, &a, &b, &c);
-        (t, crate::geometry::sphere::distance_squared(p, &e))
-    });
-    let guess = frame.nearest_estimate(p, bound, seed, &mut w.stack);
-    // The search radius of the exact walk: every triangle it finds is within it, and the
-    // least distance is too.
-    let reach = match guess.and_then(|(t, e)| exact_distance(frame, p, t, e).map(|x| (t, x))) {
-        Some((t, (decided, d))) => {
-            // Two units up from a distance within one of the correctly rounded: at least the
-            // exact distance.
-            let exact_bound = d.next_up().next_up();
-            if options.tolerant() && exact_bound <= max {
-                // Accepted unless something is nearer than the tolerance allows.
-                let reach = options.improving(exact_bound);
-                frame.within(p, reach, &mut w.stack, &mut w.found);
-                if w.found.is_empty() {
-                    return Some((t, decided));
+    let shrink = |d: f64| options.improving(d);
+    let (guess, reach) = frame.nearest_kept(p, max, w.previous, shrink, &mut w.stack, &mut w.kept);
+    // Every triangle within `reach` is kept; the exact decisions need those within the
+    // guess's exact distance (or the tolerance's radius below it).
+    let (radius, guess) =
+        match guess.and_then(|(t, e)| exact_distance(frame, p, t, e).map(|x| (t, x))) {
+            Some((t, (decided, d))) => {
+                // Two units up from a distance within one of the correctly rounded: at least the
+                // exact distance.
+                let exact_bound = d.next_up().next_up();
+                if options.tolerant() && exact_bound <= max {
+                    // Accepted unless something is nearer than the tolerance allows.
+                    (options.improving(exact_bound), Some((t, decided)))
+                } else {
+                    // Widened a little: the guess's own triangle and those tying with it (around
+                    // its nearest vertex or edge) are then told within by the filters, not in
+                    // exact arithmetic at the boundary; the few more it may take in are ordered
+                    // exactly.
+                    let r = (exact_bound * (1.0 + 1.0 / (1u64 << 30) as f64)).next_up();
+                    (r.min(max), None)
                 }
-                return least(frame, p, &w.found);
             }
-            // Widened a little: the guess's own triangle and those tying with it (around its
-            // nearest vertex or edge) are then told within by the filters, not in exact
-            // arithmetic at the boundary; the few more it may take in are ordered exactly.
-            (exact_bound * (1.0 + 1.0 / (1u64 << 30) as f64))
-                .next_up()
-                .min(max)
-        }
-        // Nothing within the bound by the estimates (or only beyond the largest double): the
-        // exact walk settles it.
-        None => max.min(f64::MAX),
-    };
-    frame.within(p, reach, &mut w.stack, &mut w.found);
-    least(frame, p, &w.found)
+            // Nothing within the bound by the estimates (or only beyond the largest double): the
+            // exact decisions settle it.
+            None => (max.min(f64::MAX), None),
+        };
+    if radius <= reach {
+        frame.kept_within(p, radius, &w.kept, &mut w.stack, &mut w.found);
+    } else {
+        // The guess's estimate was far below its exact distance (a degenerate triangle): walk
+        // again to the radius.
+        frame.within(p, radius, &mut w.stack, &mut w.found);
+    }
+    match guess {
+        Some(accepted) if w.found.is_empty() => Some(accepted),
+        _ => least(frame, p, &w.found),
+    }
 }
 
 /// The answer for `p`: its closest point, or not found.

@@ -116,6 +116,8 @@ pub(super) struct Walker {
     pub stack: super::walk::Stack,
     /// The triangles an exact walk found.
     pub found: Vec<(u32, crate::geometry::nearest::Decided)>,
+    /// The triangles the nearest walk kept, with certain lower bounds of their distances.
+    pub kept: Vec<(u32, f64)>,
     /// The answer of the point before, in the block: the triangle nearest it.
     pub previous: Option<u32>,
 }

@@ -5,7 +5,8 @@
 use crate::csr::Csr;
 use crate::geometry::aabb::Aabb;
 use crate::geometry::nearest::{
-    Decided, Feature, Primitive, decide_within, point_triangle_estimate, segments_estimate,
+    Decided, Feature, Primitive, decide_within, point_triangle_estimate, point_triangle_within,
+    segments_estimate,
 };
 use crate::geometry::pose::Pose;
 use crate::geometry::predicates::Point;
@@ -45,7 +46,17 @@ impl Bounds<'_> {
     #[inline]
     fn within(&self, n: usize, p: &Point, d: f64) -> bool {
         match self {
-            Bounds::Boxes(b) => b[n].within(&Aabb::point(p), d),
+            Bounds::Boxes(b) => box_within(&b[n], p, d),
+            Bounds::Spheres(s) => overlap(&s[n].centre, s[n].radius, p, d),
+        }
+    }
+
+    /// May node `n`'s volume hold a point within `d` of `p`, given `key`, its
+    /// [`Bounds::lower`] (which boxes reuse; spheres test again)? Never `false` when it does.
+    #[inline]
+    fn within_keyed(&self, n: usize, p: &Point, d: f64, key: f64) -> bool {
+        match self {
+            Bounds::Boxes(b) => gap_within(key, d) && b[n].within(&Aabb::point(p), d),
             Bounds::Spheres(s) => overlap(&s[n].centre, s[n].radius, p, d),
         }
     }
@@ -73,6 +84,30 @@ impl Bounds<'_> {
             }
         }
     }
+}
+
+/// May box `b` hold a point within `d` of `p`? Never `false` when it does: along every axis
+/// (exact, as [`Aabb::within`]), then in Euclidean distance with a margin for every rounding.
+/// The Euclidean test is what keeps the exact walk's triangles few: the axes alone admit a
+/// cube around `p`, which for a point deep inside a closed surface holds most of it.
+#[inline]
+fn box_within(b: &Aabb, p: &Point, d: f64) -> bool {
+    b.within(&Aabb::point(p), d) && gap_within(box_gap_squared(b, p), d)
+}
+
+/// May a box whose squared gap from a point is `gap` in floating point ([`box_gap_squared`])
+/// hold a point within `d` of it? Never `false` when it does; always `true` where underflow or
+/// overflow could hide a rounding (then the axes, [`Aabb::within`], decide alone).
+#[inline]
+fn gap_within(gap: f64, d: f64) -> bool {
+    let dd = d * d;
+    if !(1e-280..=1e280).contains(&dd) {
+        return true;
+    }
+    // Each gap is one rounded subtraction (at most its exact value times 1 + eps), squared and
+    // summed in four more roundings; `d d` one: 8 eps covers them, 1e-300 the underflow of
+    // a gap's square below the smallest normal.
+    gap * (1.0 - 8.0 * f64::EPSILON) - 1e-300 <= dd * (1.0 + 2.0 * f64::EPSILON)
 }
 
 /// The squared distance from `p` to box `b` (0 inside), in floating point.
@@ -216,40 +251,72 @@ impl<'q> Frame<'q> {
         self.owned.row(node.ring_start as usize)
     }
 
-    /// The triangle nearest `p` in floating point whose squared distance is below `bound`
-    /// (squared), with that squared distance, starting from `seed` (a triangle and its squared
-    /// distance) when it is nearer: a guess for the exact walks to confirm, which rest on nothing
-    /// it decides. Nodes are visited nearest first.
-    pub fn nearest_estimate(
+    /// The triangle nearest `p` in floating point, and every triangle that may be as near,
+    /// in one walk: a guess with its squared estimate, into `kept` (cleared first) each
+    /// triangle not certainly beyond the reach when it was met, with a certain lower bound of
+    /// its distance (`(triangle, bound)`; 0 for those the estimates put within), and the
+    /// reach: every triangle within it of `p` is in `kept`, decided by certain bounds (of the
+    /// nodes' volumes, the triangles' boxes and the separations along the estimates'
+    /// directions), not by estimates.
+    ///
+    /// The reach starts at `bound` and shrinks to just above the best estimate's root as
+    /// nearer triangles are met, through `shrink` (a tolerance's smaller radius, or the
+    /// identity), so the exact decisions that follow take only the triangles it keeps when the
+    /// guess's exact distance is within it (almost always: the estimate is within a few
+    /// units in the last place of the exact distance but for degenerate triangles). `seed`, a
+    /// triangle to start from (the previous point's answer), prunes from the start.
+    pub fn nearest_kept(
         &self,
         p: &Point,
         bound: f64,
-        seed: Option<(u32, f64)>,
+        seed: Option<u32>,
+        shrink: impl Fn(f64) -> f64,
         stack: &mut Stack,
-    ) -> Option<(u32, f64)> {
-        let mut best = seed.filter(|s| s.1 < bound);
-        let mut limit = best.map_or(bound, |s| s.1);
+        kept: &mut Vec<(u32, f64)>,
+    ) -> (Option<(u32, f64)>, f64) {
+        kept.clear();
+        let mut best: Option<(u32, f64)> = None;
+        let mut reach = bound;
         let Stack {
             nodes: stack,
             volume_tests,
             ..
         } = stack;
+        let mut meet = |t: u32, best: &mut Option<(u32, f64)>, reach: &mut f64| {
+            let [a, b, c] = self.corners(t);
+            // The triangle's box is a certain bound, and cheap: what it keeps is decided later.
+            if !box_within(&Aabb::of_points([&a, &b, &c]), p, *reach) {
+                return;
+            }
+            // Dropped where a certain bound puts it beyond the reach (the separation along
+            // the estimate's own direction, nearly exact); kept otherwise, for the exact
+            // decisions to settle.
+            let Some((estimate, lower)) = point_triangle_within(p, &a, &b, &c, *reach) else {
+                return;
+            };
+            kept.push((t, lower));
+            // A NaN (a degenerate triangle's estimate) never wins.
+            if estimate < best.map_or(f64::INFINITY, |b| b.1) {
+                *best = Some((t, estimate));
+                let near = (estimate.sqrt() * (1.0 + 1.0 / (1u64 << 20) as f64)).next_up();
+                *reach = reach.min(shrink(near));
+            }
+        };
+        if let Some(t) = seed {
+            meet(t, &mut best, &mut reach);
+        }
         stack.clear();
         stack.push((0, self.bounds.lower(0, p)));
         *volume_tests += 1;
-        while let Some((n, lower)) = stack.pop() {
-            if lower >= limit {
+        while let Some((n, key)) = stack.pop() {
+            if !self.bounds.within_keyed(n as usize, p, reach, key) {
                 continue;
             }
             let node = &self.nodes[n as usize];
             if node.is_leaf() {
                 for &t in self.leaf_triangles(node) {
-                    let [a, b, c] = self.corners(t);
-                    let d2 = distance_squared(p, &point_triangle_estimate(p, &a, &b, &c));
-                    // A NaN (a degenerate triangle's estimate) never wins.
-                    if d2 < limit {
-                        limit = d2;
-                        best = Some((t, d2));
+                    if Some(t) != seed {
+                        meet(t, &mut best, &mut reach);
                     }
                 }
                 continue;
@@ -257,15 +324,15 @@ impl<'q> Frame<'q> {
             // Children pushed farthest first, so the nearest is opened first.
             let start = stack.len();
             for c in node.children() {
-                let l = self.bounds.lower(c as usize, p);
                 *volume_tests += 1;
-                if l < limit {
-                    stack.push((c, l));
+                let key = self.bounds.lower(c as usize, p);
+                if self.bounds.within_keyed(c as usize, p, reach, key) {
+                    stack.push((c, key));
                 }
             }
             stack[start..].sort_unstable_by(|x, y| y.1.total_cmp(&x.1));
         }
-        best
+        (best, reach)
     }
 
     /// The pair of a triangle of `self` and a triangle of `other` nearest each other in floating
@@ -376,13 +443,12 @@ impl<'q> Frame<'q> {
     /// the walk.
     pub fn within(&self, p: &Point, d: f64, stack: &mut Stack, out: &mut Vec<(u32, Decided)>) {
         out.clear();
-        let near = Aabb::point(p);
         self.leaves(
             stack,
             |n| self.bounds.within(n, p, d),
             |t, triangle_tests| {
                 let [a, b, c] = self.corners(t);
-                if Aabb::of_points([&a, &b, &c]).within(&near, d) {
+                if box_within(&Aabb::of_points([&a, &b, &c]), p, d) {
                     *triangle_tests += 1;
                     if let Some(decided) = decide_within(Primitive::VertexFace, &[*p, a, b, c], d) {
                         out.push((t, decided));
@@ -391,6 +457,33 @@ impl<'q> Frame<'q> {
                 true
             },
         );
+    }
+
+    /// Of the triangles `kept` by [`Frame::nearest_kept`] (whose reach was at least `d`),
+    /// every one within `d` of `p`, decided exactly, with where its closest point lies, into
+    /// `out` (cleared first).
+    pub fn kept_within(
+        &self,
+        p: &Point,
+        d: f64,
+        kept: &[(u32, f64)],
+        stack: &mut Stack,
+        out: &mut Vec<(u32, Decided)>,
+    ) {
+        out.clear();
+        for &(t, lower) in kept {
+            if lower > d {
+                continue;
+            }
+            let [a, b, c] = self.corners(t);
+            if !box_within(&Aabb::of_points([&a, &b, &c]), p, d) {
+                continue;
+            }
+            stack.triangle_tests += 1;
+            if let Some(decided) = decide_within(Primitive::VertexFace, &[*p, a, b, c], d) {
+                out.push((t, decided));
+            }
+        }
     }
 
     /// Calls `visit` with every triangle whose leaf's volume (and every ancestor's) meets the
