@@ -36,7 +36,7 @@ peer is skipped with a note):
 
 pysdf builds from source (it needs Eigen: ``apt-get install libeigen3-dev``, and
 ``CPATH=/usr/include/eigen3``); Open3D needs ``libusb-1.0-0``. On 2 cores the full run takes
-about 4 minutes; --quick (100,000 points, the elephant of 5,558 triangles) about 20 seconds.
+about 3 minutes; --quick (100,000 points, the elephant of 5,558 triangles) about 10 seconds.
 """
 
 from __future__ import annotations

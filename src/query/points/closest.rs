@@ -1,11 +1,14 @@
 //! The closest point of a mesh to each of many points, exactly: the least distance decided by
 //! exact comparisons, ties to the least triangle index.
 //!
-//! For each point, a walk in floating point finds a triangle near it (starting from the
-//! triangle nearest the point before it), whose distance, rounded from its exact value, bounds
-//! the least; an exact walk then finds every triangle within that bound (usually those of the
-//! nearest vertex or edge), and exact comparisons choose the least among them. The floating
-//! point only chooses where to look: every answer rests on exact decisions.
+//! For each point, one walk (starting from the triangle nearest the point before it) finds the
+//! triangle whose floating-point estimate is least and keeps every triangle that certain bounds
+//! cannot put beyond that estimate (a little widened); the guess's exact distance, rounded up,
+//! then bounds the least, and exact decisions choose among the kept triangles within it
+//! (usually those around the nearest vertex or edge). The floating point only chooses where to
+//! look: every answer rests on exact decisions, and where the guess's exact distance is beyond
+//! what the walk kept (a degenerate triangle's estimate far too low) a second, exact walk to
+//! that distance takes over.
 
 use super::options::DistanceOptions;
 use super::order::{Walker, answer_points, check_points};
