@@ -46,6 +46,7 @@ import json
 import os
 import sys
 import tarfile
+import tempfile
 import time
 from datetime import datetime, timezone
 from importlib import metadata
@@ -77,22 +78,13 @@ def optional(name: str):
 
 
 def read_cgal_mesh(name: str):
-    """A mesh of CGAL's demo data as (positions, triangles)."""
-    with tarfile.open(CGAL_DATA) as tar:
-        member = tar.extractfile(f"data/meshes/{name}.off")
-        text = member.read().decode()
-    words = [w for line in text.splitlines() for w in line.split("#")[0].split()]
-    nv, nf = int(words[1]), int(words[2])
-    at = 4
-    positions = np.array(words[at : at + 3 * nv], dtype=float).reshape(nv, 3)
-    at += 3 * nv
-    faces = []
-    for _ in range(nf):
-        k = int(words[at])
-        face = [int(w) for w in words[at + 1 : at + 1 + k]]
-        faces += [[face[0], face[i], face[i + 1]] for i in range(1, k - 1)]
-        at += 1 + k
-    return positions, np.array(faces, dtype=np.uint32)
+    """A mesh of CGAL's demo data as (positions, triangles), read by dvh's own OFF reader."""
+    with tarfile.open(CGAL_DATA) as tar, tempfile.TemporaryDirectory() as work:
+        path = os.path.join(work, f"{name}.off")
+        with open(path, "wb") as f:
+            f.write(tar.extractfile(f"data/meshes/{name}.off").read())
+        positions, triangles = dvh.read_mesh(path)
+    return positions, triangles.astype(np.uint32)
 
 
 def uv_sphere(n: int):
