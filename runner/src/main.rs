@@ -2,7 +2,7 @@
 //! the same run, as tables (printed, and written as Markdown and CSV) and SVG plots.
 //!
 //! ```text
-//! dvh-runner [paper|knobs|exactness|rigid|all|checksums|profile|scenes|self] [--full] [--scene NAME]...
+//! dvh-runner [paper|knobs|exactness|rigid|all|checksums|profile|scenes|self|distance] [--full] [--scene NAME]...
 //!            [--frames N] [--knob-frames N] [--repeat N] [--threads N] [--pause MS] [--out DIR]
 //! ```
 //!
@@ -21,6 +21,9 @@
 //!   last frame, to compare with the cross-check harness's (`dvh_cross_check --checksums`).
 //! - `self`: self-collision against the naive route (the mesh against itself, then filtered)
 //!   and self-proximity at three distances, on a folding sheet and a bent scanned mesh.
+//! - `distance`: the least distance of each object pair of the scenes, as the objects move and
+//!   moved apart: dvh (exact, and with `rel_err = 0.01`) against parry's `query::distance`, per
+//!   frame refit + query; times and parry's differences from dvh's exact answers.
 //! - `profile`: dvh alone, default options, on `--threads` threads (default 1): each of
 //!   `--frames` frames (default 10) spread over the scene's run, refit and queried `--repeat`
 //!   times (default 5); the mean over frames of each frame's fastest refit and query. For
@@ -32,6 +35,7 @@
 //! (`libcgal-demo`), built-in meshes otherwise. Output goes to `--out` (default
 //! `target/dvh-runner`): `summary.md`, CSV files and SVG plots.
 
+mod distance;
 mod exactness;
 #[cfg(fcl)]
 mod fcl;
@@ -65,6 +69,7 @@ enum Command {
     Profile,
     Scenes,
     SelfCollision,
+    Distance,
 }
 
 struct Args {
@@ -81,7 +86,7 @@ struct Args {
 }
 
 fn usage() -> String {
-    "usage: dvh-runner [paper|knobs|exactness|rigid|all|checksums|profile|scenes|self] [--full] \
+    "usage: dvh-runner [paper|knobs|exactness|rigid|all|checksums|profile|scenes|self|distance] [--full] \
      [--scene NAME]... [--frames N] [--knob-frames N] [--repeat N] [--threads N] [--pause MS] [--out DIR] [--no-proximity]"
         .to_string()
 }
@@ -122,6 +127,7 @@ fn parse() -> Result<Args, String> {
             "profile" => args.command = Command::Profile,
             "scenes" => args.command = Command::Scenes,
             "self" => args.command = Command::SelfCollision,
+            "distance" => args.command = Command::Distance,
             "--full" => args.size.full = true,
             "--scene" => args.scenes.push(value("--scene")?),
             "--frames" => args.size.frames = number("--frames", value("--frames")?)?,
@@ -241,6 +247,10 @@ fn run(args: &Args) -> Result<bool, Box<dyn std::error::Error>> {
             "{}",
             scenes::run(args.size, frames, args.repeat, args.threads)?
         );
+        return Ok(true);
+    }
+    if args.command == Command::Distance {
+        print!("{}", distance::table(args.size, &args.scenes)?);
         return Ok(true);
     }
     if args.command == Command::SelfCollision {

@@ -71,6 +71,24 @@ pub(crate) fn point_triangle_within(
 /// below with a margin for every rounding, so the bound holds exactly.
 #[inline]
 fn lower_along(pair: Primitive, p: &[Point; 4], u: Point) -> f64 {
+    let split = pair.split();
+    // Projections relative to one corner of the second primitive, so that coordinates far from
+    // the origin cancel before the products.
+    separation_along(&p[..split], &p[split..], &p[split], u)
+}
+
+/// A lower bound of the distance between two triangles (each the convex hull of its corners)
+/// from their separation along `u`, pointing from `b` towards `a` (0 when it cannot tell), as
+/// [`lower_along`] bounds a primitive pair's.
+#[inline]
+pub(crate) fn triangles_lower_along(a: &[Point; 3], b: &[Point; 3], u: Point) -> f64 {
+    separation_along(a, b, &b[0], u)
+}
+
+/// [`lower_along`] of the convex hulls of `first` and `second`, the projections taken
+/// relative to `o`.
+#[inline(always)]
+fn separation_along(first: &[Point], second: &[Point], o: &Point, u: Point) -> f64 {
     // Scaled by a power of two (exact) so that `u`'s largest component is about one: its
     // squared length then neither underflows nor loses relative precision, whatever the scale
     // of the coordinates.
@@ -80,23 +98,21 @@ fn lower_along(pair: Primitive, p: &[Point; 4], u: Point) -> f64 {
     }
     let scale = power_of_two_below(big);
     let u = [u[0] / scale, u[1] / scale, u[2] / scale];
-    let split = pair.split();
-    // Projections relative to one corner of the second primitive, so that coordinates far from
-    // the origin cancel before the products.
-    let o = p[split];
     let mut lo_a = f64::INFINITY;
     let mut hi_b = f64::NEG_INFINITY;
     let mut err: f64 = 0.0;
-    for (k, q) in p.iter().enumerate() {
-        let x = sub(q, &o);
+    let mut project = |q: &Point| {
+        let x = sub(q, o);
         let s = u[0] * x[0] + u[1] * x[1] + u[2] * x[2];
         let size = u[0].abs() * x[0].abs() + u[1].abs() * x[1].abs() + u[2].abs() * x[2].abs();
         err = err.max(size);
-        if k < split {
-            lo_a = lo_a.min(s);
-        } else {
-            hi_b = hi_b.max(s);
-        }
+        s
+    };
+    for q in first {
+        lo_a = lo_a.min(project(q));
+    }
+    for q in second {
+        hi_b = hi_b.max(project(q));
     }
     finish_lower(lo_a, hi_b, err, &u)
 }

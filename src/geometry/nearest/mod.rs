@@ -38,7 +38,7 @@ mod decide;
 mod filter;
 pub(crate) use filter::{
     point_triangle as point_triangle_estimate, point_triangle_within,
-    segment_segment as segments_estimate,
+    segment_segment as segments_estimate, triangles_lower_along,
 };
 #[cfg(test)]
 mod tests;

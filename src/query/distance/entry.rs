@@ -2,12 +2,16 @@
 //! closest points, and for intersecting meshes the least intersecting triangle pair.
 //!
 //! Meshes that intersect are told by the exact intersection query (its first hit, then its
-//! least pair). Otherwise a walk of both hierarchies in floating point finds a primitive pair
-//! near the least; its distance, rounded from its exact value, bounds the least, and the exact
-//! stencil query ([`crate::nearest_features`]) finds every vertex-face and edge-edge pair within
-//! that bound, among which exact comparisons choose the least. Between two closed triangles
-//! that do not intersect, the least distance is attained by one of those pairs, so nothing else
-//! needs looking at.
+//! least pair). Otherwise one walk of both hierarchies finds the primitive pair whose
+//! floating-point estimate is least and keeps every triangle pair that certain bounds (the node
+//! volumes' and the triangles' boxes in Euclidean distance with a rounding margin, the
+//! separation along each pair's estimated direction) cannot put beyond that estimate; the
+//! guess's exact distance, rounded up, bounds the least, and exact decisions choose among the
+//! vertex-face and edge-edge pairs of the kept triangle pairs within it. Between two closed
+//! triangles that do not intersect, the least distance is attained by one of those pairs, so
+//! nothing else needs looking at. Where the guess's exact distance is beyond what the walk kept
+//! (a degenerate triangle's estimate far too low), the exact stencil query
+//! ([`crate::nearest_features`]) to that distance takes over.
 
 use crate::collide;
 use crate::error::Result;
@@ -20,7 +24,7 @@ use crate::query::nearest::{NearPair, NearPairs, nearest_features};
 use crate::query::options::{QueryMode, QueryOptions};
 use crate::query::pairs::{Pairs, QueryStats};
 use crate::query::points::DistanceOptions;
-use crate::query::points::walk::{Frame, mesh_feature};
+use crate::query::points::walk::{Frame, PairScratch, mesh_feature};
 use crate::query::primitives::{ImpactKind, Key};
 use std::cell::RefCell;
 use std::cmp::Ordering;
@@ -66,7 +70,9 @@ impl Distance {
 struct Scratch {
     pairs: Pairs,
     near: NearPairs,
-    stack: Vec<(u32, u32, f64)>,
+    walk: PairScratch,
+    /// The stencils of the kept triangle pairs within the radius, with their values.
+    candidates: Vec<NearPair>,
     placed: [(Vec<Point>, Vec<crate::geometry::aabb::Aabb>); 2],
 }
 
@@ -271,42 +277,48 @@ fn least_distance(
         return Ok((result, stats));
     }
     let max = options.max_distance;
-    let bound = if max.is_finite() {
-        (max * max) * (1.0 + 1e-6) + f64::MIN_POSITIVE
-    } else {
-        f64::INFINITY
-    };
-    let guess = fa
-        .nearest_pair_estimate(&fb, bound, &mut s.stack)
+    let shrink = |d: f64| options.improving(d);
+    let walk = fa.nearest_pair_kept(&fb, max, shrink, &mut s.walk);
+    stats.bv_tests += walk.volume_tests;
+    let guess = walk
+        .best
         .and_then(|(key, e)| exact_stencil(&fa, &fb, key, e));
-    let near =
-        |reach: f64, s: &mut NearPairs| nearest_features(a, pose_a, b, pose_b, reach, &query, s);
-    let found = match guess {
+    // Every triangle pair within the walk's reach is kept; the exact decisions need the
+    // stencils within the guess's exact distance (or the tolerance's radius below it).
+    let (radius, accepted) = match guess {
         Some(g) => {
+            // Two units up from a distance within one of the correctly rounded: at least the
+            // exact distance.
             let exact_bound = g.distance.next_up().next_up();
             if options.tolerant() && exact_bound <= max {
-                let reach = options.improving(exact_bound);
-                stats.add(&near(reach, &mut s.near)?);
-                if s.near.is_empty() {
-                    Some(g)
-                } else {
-                    least(&fa, &fb, s.near.as_slice())
-                }
+                // Accepted unless something is nearer than the tolerance allows.
+                (options.improving(exact_bound), Some(g))
             } else {
                 // Widened a little: the guess and the stencils tying with it are then told
                 // within by the filters, not in exact arithmetic at the boundary; the few more
                 // it may take in are ordered exactly.
-                let reach = (exact_bound * (1.0 + 1.0 / (1u64 << 30) as f64))
-                    .next_up()
-                    .min(max);
-                stats.add(&near(reach, &mut s.near)?);
-                least(&fa, &fb, s.near.as_slice())
+                let r = (exact_bound * (1.0 + 1.0 / (1u64 << 30) as f64)).next_up();
+                (r.min(max), None)
             }
         }
-        None => {
-            let reach = max.min(f64::MAX);
-            stats.add(&near(reach, &mut s.near)?);
-            least(&fa, &fb, s.near.as_slice())
+        // Nothing within the bound by the estimates (or only beyond the largest double): the
+        // exact decisions settle it.
+        None => (max.min(f64::MAX), None),
+    };
+    let found = if radius <= walk.reach {
+        stats.triangle_tests += kept_within(&fa, &fb, radius, &s.walk.kept, &mut s.candidates);
+        match accepted {
+            Some(g) if s.candidates.is_empty() => Some(g),
+            _ => least(&fa, &fb, &s.candidates),
+        }
+    } else {
+        // The guess's estimate was far below its exact distance (a degenerate triangle): the
+        // stencil query to the radius.
+        let near = nearest_features(a, pose_a, b, pose_b, radius, &query, &mut s.near)?;
+        stats.add(&near);
+        match accepted {
+            Some(g) if s.near.is_empty() => Some(g),
+            _ => least(&fa, &fb, s.near.as_slice()),
         }
     };
     let Some(stencil) = found else {
@@ -334,6 +346,49 @@ fn least_distance(
         stencil,
     };
     Ok((result, stats))
+}
+
+/// The stencils of the triangle pairs the walk kept whose bound is within `radius`, decided
+/// exactly within it, with their values, into `candidates`, sorted by key and each once (a
+/// vertex or an edge belongs to several triangles). Returns the exact decisions made.
+fn kept_within(
+    a: &Frame,
+    b: &Frame,
+    radius: f64,
+    kept: &[(u32, u32, f64)],
+    candidates: &mut Vec<NearPair>,
+) -> u64 {
+    candidates.clear();
+    let mut tests = 0;
+    let mut decide = |key: Key| {
+        tests += 1;
+        let (pair, p) = stencil_points(a, b, key);
+        if let Some(decided) = decide_within(pair, &p, radius) {
+            candidates.push(NearPair::new(key, &values(pair, &p, decided)));
+        }
+    };
+    for &(ta, tb, lower) in kept {
+        if lower > radius {
+            continue;
+        }
+        let (ia, ib) = (a.triangle(ta), b.triangle(tb));
+        for k in 0..3 {
+            decide((ImpactKind::VertexFace, ia[k], 0, tb, 0));
+            decide((ImpactKind::FaceVertex, ta, 0, ib[k], 0));
+        }
+        for i in 0..3 {
+            let (u, v) = (ia[i], ia[(i + 1) % 3]);
+            for j in 0..3 {
+                let (w, z) = (ib[j], ib[(j + 1) % 3]);
+                if u != v && w != z {
+                    decide((ImpactKind::EdgeEdge, u.min(v), u.max(v), w.min(z), w.max(z)));
+                }
+            }
+        }
+    }
+    candidates.sort_unstable_by_key(|c| c.key());
+    candidates.dedup_by_key(|c| c.key());
+    tests
 }
 
 /// The frame of mesh `m` placed by `pose`: its own, or its vertices placed into `placed`.

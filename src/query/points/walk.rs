@@ -6,7 +6,7 @@ use crate::csr::Csr;
 use crate::geometry::aabb::Aabb;
 use crate::geometry::nearest::{
     Decided, Feature, Primitive, decide_within, point_triangle_estimate, point_triangle_within,
-    segments_estimate,
+    segments_estimate, triangles_lower_along,
 };
 use crate::geometry::pose::Pose;
 use crate::geometry::predicates::Point;
@@ -145,6 +145,56 @@ fn lower_between(a: &Bounds, na: usize, b: &Bounds, nb: usize) -> f64 {
             gap(box_gap_squared(&y[nb], &x[na].centre).sqrt() - x[na].radius)
         }
     }
+}
+
+/// May node `na`'s volume in `a` and node `nb`'s in `b` hold points within `d` of each other?
+/// Never `false` when they do (boxes as [`box_within`] tests a point; spheres with the sum of
+/// the radii and `d` rounded up).
+#[inline]
+fn pair_within(a: &Bounds, na: usize, b: &Bounds, nb: usize, d: f64) -> bool {
+    match (a, b) {
+        (Bounds::Boxes(x), Bounds::Boxes(y)) => boxes_within(&x[na], &y[nb], d),
+        (Bounds::Spheres(x), Bounds::Spheres(y)) => {
+            let (s, t) = (&x[na], &y[nb]);
+            overlap(&s.centre, s.radius, &t.centre, (t.radius + d).next_up())
+        }
+        (Bounds::Boxes(x), Bounds::Spheres(y)) => {
+            box_within(&x[na], &y[nb].centre, (y[nb].radius + d).next_up())
+        }
+        (Bounds::Spheres(x), Bounds::Boxes(y)) => {
+            box_within(&y[nb], &x[na].centre, (x[na].radius + d).next_up())
+        }
+    }
+}
+
+/// May boxes `a` and `b` hold points within `d` of each other? Never `false` when they do:
+/// along every axis (exact), then in Euclidean distance with [`gap_within`]'s margin (each gap
+/// one rounded subtraction, as from a point).
+#[inline]
+fn boxes_within(a: &Aabb, b: &Aabb, d: f64) -> bool {
+    a.within(b, d) && gap_within(box_gap_squared_boxes(a, b), d)
+}
+
+/// The scratch of [`Frame::nearest_pair_kept`]: the node pairs still to visit and the triangle
+/// pairs kept, `(triangle of the first mesh, of the second, lower bound of their distance)`.
+#[derive(Debug, Default)]
+pub(crate) struct PairScratch {
+    nodes: Vec<(u32, u32, f64)>,
+    /// The boxes of a leaf's triangles.
+    boxes: Vec<Aabb>,
+    /// The triangle pairs the last walk kept.
+    pub kept: Vec<(u32, u32, f64)>,
+}
+
+/// What [`Frame::nearest_pair_kept`] found.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PairWalk {
+    /// The primitive pair whose estimate was least, with its squared estimate.
+    pub best: Option<(Key, f64)>,
+    /// Every triangle pair within this distance was kept.
+    pub reach: f64,
+    /// Node volume pairs tested.
+    pub volume_tests: u64,
 }
 
 /// What the walks read of one mesh, in world coordinates: its shape, its node volumes, its
@@ -336,30 +386,62 @@ impl<'q> Frame<'q> {
     }
 
     /// The pair of a triangle of `self` and a triangle of `other` nearest each other in floating
-    /// point, as the primitive pair (vertex-face, face-vertex or edge-edge: a key of
-    /// [`crate::NearPair`]) whose estimate is least, with its squared estimate; below `bound`
-    /// (squared). A guess for the exact query to confirm: nothing rests on it.
-    pub fn nearest_pair_estimate(
+    /// point, and every triangle pair that may be as near, in one walk of both hierarchies, as
+    /// [`Frame::nearest_kept`] walks one for a point: the guess is the primitive pair
+    /// (vertex-face, face-vertex or edge-edge: a key of [`crate::NearPair`]) whose estimate is
+    /// least, with its squared estimate; into `kept` (cleared first) goes each triangle pair
+    /// not certainly beyond the reach when it was met, with a certain lower bound of its
+    /// distance; and the reach: every triangle pair within it is in `kept`, decided by certain
+    /// bounds (of the nodes' volumes, the triangles' boxes and the separation along the pair's
+    /// estimated direction), not by estimates. The reach starts at `bound` and shrinks through
+    /// `shrink` to just above the best estimate's root.
+    pub fn nearest_pair_kept(
         &self,
         other: &Frame,
         bound: f64,
-        stack: &mut Vec<(u32, u32, f64)>,
-    ) -> Option<(Key, f64)> {
-        let mut best: Option<(Key, f64)> = None;
-        let mut limit = bound;
+        shrink: impl Fn(f64) -> f64,
+        scratch: &mut PairScratch,
+    ) -> PairWalk {
+        let PairScratch {
+            nodes: stack,
+            boxes: boxes_b,
+            kept,
+        } = scratch;
+        kept.clear();
+        let mut walk = PairWalk {
+            best: None,
+            reach: bound,
+            volume_tests: 1,
+        };
         stack.clear();
+        if !pair_within(&self.bounds, 0, &other.bounds, 0, bound) {
+            return walk;
+        }
         stack.push((0, 0, lower_between(&self.bounds, 0, &other.bounds, 0)));
-        while let Some((na, nb, lower)) = stack.pop() {
-            if lower >= limit {
+        while let Some((na, nb, _)) = stack.pop() {
+            if !pair_within(
+                &self.bounds,
+                na as usize,
+                &other.bounds,
+                nb as usize,
+                walk.reach,
+            ) {
                 continue;
             }
             let (x, y) = (&self.nodes[na as usize], &other.nodes[nb as usize]);
             if x.is_leaf() && y.is_leaf() {
+                let owned_b = other.leaf_triangles(y);
+                boxes_b.clear();
+                boxes_b.extend(owned_b.iter().map(|&t| {
+                    let [a, b, c] = other.corners(t);
+                    Aabb::of_points([&a, &b, &c])
+                }));
                 for &ta in self.leaf_triangles(x) {
-                    for &tb in other.leaf_triangles(y) {
-                        if let Some(found) = self.triangle_pair_estimate(other, ta, tb, limit) {
-                            limit = found.1;
-                            best = Some(found);
+                    let ca = self.corners(ta);
+                    let box_a = Aabb::of_points([&ca[0], &ca[1], &ca[2]]);
+                    for (&tb, box_b) in owned_b.iter().zip(boxes_b.iter()) {
+                        if boxes_within(&box_a, box_b, walk.reach) {
+                            self.meet_pair(other, (ta, &ca), tb, &mut walk, &shrink, kept);
                         }
                     }
                 }
@@ -369,54 +451,88 @@ impl<'q> Frame<'q> {
             let open_a = !x.is_leaf()
                 && (y.is_leaf() || x.ring_end - x.ring_start >= y.ring_end - y.ring_start);
             let start = stack.len();
+            let reach = walk.reach;
             if open_a {
                 for c in x.children() {
-                    let l = lower_between(&self.bounds, c as usize, &other.bounds, nb as usize);
-                    if l < limit {
+                    walk.volume_tests += 1;
+                    if pair_within(&self.bounds, c as usize, &other.bounds, nb as usize, reach) {
+                        let l = lower_between(&self.bounds, c as usize, &other.bounds, nb as usize);
                         stack.push((c, nb, l));
                     }
                 }
             } else {
                 for c in y.children() {
-                    let l = lower_between(&self.bounds, na as usize, &other.bounds, c as usize);
-                    if l < limit {
+                    walk.volume_tests += 1;
+                    if pair_within(&self.bounds, na as usize, &other.bounds, c as usize, reach) {
+                        let l = lower_between(&self.bounds, na as usize, &other.bounds, c as usize);
                         stack.push((na, c, l));
                     }
                 }
             }
             stack[start..].sort_unstable_by(|p, q| q.2.total_cmp(&p.2));
         }
-        best
+        walk
     }
 
-    /// The least estimate below `limit` (squared) among the primitive pairs of triangle `ta`
-    /// of `self` and `tb` of `other`, with its key.
+    /// Triangle `ta` of `self` (with its corners) and `tb` of `other`, met by
+    /// [`Frame::nearest_pair_kept`]: kept unless certainly beyond the reach, and the guess if
+    /// its estimate is the least yet.
+    #[inline]
+    fn meet_pair(
+        &self,
+        other: &Frame,
+        (ta, pa): (u32, &[Point; 3]),
+        tb: u32,
+        walk: &mut PairWalk,
+        shrink: &impl Fn(f64) -> f64,
+        kept: &mut Vec<(u32, u32, f64)>,
+    ) {
+        let pb = other.corners(tb);
+        let (key, estimate, u) = self.triangle_pair_estimate(other, (ta, pa), (tb, &pb));
+        // The separation along the estimate's direction: nearly the exact distance.
+        let lower = triangles_lower_along(pa, &pb, u);
+        if lower > walk.reach {
+            return;
+        }
+        kept.push((ta, tb, lower));
+        // A NaN (a degenerate triangle's estimate) never wins.
+        if estimate < walk.best.map_or(f64::INFINITY, |b| b.1) {
+            walk.best = Some((key, estimate));
+            let near = (estimate.sqrt() * (1.0 + 1.0 / (1u64 << 20) as f64)).next_up();
+            walk.reach = walk.reach.min(shrink(near));
+        }
+    }
+
+    /// The primitive pair of triangle `ta` of `self` and `tb` of `other` whose estimate is
+    /// least: its key, its squared estimate and the direction from its closest point on `tb`
+    /// to its closest point on `ta`.
+    #[inline]
     fn triangle_pair_estimate(
         &self,
         other: &Frame,
-        ta: u32,
-        tb: u32,
-        limit: f64,
-    ) -> Option<(Key, f64)> {
+        (ta, pa): (u32, &[Point; 3]),
+        (tb, pb): (u32, &[Point; 3]),
+    ) -> (Key, f64, Point) {
         let (ia, ib) = (self.triangle(ta), other.triangle(tb));
-        let (pa, pb) = (self.corners(ta), other.corners(tb));
-        let mut best: Option<(Key, f64)> = None;
-        let mut keep = |key: Key, d2: f64| {
-            if d2 < best.map_or(limit, |b| b.1) {
-                best = Some((key, d2));
+        // Where every estimate is NaN (degenerate triangles), an infinite estimate that never
+        // wins and no direction (a lower bound of 0): the pair is kept for the exact decisions.
+        let mut best: (Key, f64, Point) = (
+            (ImpactKind::VertexFace, ia[0], 0, tb, 0),
+            f64::INFINITY,
+            [0.0; 3],
+        );
+        let mut keep = |key: Key, x: &Point, y: &Point| {
+            let u = [x[0] - y[0], x[1] - y[1], x[2] - y[2]];
+            let d2 = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+            if d2 < best.1 {
+                best = (key, d2, u);
             }
         };
         for k in 0..3 {
             let e = point_triangle_estimate(&pa[k], &pb[0], &pb[1], &pb[2]);
-            keep(
-                (ImpactKind::VertexFace, ia[k], 0, tb, 0),
-                distance_squared(&pa[k], &e),
-            );
+            keep((ImpactKind::VertexFace, ia[k], 0, tb, 0), &pa[k], &e);
             let e = point_triangle_estimate(&pb[k], &pa[0], &pa[1], &pa[2]);
-            keep(
-                (ImpactKind::FaceVertex, ta, 0, ib[k], 0),
-                distance_squared(&pb[k], &e),
-            );
+            keep((ImpactKind::FaceVertex, ta, 0, ib[k], 0), &e, &pb[k]);
         }
         for i in 0..3 {
             let (u, v) = (ia[i], ia[(i + 1) % 3]);
@@ -431,7 +547,8 @@ impl<'q> Frame<'q> {
                 let (x, y) = segments_estimate(&pa[i], &pa[(i + 1) % 3], &pb[j], &pb[(j + 1) % 3]);
                 keep(
                     (ImpactKind::EdgeEdge, u.min(v), u.max(v), w.min(z), w.max(z)),
-                    distance_squared(&x, &y),
+                    &x,
+                    &y,
                 );
             }
         }
