@@ -158,6 +158,8 @@ if $full; then
     runner/run.sh scenes --frames 3 --repeat 1 >/dev/null
     runner/run.sh scenes --frames 3 --repeat 1 --threads 0 >/dev/null
     runner/run.sh self --frames 3 --repeat 1 >/dev/null
+    # The distance against parry (fails if a tolerant answer breaks its tolerance).
+    runner/run.sh distance --frames 2 >/dev/null
 fi
 
 step "done"
