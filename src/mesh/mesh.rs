@@ -64,6 +64,9 @@ pub(super) struct Topology {
     /// Whether the surface is closed, and the triangles of each vertex and edge, for the
     /// distance and inside-outside queries; found on first use.
     pub surface: std::sync::OnceLock<super::surface::Surface>,
+    /// The least triangle index in the rings below each node, for finding the least
+    /// intersecting pair without finding them all; found on first use.
+    pub least_triangles: std::sync::OnceLock<Vec<u32>>,
 }
 
 impl Topology {
@@ -232,7 +235,8 @@ impl Mesh {
                 .topology
                 .surface
                 .get()
-                .map_or(0, super::surface::Surface::heap_bytes);
+                .map_or(0, super::surface::Surface::heap_bytes)
+            + self.topology.least_triangles.get().map_or(0, heap_bytes);
         self.state_bytes()
             + heap_bytes(&self.topology.triangles)
             + self.topology.rings.heap_bytes()
@@ -351,6 +355,31 @@ impl Mesh {
                 &self.topology.rings,
                 self.positions.len(),
             )
+        })
+    }
+
+    /// The least triangle index in the rings below each node (`u32::MAX` below a node whose
+    /// rings hold none), found on first use.
+    pub(crate) fn least_triangles(&self) -> &[u32] {
+        self.topology.least_triangles.get_or_init(|| {
+            let (nodes, rings) = (&self.topology.tree.nodes, &self.topology.rings.triangles);
+            let mut least = vec![u32::MAX; nodes.len()];
+            // Children come after their parents: a reverse sweep sees them first.
+            for n in (0..nodes.len()).rev() {
+                let node = &nodes[n];
+                least[n] = if node.is_leaf() {
+                    (node.ring_start..node.ring_end)
+                        .flat_map(|r| rings.row(r as usize).iter().copied())
+                        .min()
+                        .unwrap_or(u32::MAX)
+                } else {
+                    node.children()
+                        .map(|c| least[c as usize])
+                        .min()
+                        .unwrap_or(u32::MAX)
+                };
+            }
+            least
         })
     }
 

@@ -91,6 +91,7 @@ impl Mesh {
                 patches: Default::default(),
                 surface: Default::default(),
                 features: Default::default(),
+                least_triangles: Default::default(),
             }),
             options: *options,
             volumes,

@@ -1,8 +1,10 @@
 //! Intersection of two meshes: the entry point and its pair test.
 
-use super::engine::{NodeVolumes, OneMesh, Prepared, QueryMesh, Reach, TriangleTest, query};
+use super::engine::{
+    NodeVolumes, OneMesh, Prepared, QueryMesh, Reach, TriangleTest, least_pair, query,
+};
 use super::options::QueryOptions;
-use super::pairs::{Pairs, QueryStats};
+use super::pairs::{Pair, Pairs, QueryStats};
 use crate::error::Result;
 use crate::geometry::pose::Pose;
 use crate::mesh::Mesh;
@@ -49,6 +51,19 @@ pub(crate) fn collide_lazy<'m>(
     out: &mut Pairs,
 ) -> Result<QueryStats> {
     query::<_, true>(a, b, Intersect, options, out)
+}
+
+/// The first pair [`collide`] reports for the meshes (the least intersecting triangle pair in
+/// `(a, b)` order) as the only pair of `out`, or none when they do not intersect: found without
+/// finding the others, on the calling thread. `bound`, an intersecting pair (a first hit),
+/// prunes from the start. Errors as [`collide`]'s.
+pub(crate) fn least_intersecting(
+    a: (&Mesh, Option<&Pose>),
+    b: (&Mesh, Option<&Pose>),
+    bound: Option<Pair>,
+    out: &mut Pairs,
+) -> Result<QueryStats> {
+    least_pair(a, b, Intersect, bound, out)
 }
 
 /// Which triangles of two meshes intersect.

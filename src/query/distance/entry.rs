@@ -1,8 +1,10 @@
 //! The least distance between two meshes, exactly: the pair of primitives that attains it, the
 //! closest points, and for intersecting meshes the least intersecting triangle pair.
 //!
-//! Meshes that intersect are told by the exact intersection query (its first hit, then its
-//! least pair). Otherwise one walk of both hierarchies finds the primitive pair whose
+//! Meshes that intersect are told by the exact intersection query's first hit; the least
+//! intersecting pair is then found below it by a search that opens node pairs by the least
+//! triangle pair they may hold, so that a dense contact (a coincident copy) costs a few leaf
+//! pairs rather than all of them. Otherwise one walk of both hierarchies finds the primitive pair whose
 //! floating-point estimate is least and keeps every triangle pair that certain bounds (the node
 //! volumes' and the triangles' boxes in Euclidean distance with a rounding margin, the
 //! separation along each pair's estimated direction) cannot put beyond that estimate; the
@@ -20,6 +22,7 @@ use crate::geometry::nearest::{Primitive, cmp_distance, decide_near, decide_with
 use crate::geometry::pose::Pose;
 use crate::geometry::predicates::{Point, orient3d};
 use crate::mesh::Mesh;
+use crate::query::collide::least_intersecting;
 use crate::query::nearest::{NearPair, NearPairs, nearest_features};
 use crate::query::options::{QueryMode, QueryOptions};
 use crate::query::pairs::{Pairs, QueryStats};
@@ -258,10 +261,10 @@ fn least_distance(
     let [pa_buf, pb_buf] = &mut s.placed;
     let fa = frame_of(a, pose_a, pa_buf);
     let fb = frame_of(b, pose_b, pb_buf);
-    if !s.pairs.is_empty() {
-        // Intersecting: the least pair of all.
-        let all = collide(a, pose_a, b, pose_b, &query, &mut s.pairs)?;
-        stats.add(&all);
+    if let Some(&hit) = s.pairs.as_slice().first() {
+        // Intersecting: the least pair of all, below the first hit.
+        let least = least_intersecting((a, pose_a), (b, pose_b), Some(hit), &mut s.pairs)?;
+        stats.add(&least);
         let p = s.pairs.as_slice()[0];
         let point = shared_point(&fa.corners(p.a), &fb.corners(p.b));
         let result = Distance {

@@ -295,3 +295,71 @@ fn intersecting_meshes_report_collides_least_pair() {
     );
     assert_eq!(d.stencil, crate::NearPair::default());
 }
+
+/// The least intersecting pair, found without finding the others, is `collide`'s first pair on
+/// meshes that meet sparsely, densely (a copy, coplanar sheets) and not at all; in place and
+/// posed; with every volume kind on each side; with and without a first hit to start from.
+#[test]
+fn the_least_intersecting_pair_is_collides_first() {
+    use crate::query::collide::least_intersecting;
+    let mut sphere = icosphere(3);
+    sphere.perturb(0.03, 4);
+    let mut ring = torus(0.9, 0.3, 24, 12);
+    ring.translate([0.2, 0.1, 0.0]);
+    let mut far = ring.clone();
+    far.translate([5.0, 0.0, 0.0]);
+    let sheet = grid(12, 1.0);
+    let mut shifted = grid(9, 1.0);
+    shifted.translate([0.13, 0.07, 0.0]);
+    let soup_a = crate::fixtures::soup(300, 1.0, 0.2, 7);
+    let soup_b = crate::fixtures::soup(300, 1.0, 0.2, 8);
+    let turn = Pose::new(
+        [[0.6, -0.8, 0.0], [0.8, 0.6, 0.0], [0.0, 0.0, 1.0]],
+        [0.1, -0.05, 0.02],
+    )
+    .unwrap();
+    let cases: [(&MeshData, &MeshData, &str); 5] = [
+        (&sphere, &ring, "sphere and torus"),
+        (&sphere, &sphere, "a copy"),
+        (&sheet, &shifted, "coplanar sheets"),
+        (&soup_a, &soup_b, "soups"),
+        (&sphere, &far, "apart"),
+    ];
+    let mut met = 0;
+    for (a, b, what) in cases {
+        for va in VOLUMES {
+            for vb in VOLUMES {
+                let (ma, mb) = (build(a, va), build(b, vb));
+                for pose in [None, Some(&turn)] {
+                    let mut all = crate::Pairs::new();
+                    collide(
+                        &ma,
+                        None,
+                        &mb,
+                        pose,
+                        &crate::QueryOptions::default(),
+                        &mut all,
+                    )
+                    .unwrap();
+                    let first = all.as_slice().first().copied();
+                    let hits: Vec<_> = first
+                        .into_iter()
+                        .chain(all.as_slice().last().copied())
+                        .collect();
+                    for bound in std::iter::once(None).chain(hits.into_iter().map(Some)) {
+                        let mut least = crate::Pairs::new();
+                        least_intersecting((&ma, None), (&mb, pose), bound, &mut least).unwrap();
+                        let what = format!(
+                            "{what}, {va:?}/{vb:?}, posed {}, from {bound:?}",
+                            pose.is_some()
+                        );
+                        assert_eq!(least.as_slice().first().copied(), first, "{what}");
+                        assert!(least.len() <= 1, "{what}");
+                    }
+                    met += usize::from(first.is_some() && pose.is_none());
+                }
+            }
+        }
+    }
+    assert_eq!(met, 4 * 9, "in place, every case but the apart one meets");
+}

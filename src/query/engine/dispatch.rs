@@ -4,13 +4,14 @@
 
 use super::parallel::{Descend, Finish, Job, share_out};
 use super::query_traits::{Reach, TriangleTest};
+use super::side::View;
 use super::side::{
     LazyBoxVolumes, Local, MeshVolumes, MixedVolumes, Placement, Posed, Typed, with_node_volumes,
 };
 use super::sink::{Sink, Stop};
 use super::sort::sort_pairs;
-use super::terminal::{Coarse, Exact, NodePairs, Terminal};
-use super::traverse::{OneMesh, best_first};
+use super::terminal::{Coarse, Exact, LeafPairs, LeastPairs, NodePairs, Terminal};
+use super::traverse::{OneMesh, best_first, least_first};
 use super::workspace::{Worker, Workspace};
 use crate::error::{Error, Result, Side};
 use crate::geometry::MAX_POSED_MAGNITUDE;
@@ -38,6 +39,23 @@ pub(crate) fn query<'m, T: TriangleTest<'m>, const LAZY: bool>(
 ) -> Result<QueryStats> {
     debug_assert!(LAZY || (a.2.is_none() && b.2.is_none()));
     run_query(a, Some(b), AnyMode::<T, LAZY>(test), options, out)
+}
+
+/// The least pair `(a, b)`, in `(a, b)` order, of triangles of meshes `a` and `b` (each in
+/// place or posed) that `test` accepts, as the only pair of `out` (none when `test` accepts
+/// none): the first pair of the query of every pair, found without finding the rest, on the
+/// calling thread. `bound`, a pair `test` accepts (a first hit), prunes from the start.
+pub(crate) fn least_pair<'m, T: TriangleTest<'m>>(
+    a: (&'m Mesh, Option<&'m Pose>),
+    b: (&'m Mesh, Option<&'m Pose>),
+    test: T,
+    bound: Option<Pair>,
+    out: &mut Pairs,
+) -> Result<QueryStats> {
+    debug_assert!(test.own().is_none());
+    let options = QueryOptions::default().with_threads(1);
+    let (a, b) = ((a.0, a.1, None), (b.0, b.1, None));
+    run_query(a, Some(b), LeastOf { test, bound }, &options, out)
 }
 
 /// A query of one mesh against itself (no pose, boxes refit), in any mode: `test` asks what of
@@ -131,6 +149,27 @@ impl<'m, T: TriangleTest<'m>, const LAZY: bool> Work<'m> for AnyMode<T, LAZY> {
                 )
             }
         }
+    }
+}
+
+/// The least pair a triangle test accepts ([`least_pair`]).
+#[derive(Clone, Copy)]
+struct LeastOf<T> {
+    test: T,
+    bound: Option<Pair>,
+}
+
+impl<'m, T: TriangleTest<'m>> Work<'m> for LeastOf<T> {
+    type Reach = T;
+    const POSED: bool = true;
+    const LAZY: bool = false;
+
+    fn reach(&self) -> T {
+        self.test
+    }
+
+    fn run<A: Typed<'m>, B: Typed<'m>>(self, run: Run<'_, 'm>, a: A, b: B) -> (Option<Stop>, bool) {
+        run.least_first(a, b, self.test, self.bound)
     }
 }
 
@@ -379,6 +418,61 @@ impl<'m> Run<'_, 'm> {
                 self.run(a, b, Coarse { own })
             }
         }
+    }
+
+    /// Runs [`least_pair`]'s search, on the calling thread: the least pair `test` accepts below
+    /// `bound`, or `bound`, as the only pair of the result.
+    fn least_first<A: Typed<'m>, B: Typed<'m>, T: TriangleTest<'m>>(
+        self,
+        a: A,
+        b: B,
+        test: T,
+        bound: Option<Pair>,
+    ) -> (Option<Stop>, bool) {
+        let check_domain = self.check_domain;
+        let job = Job {
+            a,
+            b,
+            max_depth: self.max_depth,
+            terminal: Exact { test, check_domain },
+            limit: usize::MAX,
+        };
+        let Workspace { workers, queue, .. } = self.workspace;
+        if workers.is_empty() {
+            workers.push(Worker::default());
+        }
+        let Worker { a: wa, b: wb, .. } = &mut workers[0];
+        let mut sink = Sink::new(self.out, usize::MAX);
+        if let Some(stop) = job.begin(wa, wb) {
+            return (Some(stop), false);
+        }
+        let (mut va, mut vb) = (
+            View::new(job.a, &mut wa.world, &mut wa.ring_boxes),
+            View::new(job.b, &mut wb.world, &mut wb.ring_boxes),
+        );
+        let least = (
+            job.a.place().mesh().least_triangles(),
+            job.b.place().mesh().least_triangles(),
+        );
+        let mut narrow = LeastPairs {
+            leaves: LeafPairs {
+                test,
+                sink: &mut sink,
+                rings_a: &mut wa.rings,
+                rings_b: &mut wb.rings,
+                check_domain,
+            },
+            least: bound.map_or(u64::MAX, |p| u64::from(p.a) << 32 | u64::from(p.b)),
+        };
+        least_first(&mut va, &mut vb, least, queue, self.stats, &mut narrow);
+        let least = narrow.least;
+        if sink.stop.is_none() && least != u64::MAX {
+            sink.out.push(Pair {
+                a: (least >> 32) as u32,
+                b: least as u32,
+            });
+        }
+        (sink.stop, false)
     }
 
     /// Runs the query under a budget of volume tests ([`QueryMode::Budget`]), on the calling

@@ -22,7 +22,7 @@ mod terminal;
 mod traverse;
 mod workspace;
 
-pub(crate) use dispatch::{QueryMesh, leaf_pairs, node_pairs, query, query_one};
+pub(crate) use dispatch::{QueryMesh, leaf_pairs, least_pair, node_pairs, query, query_one};
 pub(crate) use query_traits::{Reach, TriangleTest};
 pub(crate) use side::{NodeVolumes, Widened};
 pub(crate) use traverse::OneMesh;

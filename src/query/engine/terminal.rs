@@ -6,7 +6,7 @@
 use super::query_traits::TriangleTest;
 use super::side::QuerySide;
 use super::sink::Sink;
-use super::traverse::{NarrowPhase, OneMesh, Walk, depth_first};
+use super::traverse::{Least, NarrowPhase, OneMesh, Walk, depth_first};
 use super::workspace::{Prepared, RingCache};
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::is_safe_point;
@@ -249,6 +249,37 @@ where
             }
         }
         false
+    }
+}
+
+/// [`LeafPairs`] keeping only the least pair it finds, in `(a, b)` order, for
+/// [`super::traverse::least_first`]; starts from a bound (a pair known to be accepted, or
+/// `u64::MAX`) that only a lesser pair replaces.
+pub(crate) struct LeastPairs<'s, 'w, T> {
+    pub leaves: LeafPairs<'s, 'w, T>,
+    /// The least pair yet as `a << 32 | b`.
+    pub least: u64,
+}
+
+impl<T> Least for LeastPairs<'_, '_, T> {
+    #[inline]
+    fn least(&self) -> u64 {
+        self.least
+    }
+}
+
+impl<'m, A, B, T> NarrowPhase<'m, A, B> for LeastPairs<'_, '_, T>
+where
+    A: QuerySide<'m>,
+    B: QuerySide<'m>,
+    T: TriangleTest<'m>,
+{
+    fn visit(&mut self, a: &mut A, b: &mut B, na: u32, nb: u32, stats: &mut QueryStats) -> bool {
+        let stop = self.leaves.visit(a, b, na, nb, stats);
+        for p in self.leaves.sink.out.drain(..) {
+            self.least = self.least.min(u64::from(p.a) << 32 | u64::from(p.b));
+        }
+        stop
     }
 }
 

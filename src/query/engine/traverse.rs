@@ -390,3 +390,74 @@ pub(crate) fn best_first<'m, A: QuerySide<'m>, B: QuerySide<'m>, N: NarrowPhase<
         });
     }
 }
+
+/// A narrow phase that keeps the least pair it has found, in `(a, b)` order: what
+/// [`least_first`] prunes by.
+pub(crate) trait Least {
+    /// The least pair found so far as `a << 32 | b` (its bound before any is found).
+    fn least(&self) -> u64;
+}
+
+/// The least pair of triangles `(a, b)`, in `(a, b)` order, that the narrow phase finds below
+/// the overlapping terminal node pairs of meshes `a` and `b` (not one mesh), without visiting
+/// them all: node pairs are opened least first by the least pair they may hold (the least
+/// triangle of the rings below each node, `least_a` and `least_b`), and none is visited whose
+/// least possible pair is not below the narrow phase's [`Least::least`]. Returns whether the
+/// narrow phase stopped the traversal.
+pub(crate) fn least_first<'m, A, B, N>(
+    a: &mut A,
+    b: &mut B,
+    (least_a, least_b): (&[u32], &[u32]),
+    queue: &mut BinaryHeap<Queued>,
+    stats: &mut QueryStats,
+    narrow: &mut N,
+) -> bool
+where
+    A: QuerySide<'m>,
+    B: QuerySide<'m>,
+    N: NarrowPhase<'m, A, B> + Least,
+{
+    queue.clear();
+    let walk = Walk {
+        max_depth: u32::MAX,
+        own: None,
+    };
+    if !roots_overlap(a, b, &walk, stats) {
+        return false;
+    }
+    // The heap pops its greatest key: the complement of the least pair pops least first.
+    let key =
+        |x: u32, y: u32| !(u64::from(least_a[x as usize]) << 32 | u64::from(least_b[y as usize]));
+    queue.push(Queued {
+        key: key(0, 0),
+        a: 0,
+        b: 0,
+    });
+    while let Some(Queued {
+        key: k,
+        a: na,
+        b: nb,
+    }) = queue.pop()
+    {
+        if !k >= narrow.least() {
+            // Every pair still queued may hold only pairs from this one's least on.
+            return false;
+        }
+        let (va, vb, how) = volumes_and_opening(a, b, na, nb, &walk);
+        if how == Open::Neither {
+            stats.leaf_pairs += 1;
+            if narrow.visit(a, b, na, nb, stats) {
+                return true;
+            }
+            continue;
+        }
+        let bound = narrow.least();
+        open_pair(a, b, na, nb, &va, &vb, how, stats, |x, y, _, _| {
+            let k = key(x, y);
+            if !k < bound {
+                queue.push(Queued { key: k, a: x, b: y })
+            }
+        });
+    }
+    false
+}

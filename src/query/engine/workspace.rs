@@ -236,7 +236,8 @@ pub(crate) struct Split {
 pub(crate) struct Workspace {
     /// One per thread that has worked through this buffer; the first is the calling thread's.
     pub workers: Vec<Worker>,
-    /// Node pairs still to open, largest first ([`crate::QueryMode::Budget`]).
+    /// Node pairs still to open: largest first ([`crate::QueryMode::Budget`]), or least pair
+    /// first (the least intersecting pair).
     pub queue: BinaryHeap<Queued>,
     /// The counters of the result's sort.
     pub sort_counts: Vec<u32>,
