@@ -11,7 +11,7 @@ use super::side::{
 use super::sink::{Sink, Stop};
 use super::sort::sort_pairs;
 use super::terminal::{Coarse, Exact, LeafPairs, LeastPairs, NodePairs, Terminal};
-use super::traverse::{OneMesh, best_first, least_first};
+use super::traverse::{OneMesh, best_first, key_pair, least_first, pair_key};
 use super::workspace::{Worker, Workspace};
 use crate::error::{Error, Result, Side};
 use crate::geometry::MAX_POSED_MAGNITUDE;
@@ -462,15 +462,12 @@ impl<'m> Run<'_, 'm> {
                 rings_b: &mut wb.rings,
                 check_domain,
             },
-            least: bound.map_or(u64::MAX, |p| u64::from(p.a) << 32 | u64::from(p.b)),
+            least: bound.map_or(u64::MAX, pair_key),
         };
         least_first(&mut va, &mut vb, least, queue, self.stats, &mut narrow);
         let least = narrow.least;
         if sink.stop.is_none() && least != u64::MAX {
-            sink.out.push(Pair {
-                a: (least >> 32) as u32,
-                b: least as u32,
-            });
+            sink.out.push(key_pair(least));
         }
         (sink.stop, false)
     }

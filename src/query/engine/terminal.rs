@@ -6,7 +6,7 @@
 use super::query_traits::TriangleTest;
 use super::side::QuerySide;
 use super::sink::Sink;
-use super::traverse::{Least, NarrowPhase, OneMesh, Walk, depth_first};
+use super::traverse::{Least, NarrowPhase, OneMesh, Walk, depth_first, pair_key};
 use super::workspace::{Prepared, RingCache};
 use crate::geometry::aabb::Aabb;
 use crate::geometry::predicates::is_safe_point;
@@ -257,7 +257,7 @@ where
 /// `u64::MAX`) that only a lesser pair replaces.
 pub(crate) struct LeastPairs<'s, 'w, T> {
     pub leaves: LeafPairs<'s, 'w, T>,
-    /// The least pair yet as `a << 32 | b`.
+    /// The least pair yet, as its [`pair_key`].
     pub least: u64,
 }
 
@@ -277,7 +277,7 @@ where
     fn visit(&mut self, a: &mut A, b: &mut B, na: u32, nb: u32, stats: &mut QueryStats) -> bool {
         let stop = self.leaves.visit(a, b, na, nb, stats);
         for p in self.leaves.sink.out.drain(..) {
-            self.least = self.least.min(u64::from(p.a) << 32 | u64::from(p.b));
+            self.least = self.least.min(pair_key(p));
         }
         stop
     }

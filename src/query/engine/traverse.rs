@@ -14,7 +14,7 @@ use super::side::{QuerySide, Volume};
 use super::workspace::{Queued, Split};
 use crate::mesh::Mesh;
 use crate::mesh::Patches;
-use crate::query::pairs::QueryStats;
+use crate::query::pairs::{Pair, QueryStats};
 use crate::tree::{MAX_CHILDREN, Node};
 use std::collections::BinaryHeap;
 
@@ -391,10 +391,25 @@ pub(crate) fn best_first<'m, A: QuerySide<'m>, B: QuerySide<'m>, N: NarrowPhase<
     }
 }
 
+/// Pair `p` as a key whose order is the pairs' `(a, b)` order.
+#[inline]
+pub(crate) fn pair_key(p: Pair) -> u64 {
+    u64::from(p.a) << 32 | u64::from(p.b)
+}
+
+/// The pair of [`pair_key`]'s key `k`.
+#[inline]
+pub(crate) fn key_pair(k: u64) -> Pair {
+    Pair {
+        a: (k >> 32) as u32,
+        b: k as u32,
+    }
+}
+
 /// A narrow phase that keeps the least pair it has found, in `(a, b)` order: what
 /// [`least_first`] prunes by.
 pub(crate) trait Least {
-    /// The least pair found so far as `a << 32 | b` (its bound before any is found).
+    /// The least pair found so far as its [`pair_key`] (its bound before any is found).
     fn least(&self) -> u64;
 }
 
@@ -426,8 +441,12 @@ where
         return false;
     }
     // The heap pops its greatest key: the complement of the least pair pops least first.
-    let key =
-        |x: u32, y: u32| !(u64::from(least_a[x as usize]) << 32 | u64::from(least_b[y as usize]));
+    let key = |x: u32, y: u32| {
+        !pair_key(Pair {
+            a: least_a[x as usize],
+            b: least_b[y as usize],
+        })
+    };
     queue.push(Queued {
         key: key(0, 0),
         a: 0,
